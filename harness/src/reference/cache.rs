@@ -1,0 +1,97 @@
+//! The reference cache: images keyed by a SHA-256 of everything that determines them (the
+//! scene description, its meshes, the frame, the resolution, the settings and the renderer's
+//! version). An entry that fails to read back whole is ignored and recomputed, never trusted.
+
+use std::path::{Path, PathBuf};
+
+use sha2::{Digest, Sha256};
+
+use super::{ReferenceImages, ReferenceStats, Settings};
+use crate::image::{Image, io};
+
+/// Bump when the reference's output changes for the same inputs.
+pub const REFERENCE_VERSION: u32 = 1;
+
+pub fn key(scene: &scenes::Scene, frame: u32, width: u32, height: u32, settings: &Settings) -> String {
+    let mut h = Sha256::new();
+    h.update(format!("scatterbench-reference v{REFERENCE_VERSION}\n").as_bytes());
+    h.update(serde_json::to_string(&scene.desc).unwrap_or_default().as_bytes());
+    for m in &scene.meshes {
+        for p in &m.positions {
+            for c in p.to_array() {
+                h.update(c.to_le_bytes());
+            }
+        }
+        for n in &m.normals {
+            for c in n.to_array() {
+                h.update(c.to_le_bytes());
+            }
+        }
+        for t in &m.indices {
+            for c in t {
+                h.update(c.to_le_bytes());
+            }
+        }
+    }
+    h.update(format!("\nframe {frame} res {width}x{height} settings {settings:?}").as_bytes());
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn entry(dir: &Path, key: &str) -> PathBuf {
+    dir.join(key)
+}
+
+/// The cached images, or None if absent or unreadable.
+pub fn load(dir: &Path, key: &str) -> Option<ReferenceImages> {
+    let e = entry(dir, key);
+    let stats: ReferenceStats = serde_json::from_str(&std::fs::read_to_string(e.join("stats.json")).ok()?).ok()?;
+    let inscatter = io::read_exr(&e.join("inscatter.exr")).ok()?;
+    let surface = io::read_exr(&e.join("surface.exr")).ok()?;
+    let total = io::read_exr(&e.join("total.exr")).ok()?;
+    let dist = io::read_exr(&e.join("distance.exr")).ok()?;
+    let same = |a: &Image| a.width == total.width && a.height == total.height;
+    if !(same(&inscatter) && same(&surface) && same(&dist)) {
+        return None;
+    }
+    Some(ReferenceImages { distance: dist.pixels.iter().map(|p| p[0]).collect(), inscatter, surface, total, stats })
+}
+
+/// Stores images under the key (each file written atomically; stats last, so a partial entry
+/// has no stats.json and is never loaded).
+pub fn store(dir: &Path, key: &str, r: &ReferenceImages) -> Result<(), String> {
+    let e = entry(dir, key);
+    std::fs::create_dir_all(&e).map_err(|err| format!("{}: cannot create cache directory: {err}", e.display()))?;
+    let _ = std::fs::remove_file(e.join("stats.json"));
+    io::write_exr(&e.join("inscatter.exr"), &r.inscatter)?;
+    io::write_exr(&e.join("surface.exr"), &r.surface)?;
+    io::write_exr(&e.join("total.exr"), &r.total)?;
+    let mut dist = Image::new(r.total.width, r.total.height);
+    for (p, d) in dist.pixels.iter_mut().zip(&r.distance) {
+        *p = [*d; 3];
+    }
+    io::write_exr(&e.join("distance.exr"), &dist)?;
+    crate::fsutil::write_atomic(&e.join("stats.json"), serde_json::to_string_pretty(&r.stats).unwrap_or_default().as_bytes())
+}
+
+/// Renders through the cache.
+pub fn render_cached(
+    dir: Option<&Path>,
+    scene: &scenes::Scene,
+    frame: u32,
+    width: u32,
+    height: u32,
+    settings: Settings,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(ReferenceImages, bool), String> {
+    let k = key(scene, frame, width, height, &settings);
+    if let Some(d) = dir
+        && let Some(hit) = load(d, &k)
+    {
+        return Ok((hit, true));
+    }
+    let r = super::render(scene, frame, width, height, settings, progress)?;
+    if let Some(d) = dir {
+        store(d, &k, &r)?;
+    }
+    Ok((r, false))
+}

@@ -1,0 +1,335 @@
+//! The scene file format: what a scene JSON file says, field by field.
+//!
+//! Every struct here is `deny_unknown_fields`, so a misspelt field is an error with its path,
+//! not a silently ignored default. Units: metres, radians never (angles are degrees in the file),
+//! RGB triples for every spectral quantity. `scenes/README.md` documents every field.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::phase::Phase;
+
+fn one() -> u32 {
+    1
+}
+fn y_up() -> Vec3 {
+    Vec3::Y
+}
+fn default_fov() -> f32 {
+    45.0
+}
+fn default_near() -> f32 {
+    0.1
+}
+fn default_far() -> f32 {
+    100.0
+}
+fn true_() -> bool {
+    true
+}
+fn grey() -> Vec3 {
+    Vec3::splat(0.8)
+}
+fn unit_scale() -> Vec3 {
+    Vec3::ONE
+}
+
+/// A whole scene file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// One line for `scatterbench list`. Default: empty.
+    #[serde(default)]
+    pub description: String,
+    pub camera: CameraDesc,
+    pub medium: MediumDesc,
+    pub lights: Vec<LightDesc>,
+    /// Opaque surfaces. Default: none (a scene of fog and light only).
+    #[serde(default)]
+    pub objects: Vec<ObjectDesc>,
+    /// Frames to render; keyframes are indexed by frame number. Default: 1.
+    #[serde(default = "one")]
+    pub frames: u32,
+    /// Biri 2006's indirect single scattering term (light scattered by the medium onto
+    /// surfaces), added to the `surface` AOV. Default: false.
+    #[serde(default)]
+    pub indirect_single_scattering: bool,
+}
+
+/// A pinhole camera. Pixel centres are sampled (no anti-aliasing).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position, m.
+    pub position: Vec3,
+    /// Point the camera looks at, m.
+    pub look_at: Vec3,
+    /// Up hint. Default: +Y.
+    #[serde(default = "y_up")]
+    pub up: Vec3,
+    /// Vertical field of view, degrees, in (0, 180). Default: 45.
+    #[serde(default = "default_fov")]
+    pub fov_y_deg: f32,
+    /// Near plane distance (view depth), m. Default: 0.1.
+    #[serde(default = "default_near")]
+    pub near: f32,
+    /// Far plane distance (view depth), m. A ray that hits nothing ends here. Default: 100.
+    #[serde(default = "default_far")]
+    pub far: f32,
+    /// Animation; between keys position and look_at are interpolated linearly.
+    #[serde(default)]
+    pub keyframes: Vec<CameraKey>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CameraKey {
+    /// Frame number (may be fractional).
+    pub frame: f32,
+    pub position: Vec3,
+    pub look_at: Vec3,
+}
+
+/// The participating medium. Homogeneous media fill all space.
+///
+/// Particle media (spheres of constant extinction, DESIGN §1) will be a second variant,
+/// `{"kind": "particles", ...}`; every consumer matches on this enum, so adding it is a
+/// compile error wherever it needs handling.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MediumDesc {
+    Homogeneous {
+        /// Absorption coefficient, 1/m, RGB.
+        sigma_a: Vec3,
+        /// Scattering coefficient, 1/m, RGB.
+        sigma_s: Vec3,
+        /// Phase function. Default: isotropic.
+        #[serde(default)]
+        phase: Phase,
+        /// Ambient radiance L_a of the term L_a (1 - e^(-σt d)), W/(m² sr), RGB. Default: 0.
+        #[serde(default)]
+        ambient: Vec3,
+    },
+}
+
+/// A light. Intensities are radiant intensity I in W/sr; irradiance E in W/m².
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LightDesc {
+    Point {
+        /// m.
+        position: Vec3,
+        /// W/sr, RGB.
+        intensity: Vec3,
+        #[serde(default)]
+        keyframes: Vec<LightKey>,
+    },
+    Spot {
+        /// m.
+        position: Vec3,
+        /// Cone axis (propagation direction); need not be normalised.
+        direction: Vec3,
+        /// Full intensity inside this half-angle, degrees.
+        inner_deg: f32,
+        /// Zero intensity outside this half-angle, degrees; smoothstep in between. < 90.
+        outer_deg: f32,
+        /// W/sr on the axis, RGB.
+        intensity: Vec3,
+        /// Analytic pattern projected by the spot (a slide in front of the light).
+        #[serde(default)]
+        pattern: Option<Pattern>,
+        #[serde(default)]
+        keyframes: Vec<LightKey>,
+    },
+    Directional {
+        /// Propagation direction of the light (from the sun toward the scene).
+        direction: Vec3,
+        /// Irradiance on a surface facing the light, W/m², RGB. Not attenuated on the light leg.
+        irradiance: Vec3,
+        #[serde(default)]
+        keyframes: Vec<LightKey>,
+    },
+}
+
+/// Light animation key: whichever of position / direction is given is interpolated linearly.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LightKey {
+    pub frame: f32,
+    #[serde(default)]
+    pub position: Option<Vec3>,
+    #[serde(default)]
+    pub direction: Option<Vec3>,
+}
+
+/// A spot light's projected pattern, an analytic function of the slide coordinates (u, v) in
+/// [0,1]² (see [`crate::light::spot_uv`]). Every discontinuity lies on a line u = const or
+/// v = const, i.e. on a plane through the light, which the reference splits at exactly.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Pattern {
+    /// `cells`×`cells` checkerboard of 1 and `dark`.
+    Checker {
+        cells: u32,
+        /// Transmission of the dark cells, [0,1]. Default: 0.
+        #[serde(default)]
+        dark: f32,
+    },
+    /// `panes`×`panes` coloured panes (colours from `seed`) separated by opaque lead lines of
+    /// `lead` width (fraction of a pane).
+    StainedGlass {
+        panes: u32,
+        #[serde(default)]
+        seed: u32,
+        #[serde(default = "default_lead")]
+        lead: f32,
+    },
+}
+
+fn default_lead() -> f32 {
+    0.08
+}
+
+/// An opaque object.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectDesc {
+    /// Name used in messages. Default: "object N".
+    #[serde(default)]
+    pub name: String,
+    pub shape: Shape,
+    #[serde(default)]
+    pub transform: Transform,
+    #[serde(default)]
+    pub material: Material,
+    /// Whether the object blocks light in the medium (volumetric shadow) and on surfaces.
+    /// Default: true.
+    #[serde(default = "true_")]
+    pub casts_volumetric_shadow: bool,
+    /// Animation of the transform; linear between keys, held outside them.
+    #[serde(default)]
+    pub keyframes: Vec<TransformKey>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TransformKey {
+    pub frame: f32,
+    pub transform: Transform,
+}
+
+/// world_from_local = translate · Rz · Ry · Rx · scale (rotations about the world axes, X first).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    /// m. Default: 0.
+    #[serde(default)]
+    pub translation: Vec3,
+    /// Degrees about X, Y, Z. Default: 0.
+    #[serde(default)]
+    pub rotation_deg: Vec3,
+    /// Per-axis scale, > 0. Default: 1.
+    #[serde(default = "unit_scale")]
+    pub scale: Vec3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self { translation: Vec3::ZERO, rotation_deg: Vec3::ZERO, scale: Vec3::ONE }
+    }
+}
+
+/// Lambert + optional Phong.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Lambert albedo, RGB in [0,1]. Default: 0.8.
+    #[serde(default = "grey")]
+    pub albedo: Vec3,
+    /// Optional normalised Phong lobe.
+    #[serde(default)]
+    pub phong: Option<Phong>,
+    /// Lit on both sides (for quads and planes seen from below). Default: false.
+    #[serde(default)]
+    pub two_sided: bool,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self { albedo: grey(), phong: None, two_sided: false }
+    }
+}
+
+/// Phong lobe: f_s = ks (n+2)/(2π) max(0, r·v)^n, r the mirrored light direction.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Phong {
+    /// Specular reflectance, RGB.
+    pub ks: Vec3,
+    /// Exponent n ≥ 1.
+    pub shininess: f32,
+}
+
+/// Procedural shapes (local space, Y up) and OBJ files.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Shape {
+    /// Quad in the XZ plane, centred, facing +Y; `size` = [x, z] extents, m.
+    Plane { size: [f32; 2] },
+    /// Axis-aligned box centred on the origin; full extents, m.
+    Box { size: Vec3 },
+    /// UV sphere centred on the origin.
+    Sphere {
+        radius: f32,
+        #[serde(default = "default_segments")]
+        segments: u32,
+        #[serde(default = "default_rings")]
+        rings: u32,
+    },
+    /// Capped cylinder, axis Y, from y = 0 to y = height.
+    Cylinder {
+        radius: f32,
+        height: f32,
+        #[serde(default = "default_segments")]
+        segments: u32,
+    },
+    /// Torus in the XZ plane.
+    Torus {
+        major_radius: f32,
+        minor_radius: f32,
+        #[serde(default = "default_segments")]
+        segments: u32,
+        #[serde(default = "default_sides")]
+        sides: u32,
+    },
+    /// Helix spring along Y from y = 0 to y = height: a tube of `wire_radius` around a helix
+    /// of `coil_radius`, with capped ends.
+    Spring {
+        coil_radius: f32,
+        wire_radius: f32,
+        turns: f32,
+        height: f32,
+        #[serde(default = "default_segments")]
+        segments_per_turn: u32,
+        #[serde(default = "default_sides")]
+        sides: u32,
+    },
+    /// Hexagonal prism (across-corners radius) along Y from 0 to `length`, topped by a cone
+    /// of `tip_length` (so the total length is length + tip_length).
+    Pencil { radius: f32, length: f32, tip_length: f32 },
+    /// A fence in the XY plane, centred, facing +Z: `posts` vertical bars and `rails`
+    /// horizontal bars of square section `bar`, spanning `width` × `height`.
+    Fence { width: f32, height: f32, posts: u32, rails: u32, bar: f32 },
+    /// A Wavefront OBJ file, path relative to the scene file.
+    Obj { path: String },
+}
+
+fn default_segments() -> u32 {
+    48
+}
+fn default_rings() -> u32 {
+    24
+}
+fn default_sides() -> u32 {
+    16
+}

@@ -1,0 +1,40 @@
+//! The built-in scene library: the JSON files of `scenes/library/`, compiled into the binary so
+//! `scatterbench` runs from any directory. The list is explicit and ordered.
+
+use std::path::Path;
+
+use crate::load::{SceneError, load_scene, parse_scene};
+use crate::scene::Scene;
+
+/// (name, file text), in the order `list` and `run --scenes all` use.
+pub const LIBRARY: &[(&str, &str)] = &[
+    ("sphere-point", include_str!("../library/sphere-point.json")),
+    ("desk-pencils", include_str!("../library/desk-pencils.json")),
+    ("spring-point", include_str!("../library/spring-point.json")),
+    ("fence-spot", include_str!("../library/fence-spot.json")),
+    ("window-sun", include_str!("../library/window-sun.json")),
+    ("stained-glass-spot", include_str!("../library/stained-glass-spot.json")),
+    ("clear-fog", include_str!("../library/clear-fog.json")),
+    ("pen-orbit", include_str!("../library/pen-orbit.json")),
+];
+
+pub fn names() -> Vec<&'static str> {
+    LIBRARY.iter().map(|(n, _)| *n).collect()
+}
+
+/// Loads a library scene by name.
+pub fn load(name: &str) -> Option<Result<Scene, SceneError>> {
+    LIBRARY.iter().find(|(n, _)| *n == name).map(|(n, text)| parse_scene(text, &format!("scenes/library/{n}.json"), n, Path::new(".")))
+}
+
+/// A library name, or a path to a scene file. Unknown names are refused with the valid ones.
+pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
+    if let Some(r) = load(name_or_path) {
+        return r.map_err(|e| e.to_string());
+    }
+    let p = Path::new(name_or_path);
+    if p.extension().is_some_and(|e| e == "json") || p.is_file() {
+        return load_scene(p).map_err(|e| e.to_string());
+    }
+    Err(format!("unknown scene '{name_or_path}': valid library scenes are {} (or give a path to a .json file)", names().join(", ")))
+}

@@ -1,0 +1,246 @@
+//! A loaded, validated scene: its description, its meshes, and its state at any frame.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::{EulerRot, Mat4, Quat, Vec3};
+use serde::Serialize;
+
+use crate::camera::CameraPose;
+use crate::desc::{LightDesc, MediumDesc, SceneDesc, Transform};
+use crate::light::LightState;
+use crate::mesh::TriMesh;
+use crate::phase::Phase;
+
+/// A validated scene ready to render. Build it with [`crate::load_scene`] or
+/// [`crate::library::load`].
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Library name, or the file stem of a scene file.
+    pub name: String,
+    pub desc: SceneDesc,
+    /// One mesh per object of `desc.objects`, in local space.
+    pub meshes: Vec<Arc<TriMesh>>,
+    /// The file it came from (None for the built-in library).
+    pub source: Option<PathBuf>,
+}
+
+/// The homogeneous medium's coefficients in the form integrators want.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Homogeneous {
+    pub sigma_a: Vec3,
+    pub sigma_s: Vec3,
+    pub sigma_t: Vec3,
+    pub phase: Phase,
+    pub ambient: Vec3,
+}
+
+/// Everything that can change between frames, evaluated at one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameState {
+    pub index: u32,
+    pub camera: CameraPose,
+    pub lights: Vec<LightState>,
+    /// One per object, parallel to `Scene::meshes`.
+    pub world_from_local: Vec<Mat4>,
+}
+
+impl Scene {
+    pub fn medium(&self) -> Homogeneous {
+        match &self.desc.medium {
+            MediumDesc::Homogeneous { sigma_a, sigma_s, phase, ambient } => {
+                Homogeneous { sigma_a: *sigma_a, sigma_s: *sigma_s, sigma_t: *sigma_a + *sigma_s, phase: *phase, ambient: *ambient }
+            }
+        }
+    }
+
+    pub fn frame_count(&self) -> u32 {
+        self.desc.frames.max(1)
+    }
+
+    /// The scene at frame `index` (keyframes interpolated linearly, held outside their range).
+    pub fn frame(&self, index: u32) -> FrameState {
+        let f = index as f32;
+        let c = &self.desc.camera;
+        let (position, look_at) = if c.keyframes.is_empty() {
+            (c.position, c.look_at)
+        } else {
+            let keys: Vec<(f32, (Vec3, Vec3))> = c.keyframes.iter().map(|k| (k.frame, (k.position, k.look_at))).collect();
+            sample_keys(&keys, f, |a, b, t| (a.0.lerp(b.0, t), a.1.lerp(b.1, t)))
+        };
+        let camera = CameraPose { position, look_at, up: c.up, fov_y_deg: c.fov_y_deg, near: c.near, far: c.far };
+        let lights = self.desc.lights.iter().map(|l| light_at(l, f)).collect();
+        let world_from_local = self
+            .desc
+            .objects
+            .iter()
+            .map(|o| {
+                if o.keyframes.is_empty() {
+                    transform_matrix(&o.transform)
+                } else {
+                    let keys: Vec<(f32, Transform)> = o.keyframes.iter().map(|k| (k.frame, k.transform.clone())).collect();
+                    transform_matrix(&sample_keys(&keys, f, lerp_transform))
+                }
+            })
+            .collect();
+        FrameState { index, camera, lights, world_from_local }
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.triangle_count()).sum()
+    }
+
+    /// What the scene contains, for method support decisions and `list --json`.
+    pub fn features(&self) -> SceneFeatures {
+        let d = &self.desc;
+        let m = self.medium();
+        let mut light_kinds: Vec<&'static str> = d
+            .lights
+            .iter()
+            .map(|l| match l {
+                LightDesc::Point { .. } => "point",
+                LightDesc::Spot { .. } => "spot",
+                LightDesc::Directional { .. } => "directional",
+            })
+            .collect();
+        light_kinds.sort();
+        light_kinds.dedup();
+        let many = d.frames > 1;
+        let animated_lights = many
+            && d.lights.iter().any(|l| match l {
+                LightDesc::Point { keyframes, .. } | LightDesc::Spot { keyframes, .. } | LightDesc::Directional { keyframes, .. } => !keyframes.is_empty(),
+            });
+        let animated_objects = many && d.objects.iter().any(|o| !o.keyframes.is_empty());
+        let animated_camera = many && !d.camera.keyframes.is_empty();
+        SceneFeatures {
+            medium: "homogeneous",
+            phase: m.phase.name(),
+            anisotropic_phase: m.phase.is_anisotropic(),
+            scattering: m.sigma_s.max_element() > 0.0,
+            ambient: m.ambient.max_element() > 0.0,
+            lights: d.lights.len(),
+            light_kinds,
+            textured_light: d.lights.iter().any(|l| matches!(l, LightDesc::Spot { pattern: Some(_), .. })),
+            surfaces: !d.objects.is_empty(),
+            volumetric_occluders: d.objects.iter().any(|o| o.casts_volumetric_shadow),
+            phong: d.objects.iter().any(|o| o.material.phong.is_some()),
+            indirect_single_scattering: d.indirect_single_scattering,
+            frames: d.frames.max(1),
+            animated: animated_lights || animated_objects || animated_camera,
+            animated_lights,
+            animated_objects,
+            animated_camera,
+            triangles: self.triangle_count(),
+        }
+    }
+}
+
+/// What a scene needs from a method. Methods decide their support from this alone.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SceneFeatures {
+    /// "homogeneous" (particle media will add "particles").
+    pub medium: &'static str,
+    pub phase: &'static str,
+    pub anisotropic_phase: bool,
+    /// σ_s > 0 in some channel: there is in-scattering to compute.
+    pub scattering: bool,
+    pub ambient: bool,
+    pub lights: usize,
+    /// Sorted, unique: "directional", "point", "spot".
+    pub light_kinds: Vec<&'static str>,
+    /// Some spot light projects a pattern.
+    pub textured_light: bool,
+    pub surfaces: bool,
+    /// Some object casts volumetric shadows.
+    pub volumetric_occluders: bool,
+    pub phong: bool,
+    pub indirect_single_scattering: bool,
+    pub frames: u32,
+    pub animated: bool,
+    pub animated_lights: bool,
+    pub animated_objects: bool,
+    pub animated_camera: bool,
+    pub triangles: usize,
+}
+
+fn light_at(l: &LightDesc, f: f32) -> LightState {
+    match l {
+        LightDesc::Point { position, intensity, keyframes } => {
+            LightState::Point { position: animate(*position, keyframes, f, |k| k.position), intensity: *intensity }
+        }
+        LightDesc::Spot { position, direction, inner_deg, outer_deg, intensity, pattern, keyframes } => LightState::Spot {
+            position: animate(*position, keyframes, f, |k| k.position),
+            direction: animate(*direction, keyframes, f, |k| k.direction).normalize(),
+            cos_inner: inner_deg.to_radians().cos(),
+            cos_outer: outer_deg.to_radians().cos(),
+            tan_outer: outer_deg.to_radians().tan(),
+            intensity: *intensity,
+            pattern: pattern.clone(),
+        },
+        LightDesc::Directional { direction, irradiance, keyframes } => {
+            LightState::Directional { direction: animate(*direction, keyframes, f, |k| k.direction).normalize(), irradiance: *irradiance }
+        }
+    }
+}
+
+/// Interpolates the light keys that set a field, falling back to the static value.
+fn animate(base: Vec3, keys: &[crate::desc::LightKey], f: f32, field: impl Fn(&crate::desc::LightKey) -> Option<Vec3>) -> Vec3 {
+    let keyed: Vec<(f32, Vec3)> = keys.iter().filter_map(|k| field(k).map(|v| (k.frame, v))).collect();
+    if keyed.is_empty() { base } else { sample_keys(&keyed, f, |a, b, t| a.lerp(*b, t)) }
+}
+
+/// Piecewise-linear sampling of keys (sorted by frame here, so file order does not matter).
+fn sample_keys<T: Clone>(keys: &[(f32, T)], f: f32, lerp: impl Fn(&T, &T, f32) -> T) -> T {
+    let mut sorted: Vec<&(f32, T)> = keys.iter().collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let first = sorted[0];
+    if f <= first.0 {
+        return first.1.clone();
+    }
+    for w in sorted.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if f <= b.0 {
+            let span = b.0 - a.0;
+            let t = if span > 0.0 { (f - a.0) / span } else { 1.0 };
+            return lerp(&a.1, &b.1, t);
+        }
+    }
+    sorted[sorted.len() - 1].1.clone()
+}
+
+fn lerp_transform(a: &Transform, b: &Transform, t: f32) -> Transform {
+    Transform {
+        translation: a.translation.lerp(b.translation, t),
+        rotation_deg: a.rotation_deg.lerp(b.rotation_deg, t),
+        scale: a.scale.lerp(b.scale, t),
+    }
+}
+
+/// world_from_local = T · Rz · Ry · Rx · S.
+pub fn transform_matrix(t: &Transform) -> Mat4 {
+    let r = t.rotation_deg * (std::f32::consts::PI / 180.0);
+    let rot = Quat::from_euler(EulerRot::ZYX, r.z, r.y, r.x);
+    Mat4::from_scale_rotation_translation(t.scale, rot, t.translation)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_order_is_x_then_y_then_z() {
+        let t = Transform { translation: Vec3::ZERO, rotation_deg: Vec3::new(90.0, 90.0, 0.0), scale: Vec3::ONE };
+        // Rx(90) takes +Y to +Z; then Ry(90) takes +Z to +X.
+        let v = transform_matrix(&t).transform_vector3(Vec3::Y);
+        assert!((v - Vec3::X).length() < 1e-6, "{v}");
+    }
+
+    #[test]
+    fn keys_interpolate_linearly_and_hold_outside() {
+        let keys = vec![(4.0, 10.0f32), (0.0, 2.0)];
+        let lerp = |a: &f32, b: &f32, t: f32| a + (b - a) * t;
+        assert_eq!(sample_keys(&keys, -1.0, lerp), 2.0);
+        assert_eq!(sample_keys(&keys, 1.0, lerp), 4.0);
+        assert_eq!(sample_keys(&keys, 9.0, lerp), 10.0);
+    }
+}
