@@ -1,1 +1,67 @@
-fn main() {}
+//! `scatterbench`: the command line (DESIGN §5). Each subcommand lives in `src/cmd/`.
+
+mod cmd;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "scatterbench", version, about = "Benchmark real-time single scattering with volumetric shadows against a CPU ground truth")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Scenes with their features; methods with their params and support.
+    List {
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Validate scene files: exit 0, or exit 2 listing every problem.
+    Validate {
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+    },
+    /// Render the CPU ground truth of a scene (EXR + PNG + a JSON with time and convergence).
+    Reference {
+        /// Library name or path to a scene .json.
+        #[arg(long)]
+        scene: String,
+        /// N (square) or WxH.
+        #[arg(long, default_value = "512")]
+        res: String,
+        /// Frame to render (default 0).
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
+        /// Output directory (default results/reference/<scene>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Convergence check on every Nth pixel in each direction (1 = every pixel).
+        #[arg(long, default_value_t = 4)]
+        convergence_stride: u32,
+    },
+    #[command(flatten)]
+    Bench(cmd::run::BenchCommand),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::List { json } => cmd::list::run(json),
+        Command::Validate { files } => return cmd::validate::run(&files),
+        Command::Reference { scene, res, frame, out, convergence_stride } => cmd::reference::run(&scene, &res, frame, out, convergence_stride),
+        Command::Bench(b) => cmd::run::dispatch(b),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

@@ -58,11 +58,7 @@ pub fn write_png(path: &Path, img: &Image, tone: &ToneMap) -> Result<(), String>
 /// clamped; NaN becomes 0.
 pub fn write_png_ldr(path: &Path, img: &Image) -> Result<(), String> {
     check_len(path, img)?;
-    let data: Vec<u8> = img
-        .pixels
-        .iter()
-        .flat_map(|p| p.map(quantize_u8))
-        .collect();
+    let data: Vec<u8> = img.pixels.iter().flat_map(|p| p.map(quantize_u8)).collect();
     encode_png(path, img.width, img.height, &data)
 }
 
@@ -172,7 +168,10 @@ mod tests {
         let mut k = 0usize;
         for y in 0..5 {
             for x in 0..7 {
-                let v = |i: usize| specials[(k * 3 + i) % specials.len()] * if (x + y) % 4 == 3 { 0.7 } else { 1.0 };
+                let v = |i: usize| {
+                    specials[(k * 3 + i) % specials.len()]
+                        * if (x + y) % 4 == 3 { 0.7 } else { 1.0 }
+                };
                 img.set(x, y, [v(0), v(1), v(2)]);
                 k += 1;
             }
@@ -200,7 +199,10 @@ mod tests {
             }
         }
         // Only the final file remains: the temporary was renamed away.
-        let names: Vec<_> = std::fs::read_dir(&dir.0).unwrap().map(|e| e.unwrap().file_name()).collect();
+        let names: Vec<_> = std::fs::read_dir(&dir.0)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
         assert_eq!(names, vec![std::ffi::OsString::from("awkward.exr")]);
     }
 
@@ -215,7 +217,11 @@ mod tests {
         let back = ::image::open(&path).unwrap().into_rgb8();
         assert_eq!(back.dimensions(), (6, 3));
         assert_eq!(back.get_pixel(0, 0).0, [0, 0, 0]);
-        assert_eq!(back.get_pixel(5, 0).0, [255, 0, 255], "NaN must show as magenta");
+        assert_eq!(
+            back.get_pixel(5, 0).0,
+            [255, 0, 255],
+            "NaN must show as magenta"
+        );
         // 1.0 → Reinhard 0.5 → sRGB 0.7354 → 187.5… → 188.
         assert_eq!(back.get_pixel(0, 2).0, [188, 188, 188]);
 
@@ -233,7 +239,11 @@ mod tests {
         assert!(err.contains("no-such-dir"), "{err}");
         let err = read_exr(&missing).unwrap_err();
         assert!(err.contains("x.exr"), "{err}");
-        let bad = Image { width: 3, height: 3, pixels: vec![[0.0; 3]; 2] };
+        let bad = Image {
+            width: 3,
+            height: 3,
+            pixels: vec![[0.0; 3]; 2],
+        };
         let err = write_png(&dir.0.join("bad.png"), &bad, &ToneMap::default()).unwrap_err();
         assert!(err.contains("bad.png") && err.contains("3x3"), "{err}");
     }

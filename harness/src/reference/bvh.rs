@@ -93,6 +93,36 @@ impl Bvh {
         hit
     }
 
+    /// Visits every shadow-casting triangle in a leaf whose box `overlaps` accepts (a box test
+    /// that must be conservative: true whenever the box may hold a triangle of interest).
+    pub fn for_each_caster(&self, overlaps: impl Fn(DVec3, DVec3) -> bool, mut visit: impl FnMut(&Tri)) {
+        let mut stack = [0u32; STACK];
+        let mut sp = 0usize;
+        let mut node = 0usize;
+        loop {
+            let n = &self.nodes[node];
+            if n.lo.x <= n.hi.x && overlaps(n.lo, n.hi) {
+                if n.count > 0 {
+                    for t in &self.tris[n.offset as usize..(n.offset + n.count) as usize] {
+                        if t.casts_shadow {
+                            visit(t);
+                        }
+                    }
+                } else {
+                    stack[sp] = n.offset;
+                    sp += 1;
+                    node += 1;
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            node = stack[sp] as usize;
+        }
+    }
+
     /// Visits leaf triangles whose boxes the ray enters before `tmax`; `visit` returns true to stop.
     #[inline]
     fn walk(&self, o: DVec3, inv: DVec3, tmin: f64, tmax: &mut f64, mut visit: impl FnMut(usize, &mut f64) -> bool) {

@@ -1,13 +1,14 @@
 //! The radiance of one camera ray (DESIGN §1), computed without any of the approximations the
-//! methods make: exact ray-cast visibility, lit intervals found by sampling plus bisection,
-//! and adaptive Gauss–Kronrod quadrature in Biri's angle variable.
+//! methods make: exact visibility (ray casts for surfaces; for the medium, the exact shadowed
+//! intervals of [`super::shadow`], with sampling plus bisection only as the fallback for
+//! degenerate geometry), and adaptive Gauss–Kronrod quadrature in Biri's angle variable.
 //!
 //! For a point or spot light at L, let t₀ be the ray parameter of the point closest to L and h
 //! that distance. With t = t₀ + h tan φ, the distance to the light is r = h / cos φ and
 //! dt / r² = dφ / h, so the in-scatter integrand
 //! σ_s p(θ) V I(ω) e^(−σ_t (t + r)) / r² dt becomes σ_s p(θ) V I(ω) e^(−σ_t (t + r)) / h dφ,
 //! which is bounded and smooth: the 1/r² peak is gone. The interval is split at every place the
-//! integrand is not smooth — shadow boundaries (bisection on ray-cast visibility), the spot's
+//! integrand is not smooth — shadow boundaries (exact, see [`super::shadow`]), the spot's
 //! cone edges (ray–cone roots) and the pattern's edges (ray–plane roots) — and each lit piece
 //! is integrated adaptively to the relative tolerance. Directional light has a constant phase
 //! angle along a ray, so each lit interval integrates in closed form.
@@ -16,6 +17,7 @@ use glam::DVec3;
 use scenes::light::{pattern_breaks, spot_frame};
 use scenes::{Homogeneous, LightState};
 
+use super::shadow::{Source, shadowed};
 use super::world::World;
 
 /// Accuracy knobs of the reference. `tighter()` divides every tolerance by 4 (and samples
@@ -172,7 +174,15 @@ impl Tracer<'_> {
             let r = to.length();
             r > 0.0 && !self.world.bvh.occluded(x, to / r, self.eps, r - self.eps)
         };
-        self.find_boundaries(len, t_of, &visible, &mut cuts);
+        let shadow = shadowed(&self.world.bvh, o, d, len, Source::Point(lp));
+        match &shadow {
+            Some(sh) => cuts.extend(sh.iter().flat_map(|&(a, b)| [a, b])),
+            None => self.find_boundaries(len, t_of, &visible, &mut cuts),
+        }
+        let lit = |t: f64| match &shadow {
+            Some(sh) => !sh.iter().any(|&(a, b)| t > a && t < b),
+            None => visible(t),
+        };
         cuts.retain(|t| t.is_finite());
         cuts.sort_by(f64::total_cmp);
         cuts.dedup();
@@ -196,7 +206,7 @@ impl Tracer<'_> {
                 continue;
             }
             let mid = 0.5 * (a + b);
-            if light.intensity_toward(o + d * mid).max_element() <= 0.0 || !visible(mid) {
+            if light.intensity_toward(o + d * mid).max_element() <= 0.0 || !lit(mid) {
                 continue;
             }
             sum += if angular {
@@ -218,7 +228,15 @@ impl Tracer<'_> {
     fn directional(&self, o: DVec3, d: DVec3, len: f64, dir: DVec3, e: DVec3) -> DVec3 {
         let visible = |t: f64| !self.world.bvh.occluded(o + d * t, -dir, self.eps, self.sun_distance);
         let mut cuts = vec![0.0, len];
-        self.find_boundaries(len, |s| len * s, &visible, &mut cuts);
+        let shadow = shadowed(&self.world.bvh, o, d, len, Source::Direction(-dir, self.sun_distance));
+        match &shadow {
+            Some(sh) => cuts.extend(sh.iter().flat_map(|&(a, b)| [a, b])),
+            None => self.find_boundaries(len, |s| len * s, &visible, &mut cuts),
+        }
+        let lit = |t: f64| match &shadow {
+            Some(sh) => !sh.iter().any(|&(a, b)| t > a && t < b),
+            None => visible(t),
+        };
         cuts.sort_by(f64::total_cmp);
         cuts.dedup();
         let sigma_s = self.medium.sigma_s.as_dvec3();
@@ -227,7 +245,7 @@ impl Tracer<'_> {
         let mut sum = DVec3::ZERO;
         for pair in cuts.windows(2) {
             let (a, b) = (pair[0], pair[1]);
-            if b > a && visible(0.5 * (a + b)) {
+            if b > a && lit(0.5 * (a + b)) {
                 // ∫_a^b e^(−σt x) dx = e^(−σt a) (1 − e^(−σt (b−a))) / σt, stable as σt → 0.
                 let seg = DVec3::from_array([0, 1, 2].map(|c| exp_integral(sigma_t[c], a, b)));
                 sum += sigma_s * p * e * seg;

@@ -11,6 +11,7 @@
 pub mod bvh;
 pub mod cache;
 pub mod integrate;
+pub mod shadow;
 pub mod world;
 
 use std::time::Instant;
