@@ -2,5 +2,12 @@
 //! Method contract, timing, the runner and the results schema.
 
 pub mod fsutil;
+pub mod gpu;
 pub mod image;
+pub mod method;
 pub mod reference;
+pub mod results;
+pub mod runner;
+
+pub use gpu::Gpu;
+pub use method::{Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support, Targets};

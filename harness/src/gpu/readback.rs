@@ -1,0 +1,41 @@
+//! Copies an Rgba32Float texture back to the CPU.
+
+use super::Gpu;
+use crate::image::Image;
+
+/// Reads a 2-D Rgba32Float texture (mip 0, layer 0) into an image, top row first.
+pub fn read_rgba32f(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Image, String> {
+    let (w, h) = (texture.width(), texture.height());
+    let unpadded = w * 16;
+    let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded = unpadded.div_ceil(align) * align;
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: padded as u64 * h as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+        wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
+        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([enc.finish()]);
+    let slice = buffer.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    gpu.wait()?;
+    rx.recv().map_err(|_| "read-back callback never ran".to_string())?.map_err(|e| format!("read-back map failed: {e}"))?;
+    let data = slice.get_mapped_range().map_err(|e| format!("read-back map range: {e}"))?;
+    let mut floats = Vec::with_capacity((w * h * 4) as usize);
+    for row in 0..h as usize {
+        let bytes = &data[row * padded as usize..row * padded as usize + unpadded as usize];
+        floats.extend(bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])));
+    }
+    drop(data);
+    buffer.unmap();
+    Ok(Image::from_rgba_f32(w, h, &floats))
+}

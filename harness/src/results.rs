@@ -1,0 +1,212 @@
+//! The results schema (DESIGN §5). Field names are a contract scripts rely on; add fields,
+//! never rename them, and bump `SCHEMA_VERSION` when a change is incompatible.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::gpu::AdapterSummary;
+use crate::image::metrics::ErrorMetrics;
+use crate::method::{Params, SkippedPass};
+
+pub const SCHEMA_VERSION: u32 = 1;
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Results {
+    pub schema_version: u32,
+    pub run: RunInfo,
+    pub records: Vec<Record>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct RunInfo {
+    pub id: String,
+    pub git_commit: String,
+    pub resolution: [u32; 2],
+    /// Timed frames per record.
+    pub frames: u32,
+    pub warmup: u32,
+    pub machine: Machine,
+    /// Frame whose images are scored against the reference.
+    pub scored_frame: u32,
+    pub note: String,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+pub struct Machine {
+    pub adapter: String,
+    pub backend: String,
+    pub driver: String,
+    #[serde(default)]
+    pub driver_info: String,
+    #[serde(default)]
+    pub device_type: String,
+    #[serde(default)]
+    pub software: bool,
+    pub cpu: String,
+    pub cores: usize,
+    pub os: String,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    Ok,
+    Skipped,
+    Failed,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Record {
+    pub scene: String,
+    pub method: String,
+    pub params: Params,
+    pub status: Status,
+    pub reason: Option<String>,
+    /// Scene features the method ignored (partial support).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ignored: Vec<String>,
+    pub timing: Option<Timing>,
+    pub memory_bytes: Option<u64>,
+    pub passes: Option<Passes>,
+    #[serde(default)]
+    pub counters: BTreeMap<String, f64>,
+    /// Per AOV ("inscatter", "total", "surface").
+    #[serde(default)]
+    pub errors: BTreeMap<String, ErrorMetrics>,
+    /// AOV or map name → path relative to the run directory.
+    #[serde(default)]
+    pub images: BTreeMap<String, String>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Passes {
+    pub run: Vec<String>,
+    pub skipped: Vec<SkippedPass>,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Default)]
+pub struct Stat {
+    pub median: f64,
+    pub p90: f64,
+}
+
+impl Stat {
+    /// Median and 90th percentile (nearest rank) of the samples; zeros when empty.
+    pub fn of(samples: &[f64]) -> Stat {
+        if samples.is_empty() {
+            return Stat::default();
+        }
+        let mut s = samples.to_vec();
+        s.sort_by(f64::total_cmp);
+        let n = s.len();
+        let median = if n % 2 == 1 { s[n / 2] } else { 0.5 * (s[n / 2 - 1] + s[n / 2]) };
+        let rank = ((0.9 * n as f64).ceil() as usize).clamp(1, n);
+        Stat { median, p90: s[rank - 1] }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Timing {
+    pub prepare_ms: f64,
+    /// Encode + submit + wait, per frame.
+    pub wall_ms: Stat,
+    /// Timestamp queries around the frame; null where the adapter has none.
+    pub gpu_ms: Option<Stat>,
+    /// The method's `render` call: encoding plus its per-frame CPU work.
+    pub cpu_ms: Stat,
+}
+
+impl Record {
+    /// Identity of a record for `--resume`: scene, method and the full parameter set.
+    pub fn key(&self) -> String {
+        record_key(&self.scene, &self.method, &self.params)
+    }
+}
+
+pub fn record_key(scene: &str, method: &str, params: &Params) -> String {
+    format!("{scene}|{method}|{}", serde_json::to_string(params).unwrap_or_default())
+}
+
+impl Results {
+    pub fn load(path: &Path) -> Result<Results, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let r: Results = serde_json::from_str(&text).map_err(|e| format!("{}: not a scatterbench results file: {e}", path.display()))?;
+        if r.schema_version != SCHEMA_VERSION {
+            return Err(format!("{}: schema_version {} (this build reads {SCHEMA_VERSION})", path.display(), r.schema_version));
+        }
+        Ok(r)
+    }
+
+    /// Writes atomically (temporary file + rename).
+    pub fn save(&self, path: &Path) -> Result<(), String> {
+        let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
+        crate::fsutil::write_atomic(path, text.as_bytes())
+    }
+}
+
+impl Machine {
+    pub fn detect(adapter: &AdapterSummary) -> Machine {
+        let cpu = std::fs::read_to_string("/proc/cpuinfo")
+            .ok()
+            .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_string()))
+            .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+        let os = std::fs::read_to_string("/etc/os-release")
+            .ok()
+            .and_then(|s| s.lines().find(|l| l.starts_with("PRETTY_NAME=")).map(|l| l["PRETTY_NAME=".len()..].trim_matches('"').to_string()))
+            .unwrap_or_else(|| std::env::consts::OS.to_string());
+        Machine {
+            adapter: adapter.adapter.clone(),
+            backend: adapter.backend.clone(),
+            driver: adapter.driver.clone(),
+            driver_info: adapter.driver_info.clone(),
+            device_type: adapter.device_type.clone(),
+            software: adapter.software,
+            cpu,
+            cores: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+            os,
+        }
+    }
+}
+
+/// The current git commit, or "unknown" outside a checkout.
+pub fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// A UTC timestamp usable as a directory name: 2026-11-22T08-30-05Z.
+pub fn run_id_now() -> String {
+    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    let (days, rem) = (secs / 86400, secs % 86400);
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}T{:02}-{:02}-{:02}Z", rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stat_median_and_p90_by_nearest_rank() {
+        let s = Stat::of(&[5.0, 1.0, 3.0, 2.0, 4.0, 6.0, 7.0, 8.0, 9.0, 10.0]);
+        assert_eq!(s.median, 5.5);
+        assert_eq!(s.p90, 9.0);
+        assert_eq!(Stat::of(&[2.0]).p90, 2.0);
+    }
+}

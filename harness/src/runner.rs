@@ -1,0 +1,387 @@
+//! The runner: scenes × methods × parameter sets → records, written to `results.json`
+//! atomically after every record. A method that panics, raises a wgpu error or renders
+//! non-finite pixels is recorded as failed and the run goes on.
+//!
+//! Protocol (DESIGN §4): per record, `prepare` is timed once; then W warm-up and K timed
+//! frames cycle through the scene's frames (so animated scenes pay their per-frame CPU work);
+//! each timed frame records the `render` call (CPU), encode+submit+wait (wall) and timestamp
+//! queries (GPU). Afterwards frame 0 is rendered once more, read back and scored against the
+//! reference of frame 0.
+
+use std::collections::BTreeSet;
+use std::panic::AssertUnwindSafe;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use scenes::Scene;
+
+use crate::gpu::{Gpu, GpuTimer, read_rgba32f};
+use crate::image::colormap::error_map;
+use crate::image::metrics::{ToneMap, compare};
+use crate::image::{Image, io};
+use crate::method::{AOV_FORMAT, Entry, FrameReport, Method, Params, PrepareContext, Support, Targets, resolve_params};
+use crate::reference::{self, ReferenceImages, Settings};
+use crate::results::{Machine, Passes, Record, Results, RunInfo, SCHEMA_VERSION, Stat, Status, Timing, git_commit, record_key};
+
+pub struct RunConfig {
+    pub out_dir: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    pub frames: u32,
+    pub warmup: u32,
+    pub no_skip: bool,
+    pub resume: bool,
+    pub sweep: bool,
+    /// Per method id: knob overrides applied to every parameter set of that method.
+    pub overrides: std::collections::BTreeMap<String, Params>,
+    pub reference: Settings,
+    /// Where reference images are cached (None: no cache).
+    pub cache_dir: Option<PathBuf>,
+    pub run_id: String,
+}
+
+/// Events the caller may show (progress bars, log lines).
+pub enum Event<'a> {
+    Reference { scene: &'a str, cached: bool, seconds: f64 },
+    Record(&'a Record),
+    Resumed(&'a str),
+}
+
+/// The parameter sets to run: the defaults with the overrides, and with `sweep` one set per
+/// declared sweep value of each knob (the others at their base values).
+pub fn param_sets(method: &dyn Method, overrides: &Params, sweep: bool) -> Result<Vec<Params>, String> {
+    let specs = method.params();
+    let base = resolve_params(&specs, overrides)?;
+    let mut out = vec![base.clone()];
+    if sweep {
+        for s in &specs {
+            if overrides.contains_key(s.name) {
+                continue;
+            }
+            for v in &s.sweep {
+                let mut p = base.clone();
+                p.insert(s.name.to_string(), v.clone());
+                if !out.contains(&p) {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+pub fn run(gpu: &Gpu, scenes: &[Scene], methods: &[&Entry], cfg: &RunConfig, on_event: &mut dyn FnMut(Event)) -> Result<Results, String> {
+    std::fs::create_dir_all(&cfg.out_dir).map_err(|e| format!("{}: cannot create the output directory: {e}", cfg.out_dir.display()))?;
+    let results_path = cfg.out_dir.join("results.json");
+    let mut results = if cfg.resume && results_path.exists() {
+        Results::load(&results_path)?
+    } else {
+        Results {
+            schema_version: SCHEMA_VERSION,
+            run: RunInfo {
+                id: cfg.run_id.clone(),
+                git_commit: git_commit(),
+                resolution: [cfg.width, cfg.height],
+                frames: cfg.frames,
+                warmup: cfg.warmup,
+                machine: Machine::detect(&gpu.summary),
+                scored_frame: 0,
+                note: if gpu.summary.software {
+                    "software adapter: timings compare only as ratios within this run".into()
+                } else {
+                    "timings compare as ratios within one run and machine".into()
+                },
+            },
+            records: Vec::new(),
+        }
+    };
+    let done: BTreeSet<String> = results.records.iter().map(Record::key).collect();
+    results.save(&results_path)?;
+    for scene in scenes {
+        let mut reference: Option<(ReferenceImages, ToneMap)> = None;
+        for entry in methods {
+            let probe = (entry.make)();
+            let overrides = cfg.overrides.get(entry.id).cloned().unwrap_or_default();
+            let sets = param_sets(probe.as_ref(), &overrides, cfg.sweep).map_err(|e| format!("--param {}: {e}", entry.id))?;
+            for params in sets {
+                let key = record_key(&scene.name, entry.id, &params);
+                if done.contains(&key) {
+                    on_event(Event::Resumed(&key));
+                    continue;
+                }
+                let support = probe.support(&scene.features(), gpu.features());
+                let record = match support {
+                    Support::No(why) => skipped(scene, entry.id, &params, why),
+                    support => {
+                        if reference.is_none() {
+                            let start = Instant::now();
+                            let (r, cached) = reference::cache::render_cached(cfg.cache_dir.as_deref(), scene, 0, cfg.width, cfg.height, cfg.reference, &|_| {})?;
+                            on_event(Event::Reference { scene: &scene.name, cached, seconds: start.elapsed().as_secs_f64() });
+                            let tone = ToneMap::auto(&r.total);
+                            write_aovs(&cfg.out_dir, &format!("{}/reference", scene.name), &r.inscatter, &r.surface, &r.total, &tone)?;
+                            reference = Some((r, tone));
+                        }
+                        let (r, tone) = reference.as_ref().expect("set above");
+                        let ignored = if let Support::Partial(v) = support { v } else { Vec::new() };
+                        let mut rec = run_one(gpu, scene, entry, &params, cfg, r, tone);
+                        rec.ignored = ignored;
+                        rec
+                    }
+                };
+                on_event(Event::Record(&record));
+                results.records.push(record);
+                results.save(&results_path)?;
+            }
+        }
+    }
+    Ok(results)
+}
+
+fn skipped(scene: &Scene, method: &str, params: &Params, why: String) -> Record {
+    Record {
+        scene: scene.name.clone(),
+        method: method.to_string(),
+        params: params.clone(),
+        status: Status::Skipped,
+        reason: Some(why),
+        ignored: Vec::new(),
+        timing: None,
+        memory_bytes: None,
+        passes: None,
+        counters: Default::default(),
+        errors: Default::default(),
+        images: Default::default(),
+    }
+}
+
+fn failed(scene: &Scene, method: &str, params: &Params, why: String) -> Record {
+    Record { status: Status::Failed, ..skipped(scene, method, params, why) }
+}
+
+/// A filesystem-safe slug of a parameter set: `steps-128_jitter-false`.
+pub fn params_slug(params: &Params) -> String {
+    let s: Vec<String> = params.iter().map(|(k, v)| format!("{k}-{v}")).collect();
+    let s = s.join("_");
+    let s: String = s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect();
+    if s.is_empty() { "default".into() } else { s }
+}
+
+fn run_one(gpu: &Gpu, scene: &Scene, entry: &Entry, params: &Params, cfg: &RunConfig, reference: &ReferenceImages, tone: &ToneMap) -> Record {
+    let _ = gpu.take_errors();
+    let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| measure(gpu, scene, entry, params, cfg)));
+    let errors = gpu.take_errors();
+    let (mut rec, images) = match outcome {
+        Err(panic) => {
+            let msg = panic.downcast_ref::<String>().cloned().or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_else(|| "unknown panic".into());
+            return failed(scene, entry.id, params, format!("panicked: {msg}"));
+        }
+        Ok(Err(e)) => return failed(scene, entry.id, params, if errors.is_empty() { e } else { format!("{e}; wgpu: {}", errors.join("; ")) }),
+        Ok(Ok(_)) if !errors.is_empty() => return failed(scene, entry.id, params, format!("wgpu error: {}", errors.join("; "))),
+        Ok(Ok(v)) => v,
+    };
+    let [inscatter, surface, total] = &images;
+    let dir = format!("{}/{}/{}", scene.name, entry.id, params_slug(params));
+    let mut nonfinite = 0;
+    for (name, img, refimg) in [("inscatter", inscatter, &reference.inscatter), ("total", total, &reference.total), ("surface", surface, &reference.surface)] {
+        match compare(img, refimg, tone) {
+            Ok(m) => {
+                nonfinite = nonfinite.max(m.nonfinite);
+                rec.errors.insert(name.to_string(), m);
+            }
+            Err(e) => return failed(scene, entry.id, params, format!("cannot score {name}: {e}")),
+        }
+    }
+    match write_aovs(&cfg.out_dir, &dir, inscatter, surface, total, tone) {
+        Ok(paths) => rec.images = paths,
+        Err(e) => return failed(scene, entry.id, params, e),
+    }
+    // Error maps: |method − reference| on a shared scale per AOV (the reference's 99th percentile / 10).
+    for (name, img, refimg) in [("inscatter", inscatter, &reference.inscatter), ("total", total, &reference.total)] {
+        let scale = error_scale(refimg);
+        let path = format!("{dir}/{name}.error.png");
+        if let Err(e) = io::write_png_ldr(&cfg.out_dir.join(&path), &error_map(img, refimg, scale)) {
+            return failed(scene, entry.id, params, e);
+        }
+        rec.images.insert(format!("{name}_error"), path);
+        rec.counters.insert(format!("{name}_error_scale"), scale as f64);
+    }
+    if nonfinite > 0 {
+        rec.status = Status::Failed;
+        rec.reason = Some(format!("{nonfinite} non-finite pixels in the output"));
+    }
+    rec
+}
+
+/// The error that maps to the top of an error map's colour bar: a tenth of the reference's
+/// 99th-percentile luminance, so 10% errors saturate.
+pub fn error_scale(reference: &Image) -> f32 {
+    let mut l = reference.luminance();
+    l.retain(|v| v.is_finite());
+    if l.is_empty() {
+        return 1.0;
+    }
+    l.sort_by(f32::total_cmp);
+    let p99 = l[((l.len() as f64 * 0.99) as usize).min(l.len() - 1)];
+    (0.1 * p99).max(1e-12)
+}
+
+fn write_aovs(out: &Path, rel_dir: &str, inscatter: &Image, surface: &Image, total: &Image, tone: &ToneMap) -> Result<std::collections::BTreeMap<String, String>, String> {
+    let mut paths = std::collections::BTreeMap::new();
+    for (name, img) in [("inscatter", inscatter), ("surface", surface), ("total", total)] {
+        let exr = format!("{rel_dir}/{name}.exr");
+        let png = format!("{rel_dir}/{name}.png");
+        std::fs::create_dir_all(out.join(rel_dir)).map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
+        io::write_exr(&out.join(&exr), img)?;
+        io::write_png(&out.join(&png), img, tone)?;
+        paths.insert(name.to_string(), exr);
+        paths.insert(format!("{name}_png"), png);
+    }
+    Ok(paths)
+}
+
+/// The AOV textures the harness renders into.
+pub struct AovTargets {
+    pub textures: [wgpu::Texture; 3],
+    pub views: [wgpu::TextureView; 3],
+    pub width: u32,
+    pub height: u32,
+}
+
+impl AovTargets {
+    pub fn new(gpu: &Gpu, width: u32, height: u32) -> AovTargets {
+        let make = |label: &str| {
+            gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: AOV_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let textures = [make("aov inscatter"), make("aov surface"), make("aov total")];
+        let views = [0, 1, 2].map(|i| textures[i].create_view(&Default::default()));
+        AovTargets { textures, views, width, height }
+    }
+
+    pub fn targets(&self) -> Targets<'_> {
+        Targets { inscatter: &self.views[0], surface: &self.views[1], total: &self.views[2], width: self.width, height: self.height }
+    }
+
+    /// Clears all three to zero (outside any timed region).
+    pub fn clear(&self, gpu: &Gpu) {
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        for v in &self.views {
+            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("clear aov"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })],
+                ..Default::default()
+            });
+        }
+        gpu.queue.submit([enc.finish()]);
+    }
+
+    pub fn read(&self, gpu: &Gpu) -> Result<[Image; 3], String> {
+        Ok([read_rgba32f(gpu, &self.textures[0])?, read_rgba32f(gpu, &self.textures[1])?, read_rgba32f(gpu, &self.textures[2])?])
+    }
+}
+
+/// One frame: clear, encode (timed as CPU), submit and wait (timed as wall), GPU timestamps.
+pub struct FrameTiming {
+    pub cpu_ms: f64,
+    pub wall_ms: f64,
+    pub gpu_ms: Option<f64>,
+    pub report: FrameReport,
+}
+
+pub fn render_frame(gpu: &Gpu, method: &mut dyn Method, scene: &Scene, index: u32, aovs: &AovTargets, timer: Option<&GpuTimer>) -> Result<FrameTiming, String> {
+    aovs.clear(gpu);
+    gpu.wait()?;
+    let frame = scene.frame(index % scene.frame_count());
+    let start = Instant::now();
+    let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+    if let Some(t) = timer {
+        t.begin(&mut enc);
+    }
+    let cpu_start = Instant::now();
+    let report = method.render(gpu, &frame, &aovs.targets(), &mut enc).map_err(|e| format!("render failed: {e:#}"))?;
+    let cpu_ms = cpu_start.elapsed().as_secs_f64() * 1e3;
+    if let Some(t) = timer {
+        t.end(&mut enc);
+    }
+    gpu.queue.submit([enc.finish()]);
+    gpu.wait()?;
+    let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+    let gpu_ms = match timer {
+        Some(t) => Some(t.read_ms(gpu)?),
+        None => None,
+    };
+    if gpu.is_lost() {
+        return Err(gpu.take_errors().join("; "));
+    }
+    Ok(FrameTiming { cpu_ms, wall_ms, gpu_ms, report })
+}
+
+/// Prepares, times and reads back one method × params. Returns the record (without errors
+/// and images) and the three AOVs of the scored frame.
+fn measure(gpu: &Gpu, scene: &Scene, entry: &Entry, params: &Params, cfg: &RunConfig) -> Result<(Record, [Image; 3]), String> {
+    let mut method = (entry.make)();
+    gpu.reset_allocated();
+    let start = Instant::now();
+    method
+        .prepare(&PrepareContext { gpu, scene, params, width: cfg.width, height: cfg.height, no_skip: cfg.no_skip })
+        .map_err(|e| format!("prepare failed: {e:#}"))?;
+    gpu.wait()?;
+    let prepare_ms = start.elapsed().as_secs_f64() * 1e3;
+    let memory = gpu.allocated_bytes();
+    let errors = gpu.take_errors();
+    if !errors.is_empty() {
+        return Err(format!("wgpu error during prepare: {}", errors.join("; ")));
+    }
+    let aovs = AovTargets::new(gpu, cfg.width, cfg.height);
+    let timer = GpuTimer::new(gpu);
+    let (mut cpu, mut wall, mut gpu_ms) = (Vec::new(), Vec::new(), Vec::new());
+    let mut last = FrameReport::default();
+    for f in 0..cfg.warmup + cfg.frames {
+        let t = render_frame(gpu, method.as_mut(), scene, f, &aovs, timer.as_ref())?;
+        if f >= cfg.warmup {
+            cpu.push(t.cpu_ms);
+            wall.push(t.wall_ms);
+            if let Some(g) = t.gpu_ms {
+                gpu_ms.push(g);
+            }
+            last = t.report;
+        }
+    }
+    // The scored frame.
+    let scored = render_frame(gpu, method.as_mut(), scene, 0, &aovs, None)?;
+    let images = aovs.read(gpu)?;
+    let report = if cfg.frames > 0 { last } else { scored.report };
+    let record = Record {
+        scene: scene.name.clone(),
+        method: entry.id.to_string(),
+        params: params.clone(),
+        status: Status::Ok,
+        reason: None,
+        ignored: Vec::new(),
+        timing: Some(Timing {
+            prepare_ms,
+            wall_ms: Stat::of(&wall),
+            gpu_ms: (!gpu_ms.is_empty()).then(|| Stat::of(&gpu_ms)),
+            cpu_ms: Stat::of(&cpu),
+        }),
+        memory_bytes: Some(memory),
+        passes: Some(Passes { run: report.run, skipped: report.skipped }),
+        counters: report.counters,
+        errors: Default::default(),
+        images: Default::default(),
+    };
+    Ok((record, images))
+}
