@@ -1,1 +1,29 @@
+//! scatterbench methods: one folder per technique (`mod.rs`, its WGSL, a README), the shared
+//! pieces in `common/`, and the registry — an explicit list in a stable order.
 
+pub mod common;
+pub mod no_scatter;
+pub mod raymarch_brute;
+
+use harness::method::Entry;
+
+/// Every method, in the order `list` and `run --methods all` use.
+pub const REGISTRY: &[Entry] = &[
+    Entry { id: "raymarch-brute", make: || Box::new(raymarch_brute::RaymarchBrute::default()) },
+    Entry { id: "no-scatter", make: || Box::new(no_scatter::NoScatter::default()) },
+];
+
+/// A registry entry by id.
+pub fn find(id: &str) -> Option<&'static Entry> {
+    REGISTRY.iter().find(|e| e.id == id)
+}
+
+/// Every composed WGSL module, by name, for validation without a GPU.
+pub fn shader_sources() -> Vec<(&'static str, String)> {
+    vec![
+        ("shadow-pass", common::shadow_maps::shader_source()),
+        ("surface-pass", common::renderer::surface_source()),
+        ("raymarch-brute/march", common::resolve::source(raymarch_brute::MARCH_WGSL)),
+        ("no-scatter/resolve", common::resolve::source(no_scatter::RESOLVE_WGSL)),
+    ]
+}

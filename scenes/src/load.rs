@@ -32,7 +32,7 @@ impl fmt::Display for SceneError {
         match self {
             SceneError::Io { file, message } => write!(f, "{file}: {message}"),
             SceneError::Syntax { file, line, column, path, message } => {
-                let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
+                let at = if path.is_empty() || path == "." || path == "?" { String::new() } else { format!("{path}: ") };
                 write!(f, "{file}:{line}:{column}: {at}{message}")
             }
             SceneError::Invalid { file, problems } => {

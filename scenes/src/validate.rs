@@ -113,7 +113,7 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
         c.push("camera.look_at", "must differ from camera.position");
     }
     c.nonzero3("camera.up", cam.up);
-    if ok && cam.up.is_finite() && cam.up.length_squared() > 1e-20 {
+    if ok && cam.up.is_finite() && cam.up.length_squared() > 1e-20 && (cam.look_at - cam.position).length_squared() >= 1e-12 {
         let fwd = (cam.look_at - cam.position).normalize_or_zero();
         if fwd.cross(cam.up.normalize()).length() < 1e-4 {
             c.push("camera.up", "must not be parallel to the view direction");

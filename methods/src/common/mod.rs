@@ -1,0 +1,10 @@
+//! What several methods share: WGSL modules (composed, never pasted), uniform mirrors, the
+//! scene's GPU buffers, shadow maps, light-pattern textures and the forward surface pass.
+
+pub mod gpu_scene;
+pub mod patterns;
+pub mod renderer;
+pub mod resolve;
+pub mod shadow_maps;
+pub mod uniforms;
+pub mod wgsl;

@@ -1,0 +1,32 @@
+//! Shared WGSL modules and their composition. A shader is the concatenation of the shared
+//! modules it names (in dependency order) and its own source; every composed module is
+//! validated by naga in a GPU-less test (`tests/shaders.rs`).
+
+pub const CAMERA: &str = include_str!("wgsl/camera.wgsl");
+pub const MEDIUM: &str = include_str!("wgsl/medium.wgsl");
+pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
+pub const SHADOW: &str = include_str!("wgsl/shadow.wgsl");
+pub const SCENE: &str = include_str!("wgsl/scene.wgsl");
+/// The frame bind group (group 0) every scene pass uses; see `renderer::SceneRenderer`.
+pub const FRAME_BINDINGS: &str = include_str!("wgsl/frame_bindings.wgsl");
+/// `vs_fullscreen`: one triangle covering the viewport.
+pub const FULLSCREEN: &str = include_str!("wgsl/fullscreen.wgsl");
+
+/// Every shared module in dependency order: what most scene passes include.
+pub const PRELUDE: &[&str] = &[CAMERA, MEDIUM, LIGHTS, SHADOW, SCENE, FRAME_BINDINGS];
+
+/// Concatenates shared modules and a method's own source.
+pub fn compose(shared: &[&str], own: &str) -> String {
+    let mut s = String::with_capacity(shared.iter().map(|m| m.len() + 1).sum::<usize>() + own.len());
+    for m in shared {
+        s.push_str(m);
+        s.push('\n');
+    }
+    s.push_str(own);
+    s
+}
+
+/// Creates a shader module from composed source.
+pub fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.into()) })
+}

@@ -1,0 +1,66 @@
+// Lights (DESIGN §1) with the spot falloff and the pattern texture. Mirrors
+// common::uniforms::{LightUniform, LightsUniform}.
+const MAX_LIGHTS: u32 = 4u;
+const LIGHT_POINT: u32 = 0u;
+const LIGHT_SPOT: u32 = 1u;
+const LIGHT_DIRECTIONAL: u32 = 2u;
+
+struct Light {
+    // xyz: position (m); w: kind
+    position: vec4<f32>,
+    // xyz: unit axis / propagation direction; w: cos(inner)
+    direction: vec4<f32>,
+    // rgb: intensity (W/sr) or irradiance (W/m²); w: cos(outer)
+    intensity: vec4<f32>,
+    // xyz: spot slide frame right; w: tan(outer)
+    right: vec4<f32>,
+    // xyz: spot slide frame up; w: pattern layer (< 0: no pattern)
+    up: vec4<f32>,
+    // x: shadow map layer base (< 0: no shadow map); y: number of faces (6 or 1);
+    // z: shadow map size (texels); w: depth bias scale
+    shadow: vec4<f32>,
+    // clip_from_world of each shadow-map face (+X, −X, +Y, −Y, +Z, −Z; or one orthographic)
+    faces: array<mat4x4<f32>, 6>,
+};
+
+struct Lights {
+    // x: number of lights
+    count: vec4<u32>,
+    lights: array<Light, 4>,
+};
+
+fn light_kind(l: Light) -> u32 {
+    return u32(l.position.w + 0.5);
+}
+
+// smoothstep(cos_outer, cos_inner, cos_angle), as scenes::light::spot_falloff.
+fn spot_falloff(l: Light, cos_angle: f32) -> f32 {
+    let ci = l.direction.w;
+    let co = l.intensity.w;
+    if (cos_angle >= ci) { return 1.0; }
+    if (cos_angle <= co) { return 0.0; }
+    let t = (cos_angle - co) / (ci - co);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// Radiant intensity toward world point x (W/sr), falloff and pattern included; irradiance for
+// directional light. `w` is x − light position (unused for directional light).
+fn light_intensity(l: Light, w: vec3<f32>, patterns: texture_2d_array<f32>, samp: sampler) -> vec3<f32> {
+    let kind = light_kind(l);
+    if (kind != LIGHT_SPOT) {
+        return l.intensity.rgb;
+    }
+    let len = length(w);
+    let z = dot(w, l.direction.xyz);
+    if (len <= 0.0 || z <= 0.0) { return vec3<f32>(0.0); }
+    let fall = spot_falloff(l, z / len);
+    if (fall <= 0.0) { return vec3<f32>(0.0); }
+    var slide = vec3<f32>(1.0);
+    if (l.up.w >= 0.0) {
+        let tan_outer = l.right.w;
+        let uv = vec2<f32>(0.5 + 0.5 * dot(w, l.right.xyz) / z / tan_outer, 0.5 + 0.5 * dot(w, l.up.xyz) / z / tan_outer);
+        // The pattern texture's row 0 holds v = 0 (no flip: scenes::light::spot_uv's v is the texture v).
+        slide = textureSampleLevel(patterns, samp, uv, i32(l.up.w + 0.5), 0.0).rgb;
+    }
+    return l.intensity.rgb * fall * slide;
+}

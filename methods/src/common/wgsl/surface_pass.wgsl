@@ -1,0 +1,67 @@
+// The forward surface pass: Lambert + Phong with shadow-mapped visibility, attenuated toward the
+// eye (DESIGN §1's e^(−σt d) L_surf), and the distance along each pixel's ray. Needs PRELUDE.
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) @interpolate(flat) object: u32,
+};
+
+@vertex
+fn vs(v: VertexIn) -> VsOut {
+    let o = objects[v.object];
+    let world = o.world_from_local * vec4<f32>(v.position, 1.0);
+    let n = (o.normal_from_local * vec4<f32>(v.normal, 0.0)).xyz;
+    return VsOut(camera.clip_from_world * world, world.xyz, n, v.object);
+}
+
+struct FsOut {
+    @location(0) surface: vec4<f32>,
+    @location(1) distance: vec4<f32>,
+};
+
+// Reflected radiance toward the eye at x (not attenuated on the eye leg).
+fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32> {
+    var n = normalize(n_in);
+    if (!front) {
+        if (o.albedo.w < 0.5) { return vec3<f32>(0.0); }
+        n = -n;
+    }
+    let v = normalize(camera.position.xyz - x);
+    var out = vec3<f32>(0.0);
+    for (var k = 0u; k < lights.count.x; k++) {
+        let l = lights.lights[k];
+        var to_light: vec3<f32>;
+        var incident: vec3<f32>;
+        var r = 0.0;
+        if (light_kind(l) == LIGHT_DIRECTIONAL) {
+            to_light = -l.direction.xyz;
+            incident = l.intensity.rgb;
+        } else {
+            let w = x - l.position.xyz;
+            r = length(w);
+            to_light = -w / r;
+            incident = light_intensity(l, w, light_patterns, linear_clamp) * transmittance(medium, r) / (r * r);
+        }
+        let cos_l = dot(n, to_light);
+        if (cos_l <= 0.0) { continue; }
+        // Offset along the normal so a surface does not shadow itself.
+        let offset = 2.0 * select(r, 1.0, light_kind(l) == LIGHT_DIRECTIONAL) / max(l.shadow.z, 1.0);
+        let vis = shadow_visibility(l, x + n * offset, shadow_maps);
+        var brdf = o.albedo.rgb / PI;
+        if (o.phong.w > 0.0) {
+            let refl = 2.0 * cos_l * n - to_light;
+            brdf += o.phong.rgb * (o.phong.w + 2.0) / (2.0 * PI) * pow(max(dot(refl, v), 0.0), o.phong.w);
+        }
+        out += brdf * incident * cos_l * vis;
+    }
+    return out;
+}
+
+@fragment
+fn fs(i: VsOut, @builtin(front_facing) front: bool) -> FsOut {
+    let d = length(i.world - camera.position.xyz);
+    let l = shade(i.world, i.normal, front, objects[i.object]) * transmittance(medium, d);
+    return FsOut(vec4<f32>(l, 1.0), vec4<f32>(d, 0.0, 0.0, 0.0));
+}

@@ -1,0 +1,65 @@
+// Brute-force ray march (Wyman & Ramsey's baseline): N equal steps from the eye to the visible
+// surface (or the far plane), shadow-map visibility and the exact integrand at each step.
+// Needs PRELUDE and FULLSCREEN.
+
+struct March {
+    // x: steps; y: jitter (0/1); z: frame index; w: unused
+    config: vec4<u32>,
+};
+@group(1) @binding(0) var ray_distance: texture_2d<f32>;
+@group(1) @binding(1) var surface: texture_2d<f32>;
+@group(1) @binding(2) var<uniform> march: March;
+
+struct Out {
+    @location(0) inscatter: vec4<f32>,
+    @location(1) total: vec4<f32>,
+};
+
+// Integer hash → [0, 1): decorrelated per pixel and frame (jittered step offsets).
+fn hash01(p: vec2<u32>, f: u32) -> f32 {
+    var h = p.x * 1973u + p.y * 9277u + f * 26699u;
+    h = (h ^ (h >> 13u)) * 0x5bd1e995u;
+    h = h ^ (h >> 15u);
+    return f32(h & 0xffffffu) / 16777216.0;
+}
+
+// Single-scattered radiance reaching the eye from distance t along `dir`, per metre.
+fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
+    let x = camera.position.xyz + dir * t;
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < lights.count.x; k++) {
+        let l = lights.lights[k];
+        if (light_kind(l) == LIGHT_DIRECTIONAL) {
+            let vis = shadow_visibility(l, x, shadow_maps);
+            sum += l.intensity.rgb * phase(medium, dot(l.direction.xyz, -dir)) * vis * transmittance(medium, t);
+        } else {
+            let w = x - l.position.xyz;
+            let r2 = max(dot(w, w), 1e-12);
+            let r = sqrt(r2);
+            let i = light_intensity(l, w, light_patterns, linear_clamp);
+            if (all(i <= vec3<f32>(0.0))) { continue; }
+            let vis = shadow_visibility(l, x, shadow_maps);
+            sum += i * phase(medium, dot(w / r, -dir)) * vis * transmittance(medium, t + r) / r2;
+        }
+    }
+    return medium.sigma_s.rgb * sum;
+}
+
+@fragment
+fn fs(@builtin(position) frag: vec4<f32>) -> Out {
+    let px = vec2<i32>(frag.xy);
+    let dir = camera_ray_dir(camera, frag.xy);
+    let hit = textureLoad(ray_distance, px, 0).r;
+    let d = select(camera_far_distance(camera, dir), hit, hit >= 0.0);
+    let n = max(march.config.x, 1u);
+    let dt = d / f32(n);
+    let offset = select(0.5, hash01(vec2<u32>(px), march.config.z), march.config.y != 0u);
+    var l_in = vec3<f32>(0.0);
+    for (var k = 0u; k < n; k++) {
+        l_in += inscatter_at(dir, (f32(k) + offset) * dt);
+    }
+    l_in *= dt;
+    let surf = textureLoad(surface, px, 0).rgb;
+    let ambient = medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, d));
+    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient, 1.0));
+}
