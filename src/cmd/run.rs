@@ -1,17 +1,187 @@
-//! The benchmark commands (`run`, …): filled in by the GPU harness.
+//! The benchmark commands: `run` (scenes × methods → results.json + images).
 
-use anyhow::Result;
-use clap::Subcommand;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use anyhow::{Result, anyhow, bail};
+use clap::{Args, Subcommand};
+use harness::method::{Entry, ParamValue, Params};
+use harness::reference::Settings;
+use harness::results::Status;
+use harness::runner::{Event, RunConfig};
 
 #[derive(Subcommand)]
-pub enum BenchCommand {}
+pub enum BenchCommand {
+    /// Run methods on scenes, score them against the reference, write results.json and images.
+    Run(RunArgs),
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// Comma-separated scene names or .json paths, or "all".
+    #[arg(long, default_value = "all")]
+    pub scenes: String,
+    /// Comma-separated method ids, or "all".
+    #[arg(long, default_value = "all")]
+    pub methods: String,
+    /// N (square) or WxH.
+    #[arg(long, default_value = "512")]
+    pub res: String,
+    /// Timed frames per record.
+    #[arg(long, default_value_t = 10)]
+    pub frames: u32,
+    /// Warm-up frames per record.
+    #[arg(long, default_value_t = 3)]
+    pub warmup: u32,
+    /// METHOD.KNOB=VALUE (repeatable).
+    #[arg(long = "param")]
+    pub params: Vec<String>,
+    /// Run every declared sweep value of every knob.
+    #[arg(long)]
+    pub sweep: bool,
+    /// Run every pass even where the scene does not need it.
+    #[arg(long)]
+    pub no_skip: bool,
+    /// Continue the run in --out, skipping finished records.
+    #[arg(long)]
+    pub resume: bool,
+    /// Output directory (default results/<run-id>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Reference cache directory.
+    #[arg(long, default_value = "results/cache")]
+    pub cache: PathBuf,
+}
 
 pub fn dispatch(c: BenchCommand) -> Result<()> {
-    match c {}
+    match c {
+        BenchCommand::Run(a) => run(a),
+    }
+}
+
+fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
+    if spec == "all" {
+        return Ok(methods::REGISTRY.iter().collect());
+    }
+    spec.split(',')
+        .map(|id| {
+            methods::find(id.trim()).ok_or_else(|| {
+                anyhow!("unknown method '{id}': valid methods are {}", methods::REGISTRY.iter().map(|e| e.id).collect::<Vec<_>>().join(", "))
+            })
+        })
+        .collect()
+}
+
+fn pick_scenes(spec: &str) -> Result<Vec<scenes::Scene>> {
+    let names: Vec<String> = if spec == "all" { scenes::library::names().into_iter().map(String::from).collect() } else { spec.split(',').map(|s| s.trim().to_string()).collect() };
+    names.iter().map(|n| scenes::library::resolve(n).map_err(|e| anyhow!(e))).collect()
+}
+
+fn parse_overrides(items: &[String], chosen: &[&Entry]) -> Result<BTreeMap<String, Params>> {
+    let mut out: BTreeMap<String, Params> = BTreeMap::new();
+    for item in items {
+        let (lhs, value) = item.split_once('=').ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
+        let (method, knob) = lhs.split_once('.').ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
+        let entry = methods::find(method).ok_or_else(|| anyhow!("--param '{item}': unknown method '{method}'"))?;
+        if !chosen.iter().any(|e| e.id == entry.id) {
+            bail!("--param '{item}': method '{method}' is not in --methods");
+        }
+        let specs = (entry.make)().params();
+        let spec = specs.iter().find(|s| s.name == knob).ok_or_else(|| {
+            anyhow!("--param '{item}': '{method}' has no knob '{knob}'; knobs are {}", specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", "))
+        })?;
+        let v = ParamValue::parse_like(value, &spec.default).map_err(|e| anyhow!("--param '{item}': {e}"))?;
+        out.entry(entry.id.to_string()).or_default().insert(knob.to_string(), v);
+    }
+    Ok(out)
+}
+
+pub fn run(a: RunArgs) -> Result<()> {
+    let (width, height) = super::parse_res(&a.res)?;
+    let chosen = pick_methods(&a.methods)?;
+    let scenes = pick_scenes(&a.scenes)?;
+    let overrides = parse_overrides(&a.params, &chosen)?;
+    let run_id = harness::results::run_id_now();
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("results").join(&run_id));
+    if a.resume && !out.join("results.json").exists() {
+        bail!("--resume: {} has no results.json to continue", out.display());
+    }
+    let gpu = harness::Gpu::new().map_err(|e| anyhow!(e))?;
+    eprintln!("adapter: {} ({}, {})", gpu.summary.adapter, gpu.summary.backend, gpu.summary.driver_info);
+    if gpu.summary.software {
+        eprintln!("note: software adapter — timings compare only as ratios within this run");
+    }
+    let cfg = RunConfig {
+        out_dir: out.clone(),
+        width,
+        height,
+        frames: a.frames,
+        warmup: a.warmup,
+        no_skip: a.no_skip,
+        resume: a.resume,
+        sweep: a.sweep,
+        overrides,
+        reference: Settings::default(),
+        cache_dir: Some(a.cache.clone()),
+        run_id,
+    };
+    let mut counts = [0usize; 3];
+    let results = harness::runner::run(&gpu, &scenes, &chosen, &cfg, &mut |ev| match ev {
+        Event::Reference { scene, cached, seconds } => eprintln!("reference {scene}: {}", if cached { "cached".to_string() } else { format!("{seconds:.1} s") }),
+        Event::Resumed(key) => eprintln!("resume: kept {key}"),
+        Event::Record(r) => {
+            counts[r.status as usize] += 1;
+            let p: Vec<String> = r.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            match r.status {
+                Status::Ok => {
+                    let t = r.timing.as_ref().map(|t| t.wall_ms.median).unwrap_or(0.0);
+                    let g = r.timing.as_ref().and_then(|t| t.gpu_ms).map(|g| format!(", gpu {:.2} ms", g.median)).unwrap_or_default();
+                    let e = r.errors.get("inscatter").map(|m| m.rel_rmse).unwrap_or(f64::NAN);
+                    eprintln!("  ok      {:<16} {:<20} {:<40} wall {t:.2} ms{g}, in-scatter rel RMSE {e:.4}", r.scene, r.method, p.join(" "));
+                }
+                _ => eprintln!("  {:<7} {:<16} {:<20} {}: {}", format!("{:?}", r.status).to_lowercase(), r.scene, r.method, p.join(" "), r.reason.as_deref().unwrap_or("")),
+            }
+        }
+    })
+    .map_err(|e| anyhow!(e))?;
+    println!(
+        "{} records ({} ok, {} skipped, {} failed) in {}",
+        results.records.len(),
+        counts[Status::Ok as usize],
+        counts[Status::Skipped as usize],
+        counts[Status::Failed as usize],
+        out.join("results.json").display()
+    );
+    Ok(())
 }
 
 pub fn methods_json() -> serde_json::Value {
-    serde_json::json!([])
+    serde_json::Value::Array(
+        methods::REGISTRY
+            .iter()
+            .map(|e| {
+                let m = (e.make)();
+                let info = m.info();
+                let support: BTreeMap<String, serde_json::Value> = scenes::library::names()
+                    .into_iter()
+                    .filter_map(|n| scenes::library::resolve(n).ok())
+                    .map(|s| (s.name.clone(), serde_json::to_value(m.support(&s.features(), wgpu::Features::all())).unwrap_or_default()))
+                    .collect();
+                serde_json::json!({"id": info.id, "paper": info.paper, "summary": info.summary, "params": m.params(), "support": support})
+            })
+            .collect(),
+    )
 }
 
-pub fn print_methods() {}
+pub fn print_methods() {
+    println!("methods:");
+    for e in methods::REGISTRY {
+        let m = (e.make)();
+        let info = m.info();
+        println!("  {:<20} {}", info.id, info.summary);
+        for p in m.params() {
+            let sweep: Vec<String> = p.sweep.iter().map(|v| v.to_string()).collect();
+            println!("  {:<20}   {} = {} (sweep: {}) — {}", "", p.name, p.default, if sweep.is_empty() { "-".into() } else { sweep.join(", ") }, p.meaning);
+        }
+    }
+}

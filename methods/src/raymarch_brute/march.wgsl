@@ -28,17 +28,17 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
     let x = camera.position.xyz + dir * t;
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < lights.count.x; k++) {
-        let l = lights.lights[k];
-        if (light_kind(l) == LIGHT_DIRECTIONAL) {
-            let vis = shadow_visibility(l, x, shadow_maps);
-            sum += l.intensity.rgb * phase(medium, dot(l.direction.xyz, -dir)) * vis * transmittance(medium, t);
+        if (light_kind(k) == LIGHT_DIRECTIONAL) {
+            let dir_l = lights.lights[k].direction.xyz;
+            let vis = shadow_visibility(k, x);
+            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * vis * transmittance(medium, t);
         } else {
-            let w = x - l.position.xyz;
+            let w = x - lights.lights[k].position.xyz;
             let r2 = max(dot(w, w), 1e-12);
             let r = sqrt(r2);
-            let i = light_intensity(l, w, light_patterns, linear_clamp);
+            let i = light_intensity(k, w);
             if (all(i <= vec3<f32>(0.0))) { continue; }
-            let vis = shadow_visibility(l, x, shadow_maps);
+            let vis = shadow_visibility(k, x);
             sum += i * phase(medium, dot(w / r, -dir)) * vis * transmittance(medium, t + r) / r2;
         }
     }

@@ -42,6 +42,13 @@ struct State {
 
 pub const MARCH_WGSL: &str = include_str!("march.wgsl");
 
+impl RaymarchBrute {
+    /// The per-pixel ray-distance texture of the last frame (for camera-contract tests).
+    pub fn distance_texture(&self) -> Option<&wgpu::Texture> {
+        self.state.as_ref().map(|s| &s.renderer.distance)
+    }
+}
+
 impl Method for RaymarchBrute {
     fn info(&self) -> MethodInfo {
         MethodInfo {

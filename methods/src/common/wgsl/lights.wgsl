@@ -29,38 +29,44 @@ struct Lights {
     lights: array<Light, 4>,
 };
 
-fn light_kind(l: Light) -> u32 {
-    return u32(l.position.w + 0.5);
+// The functions below take the light's index and read the `lights` uniform (frame_bindings.wgsl)
+// field by field: copying a whole `Light` (480 bytes) per call is what made lavapipe slow.
+
+fn light_kind(k: u32) -> u32 {
+    return u32(lights.lights[k].position.w + 0.5);
 }
 
 // smoothstep(cos_outer, cos_inner, cos_angle), as scenes::light::spot_falloff.
-fn spot_falloff(l: Light, cos_angle: f32) -> f32 {
-    let ci = l.direction.w;
-    let co = l.intensity.w;
+fn spot_falloff(k: u32, cos_angle: f32) -> f32 {
+    let ci = lights.lights[k].direction.w;
+    let co = lights.lights[k].intensity.w;
     if (cos_angle >= ci) { return 1.0; }
     if (cos_angle <= co) { return 0.0; }
     let t = (cos_angle - co) / (ci - co);
     return t * t * (3.0 - 2.0 * t);
 }
 
-// Radiant intensity toward world point x (W/sr), falloff and pattern included; irradiance for
-// directional light. `w` is x − light position (unused for directional light).
-fn light_intensity(l: Light, w: vec3<f32>, patterns: texture_2d_array<f32>, samp: sampler) -> vec3<f32> {
-    let kind = light_kind(l);
-    if (kind != LIGHT_SPOT) {
-        return l.intensity.rgb;
+// Radiant intensity of light k toward world point x (W/sr), falloff and pattern included;
+// irradiance for directional light. `w` is x − light position (unused for directional light).
+fn light_intensity(k: u32, w: vec3<f32>) -> vec3<f32> {
+    let rgb = lights.lights[k].intensity.rgb;
+    if (light_kind(k) != LIGHT_SPOT) {
+        return rgb;
     }
+    let axis = lights.lights[k].direction.xyz;
     let len = length(w);
-    let z = dot(w, l.direction.xyz);
+    let z = dot(w, axis);
     if (len <= 0.0 || z <= 0.0) { return vec3<f32>(0.0); }
-    let fall = spot_falloff(l, z / len);
+    let fall = spot_falloff(k, z / len);
     if (fall <= 0.0) { return vec3<f32>(0.0); }
     var slide = vec3<f32>(1.0);
-    if (l.up.w >= 0.0) {
-        let tan_outer = l.right.w;
-        let uv = vec2<f32>(0.5 + 0.5 * dot(w, l.right.xyz) / z / tan_outer, 0.5 + 0.5 * dot(w, l.up.xyz) / z / tan_outer);
-        // The pattern texture's row 0 holds v = 0 (no flip: scenes::light::spot_uv's v is the texture v).
-        slide = textureSampleLevel(patterns, samp, uv, i32(l.up.w + 0.5), 0.0).rgb;
+    let layer = lights.lights[k].up.w;
+    if (layer >= 0.0) {
+        let right = lights.lights[k].right;
+        let up = lights.lights[k].up.xyz;
+        let uv = vec2<f32>(0.5 + 0.5 * dot(w, right.xyz) / z / right.w, 0.5 + 0.5 * dot(w, up) / z / right.w);
+        // The pattern texture's row 0 holds v = 0 (scenes::light::spot_uv's v is the texture v).
+        slide = textureSampleLevel(light_patterns, linear_clamp, uv, i32(layer + 0.5), 0.0).rgb;
     }
-    return l.intensity.rgb * fall * slide;
+    return rgb * fall * slide;
 }

@@ -31,24 +31,24 @@ fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32>
     let v = normalize(camera.position.xyz - x);
     var out = vec3<f32>(0.0);
     for (var k = 0u; k < lights.count.x; k++) {
-        let l = lights.lights[k];
         var to_light: vec3<f32>;
         var incident: vec3<f32>;
         var r = 0.0;
-        if (light_kind(l) == LIGHT_DIRECTIONAL) {
-            to_light = -l.direction.xyz;
-            incident = l.intensity.rgb;
+        let directional = light_kind(k) == LIGHT_DIRECTIONAL;
+        if (directional) {
+            to_light = -lights.lights[k].direction.xyz;
+            incident = lights.lights[k].intensity.rgb;
         } else {
-            let w = x - l.position.xyz;
+            let w = x - lights.lights[k].position.xyz;
             r = length(w);
             to_light = -w / r;
-            incident = light_intensity(l, w, light_patterns, linear_clamp) * transmittance(medium, r) / (r * r);
+            incident = light_intensity(k, w) * transmittance(medium, r) / (r * r);
         }
         let cos_l = dot(n, to_light);
         if (cos_l <= 0.0) { continue; }
         // Offset along the normal so a surface does not shadow itself.
-        let offset = 2.0 * select(r, 1.0, light_kind(l) == LIGHT_DIRECTIONAL) / max(l.shadow.z, 1.0);
-        let vis = shadow_visibility(l, x + n * offset, shadow_maps);
+        let offset = 2.0 * select(r, 1.0, directional) / max(lights.lights[k].shadow.z, 1.0);
+        let vis = shadow_visibility(k, x + n * offset);
         var brdf = o.albedo.rgb / PI;
         if (o.phong.w > 0.0) {
             let refl = 2.0 * cos_l * n - to_light;
