@@ -724,6 +724,20 @@ fn check_intervals(world: &World, rays: &[(DVec3, DVec3, f64)], src: Source, n: 
     (shadowed_rays, changes)
 }
 
+/// Camera rays through random pixels of a 48×48 image, to their first hit or the far plane.
+fn camera_rays(world: &World, st: &scenes::FrameState, rng: &mut Lcg, n: usize) -> Vec<(DVec3, DVec3, f64)> {
+    let rays_of = st.camera.rays(48, 48);
+    (0..n)
+        .map(|_| {
+            let (i, j) = ((rng.next() * 48.0) as u32, (rng.next() * 48.0) as u32);
+            let d = rays_of.direction(i, j);
+            let far = rays_of.far_distance(d);
+            let len = world.bvh.intersect(rays_of.origin, d, rays_of.near_distance(d), far).map_or(far, |h| h.t);
+            (rays_of.origin, d, len)
+        })
+        .collect()
+}
+
 #[test]
 fn exact_shadow_intervals_agree_with_dense_sampling_fence_spot() {
     let s = lib("fence-spot");
@@ -738,15 +752,7 @@ fn exact_shadow_intervals_agree_with_dense_sampling_fence_spot() {
         let (a, b) = (rng.in_box(lo, hi), rng.in_box(lo, hi));
         rays.push((a, (b - a).normalize(), (b - a).length()));
     }
-    // Camera rays through random pixels, to their first hit or the far plane.
-    let rays_of = st.camera.rays(48, 48);
-    for _ in 0..50 {
-        let (i, j) = ((rng.next() * 48.0) as u32, (rng.next() * 48.0) as u32);
-        let d = rays_of.direction(i, j);
-        let far = rays_of.far_distance(d);
-        let len = world.bvh.intersect(rays_of.origin, d, rays_of.near_distance(d), far).map_or(far, |h| h.t);
-        rays.push((rays_of.origin, d, len));
-    }
+    rays.extend(camera_rays(&world, &st, &mut rng, 50));
     let (with_shadow, changes) = check_intervals(&world, &rays, Source::Point(l), 20_000);
     println!("fence-spot: {with_shadow} of {} rays cross a shadow boundary, {changes} sampled lit/shadow changes", rays.len());
     assert!(with_shadow >= 60 && changes >= 500, "the rays must actually cross the fence's shadows");
@@ -766,10 +772,11 @@ fn exact_shadow_intervals_agree_with_dense_sampling_window_sun() {
     // Inside the room (walls at x = -3.1 (windows), z = ±4.1, floor y = 0, ceiling y = 4).
     let (lo, hi) = (DVec3::new(-2.9, 0.05, -3.9), DVec3::new(3.9, 3.9, 3.9));
     let mut rays = Vec::new();
-    for _ in 0..200 {
+    for _ in 0..150 {
         let (a, b) = (rng.in_box(lo, hi), rng.in_box(lo, hi));
         rays.push((a, (b - a).normalize(), (b - a).length()));
     }
+    rays.extend(camera_rays(&world, &st, &mut rng, 50));
     let (with_shadow, changes) = check_intervals(&world, &rays, Source::Direction(sun, reach), 20_000);
     println!("window-sun: {with_shadow} of {} rays cross a shadow boundary, {changes} sampled lit/shadow changes", rays.len());
     assert!(with_shadow >= 60 && changes >= 150, "the rays must cross the window's light and shadows");

@@ -470,3 +470,44 @@ fn keys_may_come_in_any_order_and_animate_direction_and_camera() {
         ref o => panic!("{o:?}"),
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The documentation's example
+// ---------------------------------------------------------------------------------------------
+
+/// The complete example of `scenes/README.md` (its first ```json block) is a valid scene that
+/// uses what it claims to.
+#[test]
+fn readme_example_is_a_valid_scene() {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let start = readme.find("```json\n").expect("README has a ```json block") + "```json\n".len();
+    let end = start + readme[start..].find("\n```").unwrap();
+    let s = parse_scene(&readme[start..end], "README.md", "example", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    let f = s.features();
+    assert_eq!(f.light_kinds, ["directional", "point", "spot"]);
+    assert!(f.textured_light && f.phong && f.anisotropic_phase && f.volumetric_occluders);
+    assert!(f.animated_camera && f.animated_lights && f.animated_objects);
+    assert_eq!(f.frames, 4);
+    assert!(s.desc.objects.iter().any(|o| !o.casts_volumetric_shadow && o.material.two_sided));
+    // Every field the format has appears in the example (so it is "complete"): the JSON keys of
+    // the re-serialised description, all of which must occur in the example's text.
+    let v = serde_json::to_value(&s.desc).unwrap();
+    let mut keys = BTreeSet::new();
+    collect_keys(&v, &mut keys);
+    for k in keys {
+        assert!(readme[start..end].contains(&format!("\"{k}\"")), "the README example lacks the field {k:?}");
+    }
+}
+
+fn collect_keys(v: &serde_json::Value, out: &mut BTreeSet<String>) {
+    match v {
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                out.insert(k.clone());
+                collect_keys(x, out);
+            }
+        }
+        serde_json::Value::Array(a) => a.iter().for_each(|x| collect_keys(x, out)),
+        _ => {}
+    }
+}

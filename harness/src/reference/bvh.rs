@@ -96,6 +96,9 @@ impl Bvh {
     /// Visits every shadow-casting triangle in a leaf whose box `overlaps` accepts (a box test
     /// that must be conservative: true whenever the box may hold a triangle of interest).
     pub fn for_each_caster(&self, overlaps: impl Fn(DVec3, DVec3) -> bool, mut visit: impl FnMut(&Tri)) {
+        if self.tris.is_empty() {
+            return;
+        }
         let mut stack = [0u32; STACK];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -126,6 +129,10 @@ impl Bvh {
     /// Visits leaf triangles whose boxes the ray enters before `tmax`; `visit` returns true to stop.
     #[inline]
     fn walk(&self, o: DVec3, inv: DVec3, tmin: f64, tmax: &mut f64, mut visit: impl FnMut(usize, &mut f64) -> bool) {
+        // An empty scene has a single empty root that is neither a leaf nor an inner node.
+        if self.tris.is_empty() {
+            return;
+        }
         let mut stack = [0u32; STACK];
         let mut sp = 0usize;
         let mut node = 0usize;
