@@ -8,7 +8,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "scatterbench", version, about = "Benchmark real-time single scattering with volumetric shadows against a CPU ground truth")]
+#[command(
+    name = "scatterbench",
+    version,
+    about = "Benchmark real-time single scattering with volumetric shadows against a CPU ground truth"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -54,7 +58,13 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::List { json } => cmd::list::run(json),
         Command::Validate { files } => return cmd::validate::run(&files),
-        Command::Reference { scene, res, frame, out, convergence_stride } => cmd::reference::run(&scene, &res, frame, out, convergence_stride),
+        Command::Reference {
+            scene,
+            res,
+            frame,
+            out,
+            convergence_stride,
+        } => cmd::reference::run(&scene, &res, frame, out, convergence_stride),
         Command::Bench(b) => cmd::run::dispatch(b),
     };
     match result {

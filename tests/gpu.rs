@@ -7,17 +7,25 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use harness::method::{Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support, Targets};
+use harness::method::{
+    Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support,
+    Targets,
+};
 use harness::reference::{self, Settings};
 use harness::results::{Results, Status};
 use harness::runner::{RunConfig, run};
-use harness::{Gpu, image::metrics::{ToneMap, compare}};
+use harness::{
+    Gpu,
+    image::metrics::{ToneMap, compare},
+};
 use scenes::{FrameState, SceneFeatures};
 
 fn gpu() -> Option<Gpu> {
     match Gpu::new() {
         Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => panic!("CI is set and there is no GPU adapter: {e}"),
+        Err(e) if std::env::var_os("CI").is_some() => {
+            panic!("CI is set and there is no GPU adapter: {e}")
+        }
         Err(e) => {
             eprintln!("skipping GPU test: {e}");
             None
@@ -79,8 +87,15 @@ fn raymarch_brute_converges_to_the_reference() {
     let Some(gpu) = gpu() else { return };
     let e512 = brute_error(&gpu, "sphere-point", 128, 512);
     assert!(e512 < 0.005, "in-scatter rel RMSE at 512 steps: {e512}");
-    let (e16, e64, e256) = (brute_error(&gpu, "sphere-point", 64, 16), brute_error(&gpu, "sphere-point", 64, 64), brute_error(&gpu, "sphere-point", 64, 256));
-    assert!(e16 > e64 && e64 > e256, "errors 16/64/256 steps: {e16} {e64} {e256}");
+    let (e16, e64, e256) = (
+        brute_error(&gpu, "sphere-point", 64, 16),
+        brute_error(&gpu, "sphere-point", 64, 64),
+        brute_error(&gpu, "sphere-point", 64, 256),
+    );
+    assert!(
+        e16 > e64 && e64 > e256,
+        "errors 16/64/256 steps: {e16} {e64} {e256}"
+    );
 }
 
 /// The rasterised ray distance equals the reference's hit distance: the camera contract.
@@ -92,7 +107,15 @@ fn rasterised_distance_matches_reference_hits() {
     let refimg = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
     let mut m = methods::raymarch_brute::RaymarchBrute::default();
     let params = harness::method::resolve_params(&m.params(), &Params::new()).unwrap();
-    m.prepare(&PrepareContext { gpu: &gpu, scene: &scene, params: &params, width: w, height: h, no_skip: false }).unwrap();
+    m.prepare(&PrepareContext {
+        gpu: &gpu,
+        scene: &scene,
+        params: &params,
+        width: w,
+        height: h,
+        no_skip: false,
+    })
+    .unwrap();
     let aovs = harness::runner::AovTargets::new(&gpu, w, h);
     harness::runner::render_frame(&gpu, &mut m, &scene, 0, &aovs, None).unwrap();
     // The method's distance texture is private; read it through the renderer it exposes.
@@ -108,7 +131,9 @@ fn rasterised_distance_matches_reference_hits() {
             // The reference stores distances as f32: a miss is the far distance to f32 precision.
             let ref_hit = ref_d < far * (1.0 - 1e-6);
             total += 1;
-            if (gpu_d < 0.0) == !ref_hit && (!ref_hit || ((gpu_d as f64) - ref_d).abs() < 1e-3 * ref_d) {
+            if (gpu_d < 0.0) == !ref_hit
+                && (!ref_hit || ((gpu_d as f64) - ref_d).abs() < 1e-3 * ref_d)
+            {
                 agree += 1;
             } else if std::env::var_os("DEBUG_DIST").is_some() {
                 eprintln!("({i},{j}) gpu {gpu_d} ref {ref_d} far {far}");
@@ -116,27 +141,44 @@ fn rasterised_distance_matches_reference_hits() {
         }
     }
     // Pixels whose centre lies within f32 rounding of a silhouette may differ; allow 0.5%.
-    assert!(agree as f64 >= 0.995 * total as f64, "{agree} of {total} pixels agree");
+    assert!(
+        agree as f64 >= 0.995 * total as f64,
+        "{agree} of {total} pixels agree"
+    );
 }
 
 fn read_r32f(gpu: &Gpu, tex: &wgpu::Texture) -> Vec<f32> {
-    // Copy into an Rgba32Float-sized read-back by rendering? Simpler: copy the bytes directly.
     let (w, h) = (tex.width(), tex.height());
     let padded = (w * 4).div_ceil(256) * 256;
-    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: (padded * h) as u64, usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ, mapped_at_creation: false });
+    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (padded * h) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     enc.copy_texture_to_buffer(
         tex.as_image_copy(),
-        wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
-        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buf,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
     );
     gpu.queue.submit([enc.finish()]);
-    buf.slice(..).map_async(wgpu::MapMode::Read, |_| {});
-    gpu.wait().unwrap();
-    let data = buf.slice(..).get_mapped_range().unwrap();
+    let data = harness::gpu::map_read(gpu, &buf).unwrap();
     let mut out = Vec::new();
     for row in 0..h as usize {
-        for c in data[row * padded as usize..row * padded as usize + w as usize * 4].chunks_exact(4) {
+        for c in data[row * padded as usize..row * padded as usize + w as usize * 4].chunks_exact(4)
+        {
             out.push(f32::from_le_bytes([c[0], c[1], c[2], c[3]]));
         }
     }
@@ -150,7 +192,11 @@ struct Broken {
 
 impl Method for Broken {
     fn info(&self) -> MethodInfo {
-        MethodInfo { id: if self.nan { "test-nan" } else { "test-panic" }, paper: "test", summary: "fails on purpose" }
+        MethodInfo {
+            id: if self.nan { "test-nan" } else { "test-panic" },
+            paper: "test",
+            summary: "fails on purpose",
+        }
     }
     fn params(&self) -> Vec<ParamSpec> {
         vec![]
@@ -161,15 +207,34 @@ impl Method for Broken {
     fn prepare(&mut self, _: &PrepareContext) -> anyhow::Result<()> {
         Ok(())
     }
-    fn render(&mut self, _: &Gpu, _: &FrameState, t: &Targets, enc: &mut wgpu::CommandEncoder) -> anyhow::Result<FrameReport> {
+    fn render(
+        &mut self,
+        _: &Gpu,
+        _: &FrameState,
+        t: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> anyhow::Result<FrameReport> {
         if !self.nan {
             panic!("deliberate failure");
         }
-        let nan = wgpu::Color { r: f64::NAN, g: f64::NAN, b: f64::NAN, a: 1.0 };
+        let nan = wgpu::Color {
+            r: f64::NAN,
+            g: f64::NAN,
+            b: f64::NAN,
+            a: 1.0,
+        };
         for v in [t.inscatter, t.total, t.surface] {
             let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: None,
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment { view: v, depth_slice: None, resolve_target: None, ops: wgpu::Operations { load: wgpu::LoadOp::Clear(nan), store: wgpu::StoreOp::Store } })],
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(nan),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
                 ..Default::default()
             });
         }
@@ -177,8 +242,14 @@ impl Method for Broken {
     }
 }
 
-const PANICS: Entry = Entry { id: "test-panic", make: || Box::new(Broken { nan: false }) };
-const NANS: Entry = Entry { id: "test-nan", make: || Box::new(Broken { nan: true }) };
+const PANICS: Entry = Entry {
+    id: "test-panic",
+    make: || Box::new(Broken { nan: false }),
+};
+const NANS: Entry = Entry {
+    id: "test-nan",
+    make: || Box::new(Broken { nan: true }),
+};
 
 /// A method that panics and one that renders NaN are recorded as failed; the run goes on, the
 /// next method's record is ok, and results.json round-trips through the schema types.
@@ -189,11 +260,30 @@ fn failing_methods_are_recorded_and_the_run_goes_on() {
     let out = tmp("faults");
     let cfg = config(out.clone(), 32, 1);
     let no_scatter = methods::find("no-scatter").unwrap();
-    let r = run(&gpu, &[scene], &[&PANICS, &NANS, no_scatter], &cfg, &mut |_| {}).unwrap();
+    let r = run(
+        &gpu,
+        &[scene],
+        &[&PANICS, &NANS, no_scatter],
+        &cfg,
+        &mut |_| {},
+    )
+    .unwrap();
     let st: Vec<Status> = r.records.iter().map(|r| r.status).collect();
     assert_eq!(st, [Status::Failed, Status::Failed, Status::Ok]);
-    assert!(r.records[0].reason.as_deref().unwrap().contains("deliberate failure"));
-    assert!(r.records[1].reason.as_deref().unwrap().contains("non-finite"));
+    assert!(
+        r.records[0]
+            .reason
+            .as_deref()
+            .unwrap()
+            .contains("deliberate failure")
+    );
+    assert!(
+        r.records[1]
+            .reason
+            .as_deref()
+            .unwrap()
+            .contains("non-finite")
+    );
     let loaded = Results::load(&out.join("results.json")).unwrap();
     assert_eq!(loaded, r);
     // Every image a record names exists.
@@ -211,7 +301,14 @@ fn resume_skips_finished_records() {
     let scene = scenes::library::resolve("clear-fog").unwrap();
     let out = tmp("resume");
     let no_scatter = methods::find("no-scatter").unwrap();
-    let first = run(&gpu, std::slice::from_ref(&scene), &[no_scatter], &config(out.clone(), 32, 1), &mut |_| {}).unwrap();
+    let first = run(
+        &gpu,
+        std::slice::from_ref(&scene),
+        &[no_scatter],
+        &config(out.clone(), 32, 1),
+        &mut |_| {},
+    )
+    .unwrap();
     let mut cfg = config(out.clone(), 32, 1);
     cfg.resume = true;
     let mut resumed = 0;
@@ -223,7 +320,10 @@ fn resume_skips_finished_records() {
     .unwrap();
     assert_eq!(resumed, 1);
     assert_eq!(second.records.len(), 2);
-    assert_eq!(second.records[0], first.records[0], "the finished record is kept as it was");
+    assert_eq!(
+        second.records[0], first.records[0],
+        "the finished record is kept as it was"
+    );
 }
 
 /// no-scatter's surface AOV matches the reference's surface term (same shading model): all but
@@ -234,17 +334,41 @@ fn no_scatter_surface_matches_reference() {
     let Some(gpu) = gpu() else { return };
     let scene = scenes::library::resolve("sphere-point").unwrap();
     let out = tmp("surface");
-    let r = run(&gpu, std::slice::from_ref(&scene), &[methods::find("no-scatter").unwrap()], &config(out.clone(), 96, 1), &mut |_| {}).unwrap();
+    let r = run(
+        &gpu,
+        std::slice::from_ref(&scene),
+        &[methods::find("no-scatter").unwrap()],
+        &config(out.clone(), 96, 1),
+        &mut |_| {},
+    )
+    .unwrap();
     let rec = &r.records[0];
     assert_eq!(rec.status, Status::Ok);
     let refs = reference::render(&scene, 0, 96, 96, Settings::default(), &|_| {}).unwrap();
     let got = harness::image::io::read_exr(&out.join(&rec.images["surface"])).unwrap();
-    let scale = refs.surface.pixels.iter().map(|p| p[0].max(p[1]).max(p[2])).fold(0.0f32, f32::max);
-    let close = got.pixels.iter().zip(&refs.surface.pixels).filter(|(a, b)| (0..3).all(|c| (a[c] - b[c]).abs() <= 0.01 * b[c].max(0.01 * scale))).count();
+    let scale = refs
+        .surface
+        .pixels
+        .iter()
+        .map(|p| p[0].max(p[1]).max(p[2]))
+        .fold(0.0f32, f32::max);
+    let close = got
+        .pixels
+        .iter()
+        .zip(&refs.surface.pixels)
+        .filter(|(a, b)| (0..3).all(|c| (a[c] - b[c]).abs() <= 0.01 * b[c].max(0.01 * scale)))
+        .count();
     let n = got.pixels.len();
-    assert!(close as f64 >= 0.99 * n as f64, "{close} of {n} surface pixels within 1%");
+    assert!(
+        close as f64 >= 0.99 * n as f64,
+        "{close} of {n} surface pixels within 1%"
+    );
     let tone = ToneMap { exposure: 0.0 };
     let zero = harness::image::Image::new(96, 96);
     let expect = compare(&zero, &refs.inscatter, &tone).unwrap().rmse;
-    assert!((rec.errors["inscatter"].rmse - expect).abs() <= 1e-6 * expect, "{} vs {expect}", rec.errors["inscatter"].rmse);
+    assert!(
+        (rec.errors["inscatter"].rmse - expect).abs() <= 1e-6 * expect,
+        "{} vs {expect}",
+        rec.errors["inscatter"].rmse
+    );
 }

@@ -10,4 +10,7 @@ pub mod results;
 pub mod runner;
 
 pub use gpu::Gpu;
-pub use method::{Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support, Targets};
+pub use method::{
+    Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support,
+    Targets,
+};

@@ -59,9 +59,18 @@ impl ParamValue {
     /// Parses a command-line value like the one declared (`64`, `0.5`, `true`, `float`).
     pub fn parse_like(text: &str, like: &ParamValue) -> Result<ParamValue, String> {
         match like {
-            ParamValue::Bool(_) => text.parse().map(ParamValue::Bool).map_err(|_| format!("'{text}' is not true/false")),
-            ParamValue::Int(_) => text.parse().map(ParamValue::Int).map_err(|_| format!("'{text}' is not an integer")),
-            ParamValue::Float(_) => text.parse().map(ParamValue::Float).map_err(|_| format!("'{text}' is not a number")),
+            ParamValue::Bool(_) => text
+                .parse()
+                .map(ParamValue::Bool)
+                .map_err(|_| format!("'{text}' is not true/false")),
+            ParamValue::Int(_) => text
+                .parse()
+                .map(ParamValue::Int)
+                .map_err(|_| format!("'{text}' is not an integer")),
+            ParamValue::Float(_) => text
+                .parse()
+                .map(ParamValue::Float)
+                .map_err(|_| format!("'{text}' is not a number")),
             ParamValue::Text(_) => Ok(ParamValue::Text(text.to_string())),
         }
     }
@@ -124,7 +133,10 @@ impl FrameReport {
         self.run.push(pass.to_string());
     }
     pub fn skip(&mut self, pass: &str, why: &str) {
-        self.skipped.push(SkippedPass { pass: pass.to_string(), why: why.to_string() });
+        self.skipped.push(SkippedPass {
+            pass: pass.to_string(),
+            why: why.to_string(),
+        });
     }
     pub fn count(&mut self, name: &str, v: f64) {
         *self.counters.entry(name.to_string()).or_default() += v;
@@ -165,7 +177,13 @@ pub trait Method {
     fn prepare(&mut self, ctx: &PrepareContext) -> anyhow::Result<()>;
     /// Encodes one frame into `encoder` (the harness submits and times it). CPU-side work done
     /// here (silhouettes, sorting) is measured as the frame's CPU time.
-    fn render(&mut self, gpu: &Gpu, frame: &FrameState, targets: &Targets, encoder: &mut wgpu::CommandEncoder) -> anyhow::Result<FrameReport>;
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> anyhow::Result<FrameReport>;
 }
 
 /// A registry entry: the id and a constructor.
@@ -176,21 +194,46 @@ pub struct Entry {
 
 /// Fills in defaults, checks names and types of overrides against the declared knobs.
 pub fn resolve_params(specs: &[ParamSpec], overrides: &Params) -> Result<Params, String> {
-    let mut p: Params = specs.iter().map(|s| (s.name.to_string(), s.default.clone())).collect();
+    let mut p: Params = specs
+        .iter()
+        .map(|s| (s.name.to_string(), s.default.clone()))
+        .collect();
     for (k, v) in overrides {
         let Some(spec) = specs.iter().find(|s| s.name == k) else {
             let names: Vec<&str> = specs.iter().map(|s| s.name).collect();
-            return Err(format!("unknown knob '{k}'; knobs are: {}", if names.is_empty() { "(none)".to_string() } else { names.join(", ") }));
+            return Err(format!(
+                "unknown knob '{k}'; knobs are: {}",
+                if names.is_empty() {
+                    "(none)".to_string()
+                } else {
+                    names.join(", ")
+                }
+            ));
         };
-        let ok = matches!((&spec.default, v), (ParamValue::Bool(_), ParamValue::Bool(_)) | (ParamValue::Int(_), ParamValue::Int(_)) | (ParamValue::Float(_), ParamValue::Float(_) | ParamValue::Int(_)) | (ParamValue::Text(_), ParamValue::Text(_)));
+        let ok = matches!(
+            (&spec.default, v),
+            (ParamValue::Bool(_), ParamValue::Bool(_))
+                | (ParamValue::Int(_), ParamValue::Int(_))
+                | (
+                    ParamValue::Float(_),
+                    ParamValue::Float(_) | ParamValue::Int(_)
+                )
+                | (ParamValue::Text(_), ParamValue::Text(_))
+        );
         if !ok {
-            return Err(format!("knob '{k}': {v} does not have the type of its default {}", spec.default));
+            return Err(format!(
+                "knob '{k}': {v} does not have the type of its default {}",
+                spec.default
+            ));
         }
         if let ParamValue::Text(t) = v
             && !spec.choices.is_empty()
             && !spec.choices.contains(&t.as_str())
         {
-            return Err(format!("knob '{k}': '{t}' is not one of {}", spec.choices.join(", ")));
+            return Err(format!(
+                "knob '{k}': '{t}' is not one of {}",
+                spec.choices.join(", ")
+            ));
         }
         p.insert(k.clone(), v.clone());
     }

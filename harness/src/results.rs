@@ -101,9 +101,16 @@ impl Stat {
         let mut s = samples.to_vec();
         s.sort_by(f64::total_cmp);
         let n = s.len();
-        let median = if n % 2 == 1 { s[n / 2] } else { 0.5 * (s[n / 2 - 1] + s[n / 2]) };
+        let median = if n % 2 == 1 {
+            s[n / 2]
+        } else {
+            0.5 * (s[n / 2 - 1] + s[n / 2])
+        };
         let rank = ((0.9 * n as f64).ceil() as usize).clamp(1, n);
-        Stat { median, p90: s[rank - 1] }
+        Stat {
+            median,
+            p90: s[rank - 1],
+        }
     }
 }
 
@@ -126,15 +133,23 @@ impl Record {
 }
 
 pub fn record_key(scene: &str, method: &str, params: &Params) -> String {
-    format!("{scene}|{method}|{}", serde_json::to_string(params).unwrap_or_default())
+    format!(
+        "{scene}|{method}|{}",
+        serde_json::to_string(params).unwrap_or_default()
+    )
 }
 
 impl Results {
     pub fn load(path: &Path) -> Result<Results, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let r: Results = serde_json::from_str(&text).map_err(|e| format!("{}: not a scatterbench results file: {e}", path.display()))?;
+        let r: Results = serde_json::from_str(&text)
+            .map_err(|e| format!("{}: not a scatterbench results file: {e}", path.display()))?;
         if r.schema_version != SCHEMA_VERSION {
-            return Err(format!("{}: schema_version {} (this build reads {SCHEMA_VERSION})", path.display(), r.schema_version));
+            return Err(format!(
+                "{}: schema_version {} (this build reads {SCHEMA_VERSION})",
+                path.display(),
+                r.schema_version
+            ));
         }
         Ok(r)
     }
@@ -150,11 +165,20 @@ impl Machine {
     pub fn detect(adapter: &AdapterSummary) -> Machine {
         let cpu = std::fs::read_to_string("/proc/cpuinfo")
             .ok()
-            .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_string()))
+            .and_then(|s| {
+                s.lines()
+                    .find(|l| l.starts_with("model name"))
+                    .and_then(|l| l.split(':').nth(1))
+                    .map(|s| s.trim().to_string())
+            })
             .unwrap_or_else(|| std::env::consts::ARCH.to_string());
         let os = std::fs::read_to_string("/etc/os-release")
             .ok()
-            .and_then(|s| s.lines().find(|l| l.starts_with("PRETTY_NAME=")).map(|l| l["PRETTY_NAME=".len()..].trim_matches('"').to_string()))
+            .and_then(|s| {
+                s.lines()
+                    .find(|l| l.starts_with("PRETTY_NAME="))
+                    .map(|l| l["PRETTY_NAME=".len()..].trim_matches('"').to_string())
+            })
             .unwrap_or_else(|| std::env::consts::OS.to_string());
         Machine {
             adapter: adapter.adapter.clone(),
@@ -164,7 +188,9 @@ impl Machine {
             device_type: adapter.device_type.clone(),
             software: adapter.software,
             cpu,
-            cores: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+            cores: std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1),
             os,
         }
     }
@@ -183,7 +209,10 @@ pub fn git_commit() -> String {
 
 /// A UTC timestamp usable as a directory name: 2026-11-22T08-30-05Z.
 pub fn run_id_now() -> String {
-    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
     let (days, rem) = (secs / 86400, secs % 86400);
     // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
     let z = days as i64 + 719_468;
@@ -195,7 +224,12 @@ pub fn run_id_now() -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + i64::from(m <= 2);
-    format!("{y:04}-{m:02}-{d:02}T{:02}-{:02}-{:02}Z", rem / 3600, rem % 3600 / 60, rem % 60)
+    format!(
+        "{y:04}-{m:02}-{d:02}T{:02}-{:02}-{:02}Z",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
 }
 
 #[cfg(test)]

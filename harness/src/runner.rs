@@ -19,9 +19,15 @@ use crate::gpu::{Gpu, GpuTimer, read_rgba32f};
 use crate::image::colormap::error_map;
 use crate::image::metrics::{ToneMap, compare};
 use crate::image::{Image, io};
-use crate::method::{AOV_FORMAT, Entry, FrameReport, Method, Params, PrepareContext, Support, Targets, resolve_params};
+use crate::method::{
+    AOV_FORMAT, Entry, FrameReport, Method, Params, PrepareContext, Support, Targets,
+    resolve_params,
+};
 use crate::reference::{self, ReferenceImages, Settings};
-use crate::results::{Machine, Passes, Record, Results, RunInfo, SCHEMA_VERSION, Stat, Status, Timing, git_commit, record_key};
+use crate::results::{
+    Machine, Passes, Record, Results, RunInfo, SCHEMA_VERSION, Stat, Status, Timing, git_commit,
+    record_key,
+};
 
 pub struct RunConfig {
     pub out_dir: PathBuf,
@@ -42,14 +48,22 @@ pub struct RunConfig {
 
 /// Events the caller may show (progress bars, log lines).
 pub enum Event<'a> {
-    Reference { scene: &'a str, cached: bool, seconds: f64 },
+    Reference {
+        scene: &'a str,
+        cached: bool,
+        seconds: f64,
+    },
     Record(&'a Record),
     Resumed(&'a str),
 }
 
 /// The parameter sets to run: the defaults with the overrides, and with `sweep` one set per
 /// declared sweep value of each knob (the others at their base values).
-pub fn param_sets(method: &dyn Method, overrides: &Params, sweep: bool) -> Result<Vec<Params>, String> {
+pub fn param_sets(
+    method: &dyn Method,
+    overrides: &Params,
+    sweep: bool,
+) -> Result<Vec<Params>, String> {
     let specs = method.params();
     let base = resolve_params(&specs, overrides)?;
     let mut out = vec![base.clone()];
@@ -70,8 +84,19 @@ pub fn param_sets(method: &dyn Method, overrides: &Params, sweep: bool) -> Resul
     Ok(out)
 }
 
-pub fn run(gpu: &Gpu, scenes: &[Scene], methods: &[&Entry], cfg: &RunConfig, on_event: &mut dyn FnMut(Event)) -> Result<Results, String> {
-    std::fs::create_dir_all(&cfg.out_dir).map_err(|e| format!("{}: cannot create the output directory: {e}", cfg.out_dir.display()))?;
+pub fn run(
+    gpu: &Gpu,
+    scenes: &[Scene],
+    methods: &[&Entry],
+    cfg: &RunConfig,
+    on_event: &mut dyn FnMut(Event),
+) -> Result<Results, String> {
+    std::fs::create_dir_all(&cfg.out_dir).map_err(|e| {
+        format!(
+            "{}: cannot create the output directory: {e}",
+            cfg.out_dir.display()
+        )
+    })?;
     let results_path = cfg.out_dir.join("results.json");
     let mut results = if cfg.resume && results_path.exists() {
         Results::load(&results_path)?
@@ -102,7 +127,8 @@ pub fn run(gpu: &Gpu, scenes: &[Scene], methods: &[&Entry], cfg: &RunConfig, on_
         for entry in methods {
             let probe = (entry.make)();
             let overrides = cfg.overrides.get(entry.id).cloned().unwrap_or_default();
-            let sets = param_sets(probe.as_ref(), &overrides, cfg.sweep).map_err(|e| format!("--param {}: {e}", entry.id))?;
+            let sets = param_sets(probe.as_ref(), &overrides, cfg.sweep)
+                .map_err(|e| format!("--param {}: {e}", entry.id))?;
             for params in sets {
                 let key = record_key(&scene.name, entry.id, &params);
                 if done.contains(&key) {
@@ -115,14 +141,37 @@ pub fn run(gpu: &Gpu, scenes: &[Scene], methods: &[&Entry], cfg: &RunConfig, on_
                     support => {
                         if reference.is_none() {
                             let start = Instant::now();
-                            let (r, cached) = reference::cache::render_cached(cfg.cache_dir.as_deref(), scene, 0, cfg.width, cfg.height, cfg.reference, &|_| {})?;
-                            on_event(Event::Reference { scene: &scene.name, cached, seconds: start.elapsed().as_secs_f64() });
+                            let (r, cached) = reference::cache::render_cached(
+                                cfg.cache_dir.as_deref(),
+                                scene,
+                                0,
+                                cfg.width,
+                                cfg.height,
+                                cfg.reference,
+                                &|_| {},
+                            )?;
+                            on_event(Event::Reference {
+                                scene: &scene.name,
+                                cached,
+                                seconds: start.elapsed().as_secs_f64(),
+                            });
                             let tone = ToneMap::auto(&r.total);
-                            write_aovs(&cfg.out_dir, &format!("{}/reference", scene.name), &r.inscatter, &r.surface, &r.total, &tone)?;
+                            write_aovs(
+                                &cfg.out_dir,
+                                &format!("{}/reference", scene.name),
+                                &r.inscatter,
+                                &r.surface,
+                                &r.total,
+                                &tone,
+                            )?;
                             reference = Some((r, tone));
                         }
                         let (r, tone) = reference.as_ref().expect("set above");
-                        let ignored = if let Support::Partial(v) = support { v } else { Vec::new() };
+                        let ignored = if let Support::Partial(v) = support {
+                            v
+                        } else {
+                            Vec::new()
+                        };
                         let mut rec = run_one(gpu, scene, entry, &params, cfg, r, tone);
                         rec.ignored = ignored;
                         rec
@@ -155,34 +204,81 @@ fn skipped(scene: &Scene, method: &str, params: &Params, why: String) -> Record 
 }
 
 fn failed(scene: &Scene, method: &str, params: &Params, why: String) -> Record {
-    Record { status: Status::Failed, ..skipped(scene, method, params, why) }
+    Record {
+        status: Status::Failed,
+        ..skipped(scene, method, params, why)
+    }
 }
 
 /// A filesystem-safe slug of a parameter set: `steps-128_jitter-false`.
 pub fn params_slug(params: &Params) -> String {
     let s: Vec<String> = params.iter().map(|(k, v)| format!("{k}-{v}")).collect();
     let s = s.join("_");
-    let s: String = s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect();
+    let s: String = s
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
     if s.is_empty() { "default".into() } else { s }
 }
 
-fn run_one(gpu: &Gpu, scene: &Scene, entry: &Entry, params: &Params, cfg: &RunConfig, reference: &ReferenceImages, tone: &ToneMap) -> Record {
+fn run_one(
+    gpu: &Gpu,
+    scene: &Scene,
+    entry: &Entry,
+    params: &Params,
+    cfg: &RunConfig,
+    reference: &ReferenceImages,
+    tone: &ToneMap,
+) -> Record {
     let _ = gpu.take_errors();
-    let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| measure(gpu, scene, entry, params, cfg)));
+    let outcome =
+        std::panic::catch_unwind(AssertUnwindSafe(|| measure(gpu, scene, entry, params, cfg)));
     let errors = gpu.take_errors();
     let (mut rec, images) = match outcome {
         Err(panic) => {
-            let msg = panic.downcast_ref::<String>().cloned().or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_else(|| "unknown panic".into());
+            let msg = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
             return failed(scene, entry.id, params, format!("panicked: {msg}"));
         }
-        Ok(Err(e)) => return failed(scene, entry.id, params, if errors.is_empty() { e } else { format!("{e}; wgpu: {}", errors.join("; ")) }),
-        Ok(Ok(_)) if !errors.is_empty() => return failed(scene, entry.id, params, format!("wgpu error: {}", errors.join("; "))),
+        Ok(Err(e)) => {
+            return failed(
+                scene,
+                entry.id,
+                params,
+                if errors.is_empty() {
+                    e
+                } else {
+                    format!("{e}; wgpu: {}", errors.join("; "))
+                },
+            );
+        }
+        Ok(Ok(_)) if !errors.is_empty() => {
+            return failed(
+                scene,
+                entry.id,
+                params,
+                format!("wgpu error: {}", errors.join("; ")),
+            );
+        }
         Ok(Ok(v)) => v,
     };
     let [inscatter, surface, total] = &images;
     let dir = format!("{}/{}/{}", scene.name, entry.id, params_slug(params));
     let mut nonfinite = 0;
-    for (name, img, refimg) in [("inscatter", inscatter, &reference.inscatter), ("total", total, &reference.total), ("surface", surface, &reference.surface)] {
+    for (name, img, refimg) in [
+        ("inscatter", inscatter, &reference.inscatter),
+        ("total", total, &reference.total),
+        ("surface", surface, &reference.surface),
+    ] {
         match compare(img, refimg, tone) {
             Ok(m) => {
                 nonfinite = nonfinite.max(m.nonfinite);
@@ -196,14 +292,19 @@ fn run_one(gpu: &Gpu, scene: &Scene, entry: &Entry, params: &Params, cfg: &RunCo
         Err(e) => return failed(scene, entry.id, params, e),
     }
     // Error maps: |method − reference| on a shared scale per AOV (the reference's 99th percentile / 10).
-    for (name, img, refimg) in [("inscatter", inscatter, &reference.inscatter), ("total", total, &reference.total)] {
+    for (name, img, refimg) in [
+        ("inscatter", inscatter, &reference.inscatter),
+        ("total", total, &reference.total),
+    ] {
         let scale = error_scale(refimg);
         let path = format!("{dir}/{name}.error.png");
-        if let Err(e) = io::write_png_ldr(&cfg.out_dir.join(&path), &error_map(img, refimg, scale)) {
+        if let Err(e) = io::write_png_ldr(&cfg.out_dir.join(&path), &error_map(img, refimg, scale))
+        {
             return failed(scene, entry.id, params, e);
         }
         rec.images.insert(format!("{name}_error"), path);
-        rec.counters.insert(format!("{name}_error_scale"), scale as f64);
+        rec.counters
+            .insert(format!("{name}_error_scale"), scale as f64);
     }
     if nonfinite > 0 {
         rec.status = Status::Failed;
@@ -225,12 +326,24 @@ pub fn error_scale(reference: &Image) -> f32 {
     (0.1 * p99).max(1e-12)
 }
 
-fn write_aovs(out: &Path, rel_dir: &str, inscatter: &Image, surface: &Image, total: &Image, tone: &ToneMap) -> Result<std::collections::BTreeMap<String, String>, String> {
+fn write_aovs(
+    out: &Path,
+    rel_dir: &str,
+    inscatter: &Image,
+    surface: &Image,
+    total: &Image,
+    tone: &ToneMap,
+) -> Result<std::collections::BTreeMap<String, String>, String> {
     let mut paths = std::collections::BTreeMap::new();
-    for (name, img) in [("inscatter", inscatter), ("surface", surface), ("total", total)] {
+    for (name, img) in [
+        ("inscatter", inscatter),
+        ("surface", surface),
+        ("total", total),
+    ] {
         let exr = format!("{rel_dir}/{name}.exr");
         let png = format!("{rel_dir}/{name}.png");
-        std::fs::create_dir_all(out.join(rel_dir)).map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
+        std::fs::create_dir_all(out.join(rel_dir))
+            .map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
         io::write_exr(&out.join(&exr), img)?;
         io::write_png(&out.join(&png), img, tone)?;
         paths.insert(name.to_string(), exr);
@@ -252,22 +365,44 @@ impl AovTargets {
         let make = |label: &str| {
             gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: AOV_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::STORAGE_BINDING
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
                 view_formats: &[],
             })
         };
-        let textures = [make("aov inscatter"), make("aov surface"), make("aov total")];
+        let textures = [
+            make("aov inscatter"),
+            make("aov surface"),
+            make("aov total"),
+        ];
         let views = [0, 1, 2].map(|i| textures[i].create_view(&Default::default()));
-        AovTargets { textures, views, width, height }
+        AovTargets {
+            textures,
+            views,
+            width,
+            height,
+        }
     }
 
     pub fn targets(&self) -> Targets<'_> {
-        Targets { inscatter: &self.views[0], surface: &self.views[1], total: &self.views[2], width: self.width, height: self.height }
+        Targets {
+            inscatter: &self.views[0],
+            surface: &self.views[1],
+            total: &self.views[2],
+            width: self.width,
+            height: self.height,
+        }
     }
 
     /// Clears all three to zero (outside any timed region).
@@ -280,7 +415,10 @@ impl AovTargets {
                     view: v,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 ..Default::default()
             });
@@ -289,7 +427,11 @@ impl AovTargets {
     }
 
     pub fn read(&self, gpu: &Gpu) -> Result<[Image; 3], String> {
-        Ok([read_rgba32f(gpu, &self.textures[0])?, read_rgba32f(gpu, &self.textures[1])?, read_rgba32f(gpu, &self.textures[2])?])
+        Ok([
+            read_rgba32f(gpu, &self.textures[0])?,
+            read_rgba32f(gpu, &self.textures[1])?,
+            read_rgba32f(gpu, &self.textures[2])?,
+        ])
     }
 }
 
@@ -301,17 +443,30 @@ pub struct FrameTiming {
     pub report: FrameReport,
 }
 
-pub fn render_frame(gpu: &Gpu, method: &mut dyn Method, scene: &Scene, index: u32, aovs: &AovTargets, timer: Option<&GpuTimer>) -> Result<FrameTiming, String> {
+pub fn render_frame(
+    gpu: &Gpu,
+    method: &mut dyn Method,
+    scene: &Scene,
+    index: u32,
+    aovs: &AovTargets,
+    timer: Option<&GpuTimer>,
+) -> Result<FrameTiming, String> {
     aovs.clear(gpu);
     gpu.wait()?;
     let frame = scene.frame(index % scene.frame_count());
     let start = Instant::now();
-    let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+    let mut enc = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
     if let Some(t) = timer {
         t.begin(&mut enc);
     }
     let cpu_start = Instant::now();
-    let report = method.render(gpu, &frame, &aovs.targets(), &mut enc).map_err(|e| format!("render failed: {e:#}"))?;
+    let report = method
+        .render(gpu, &frame, &aovs.targets(), &mut enc)
+        .map_err(|e| format!("render failed: {e:#}"))?;
     let cpu_ms = cpu_start.elapsed().as_secs_f64() * 1e3;
     if let Some(t) = timer {
         t.end(&mut enc);
@@ -326,17 +481,35 @@ pub fn render_frame(gpu: &Gpu, method: &mut dyn Method, scene: &Scene, index: u3
     if gpu.is_lost() {
         return Err(gpu.take_errors().join("; "));
     }
-    Ok(FrameTiming { cpu_ms, wall_ms, gpu_ms, report })
+    Ok(FrameTiming {
+        cpu_ms,
+        wall_ms,
+        gpu_ms,
+        report,
+    })
 }
 
 /// Prepares, times and reads back one method × params. Returns the record (without errors
 /// and images) and the three AOVs of the scored frame.
-fn measure(gpu: &Gpu, scene: &Scene, entry: &Entry, params: &Params, cfg: &RunConfig) -> Result<(Record, [Image; 3]), String> {
+fn measure(
+    gpu: &Gpu,
+    scene: &Scene,
+    entry: &Entry,
+    params: &Params,
+    cfg: &RunConfig,
+) -> Result<(Record, [Image; 3]), String> {
     let mut method = (entry.make)();
     gpu.reset_allocated();
     let start = Instant::now();
     method
-        .prepare(&PrepareContext { gpu, scene, params, width: cfg.width, height: cfg.height, no_skip: cfg.no_skip })
+        .prepare(&PrepareContext {
+            gpu,
+            scene,
+            params,
+            width: cfg.width,
+            height: cfg.height,
+            no_skip: cfg.no_skip,
+        })
         .map_err(|e| format!("prepare failed: {e:#}"))?;
     gpu.wait()?;
     let prepare_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -378,7 +551,10 @@ fn measure(gpu: &Gpu, scene: &Scene, entry: &Entry, params: &Params, cfg: &RunCo
             cpu_ms: Stat::of(&cpu),
         }),
         memory_bytes: Some(memory),
-        passes: Some(Passes { run: report.run, skipped: report.skipped }),
+        passes: Some(Passes {
+            run: report.run,
+            skipped: report.skipped,
+        }),
         counters: report.counters,
         errors: Default::default(),
         images: Default::default(),

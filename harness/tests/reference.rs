@@ -30,7 +30,9 @@ fn scene(text: &str) -> Scene {
 }
 
 fn lib(name: &str) -> Scene {
-    library::load(name).unwrap().unwrap_or_else(|e| panic!("{e}"))
+    library::load(name)
+        .unwrap()
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Gauss–Legendre nodes and weights on [-1, 1], by Newton's method on P_n.
@@ -60,7 +62,14 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 
 /// ∫_a^b f(x) dx for an integrand peaked like 1/((x − t0)² + h²): substitute x = t0 + h sinh u
 /// (dx = h cosh u du) and use composite 16-point Gauss–Legendre on `panels` equal panels in u.
-fn integrate_peaked(f: &dyn Fn(f64) -> DVec3, a: f64, b: f64, t0: f64, h: f64, panels: usize) -> DVec3 {
+fn integrate_peaked(
+    f: &dyn Fn(f64) -> DVec3,
+    a: f64,
+    b: f64,
+    t0: f64,
+    h: f64,
+    panels: usize,
+) -> DVec3 {
     if b <= a {
         return DVec3::ZERO;
     }
@@ -124,9 +133,18 @@ fn rel_err(got: DVec3, want: DVec3) -> f64 {
 /// A light as this file models it.
 #[derive(Clone, Copy)]
 enum TestLight {
-    Point { pos: DVec3, intensity: DVec3 },
+    Point {
+        pos: DVec3,
+        intensity: DVec3,
+    },
     /// Smoothstep in cos between the cones (scenes::light documents this falloff).
-    Spot { pos: DVec3, axis: DVec3, cos_inner: f64, cos_outer: f64, intensity: DVec3 },
+    Spot {
+        pos: DVec3,
+        axis: DVec3,
+        cos_inner: f64,
+        cos_outer: f64,
+        intensity: DVec3,
+    },
 }
 
 impl TestLight {
@@ -138,7 +156,13 @@ impl TestLight {
     fn intensity(&self, x: DVec3) -> DVec3 {
         match *self {
             TestLight::Point { intensity, .. } => intensity,
-            TestLight::Spot { pos, axis, cos_inner, cos_outer, intensity } => {
+            TestLight::Spot {
+                pos,
+                axis,
+                cos_inner,
+                cos_outer,
+                intensity,
+            } => {
                 let c = (x - pos).normalize().dot(axis);
                 let t = ((c - cos_outer) / (cos_inner - cos_outer)).clamp(0.0, 1.0);
                 intensity * (t * t * (3.0 - 2.0 * t))
@@ -147,12 +171,24 @@ impl TestLight {
     }
     /// Where the integrand stops being smooth along the ray (spot cone edges), in (0, len).
     fn breaks(&self, o: DVec3, d: DVec3, len: f64) -> Vec<f64> {
-        let TestLight::Spot { pos, axis, cos_inner, cos_outer, .. } = *self else { return vec![] };
+        let TestLight::Spot {
+            pos,
+            axis,
+            cos_inner,
+            cos_outer,
+            ..
+        } = *self
+        else {
+            return vec![];
+        };
         let cos_at = |t: f64| (o + d * t - pos).normalize().dot(axis);
         let (t0, h) = closest(o, d, pos);
         let (ua, ub) = (((0.0 - t0) / h).asinh(), ((len - t0) / h).asinh());
         let n = 4000;
-        let ts: Vec<f64> = (0..=n).map(|k| t0 + h * (ua + (ub - ua) * k as f64 / n as f64).sinh()).map(|t| t.clamp(0.0, len)).collect();
+        let ts: Vec<f64> = (0..=n)
+            .map(|k| t0 + h * (ua + (ub - ua) * k as f64 / n as f64).sinh())
+            .map(|t| t.clamp(0.0, len))
+            .collect();
         let mut out = Vec::new();
         for c in [cos_inner, cos_outer] {
             for w in ts.windows(2) {
@@ -161,7 +197,11 @@ impl TestLight {
                 if (fa < 0.0) != (fb < 0.0) {
                     for _ in 0..200 {
                         let m = 0.5 * (a + b);
-                        if ((cos_at(m) - c) < 0.0) == (fa < 0.0) { a = m } else { b = m }
+                        if ((cos_at(m) - c) < 0.0) == (fa < 0.0) {
+                            a = m
+                        } else {
+                            b = m
+                        }
                     }
                     out.push(0.5 * (a + b));
                 }
@@ -189,13 +229,28 @@ fn integrand(m: Medium, light: TestLight, o: DVec3, d: DVec3, t: f64) -> DVec3 {
 }
 
 /// ∫ over [a, b] of the unshadowed integrand, split at the light's breaks.
-fn inscatter(m: Medium, light: TestLight, o: DVec3, d: DVec3, a: f64, b: f64, panels: usize) -> DVec3 {
+fn inscatter(
+    m: Medium,
+    light: TestLight,
+    o: DVec3,
+    d: DVec3,
+    a: f64,
+    b: f64,
+    panels: usize,
+) -> DVec3 {
     let (t0, h) = closest(o, d, light.pos());
     let mut cuts = vec![a, b];
-    cuts.extend(light.breaks(o, d, b).into_iter().filter(|&t| t > a && t < b));
+    cuts.extend(
+        light
+            .breaks(o, d, b)
+            .into_iter()
+            .filter(|&t| t > a && t < b),
+    );
     cuts.sort_by(f64::total_cmp);
     let f = |t: f64| integrand(m, light, o, d, t);
-    cuts.windows(2).map(|w| integrate_peaked(&f, w[0], w[1], t0, h, panels)).sum()
+    cuts.windows(2)
+        .map(|w| integrate_peaked(&f, w[0], w[1], t0, h, panels))
+        .sum()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -225,7 +280,16 @@ fn sample_pixels(cam: &CameraPose, w: u32, h: u32, light: DVec3) -> Vec<(u32, u3
             }
         }
     }
-    vec![(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1), (w / 2, h / 2), (5, h - 9), (w - 5, 9), best.1]
+    vec![
+        (0, 0),
+        (w - 1, 0),
+        (0, h - 1),
+        (w - 1, h - 1),
+        (w / 2, h / 2),
+        (5, h - 9),
+        (w - 5, 9),
+        best.1,
+    ]
 }
 
 /// Checks the reference's in-scatter at the sample pixels against this file's quadrature;
@@ -241,25 +305,41 @@ fn check_unshadowed(s: &Scene, m: Medium, light: TestLight, tol: f64, min_lit: u
     for (i, j) in sample_pixels(&cam, w, h, light.pos()) {
         let d = pixel_dir(&cam, w, h, i, j);
         // The shared camera code agrees with this file's ray (the contract is tested elsewhere).
-        assert!((rays.direction(i, j) - d).length() < 1e-9, "pixel ({i},{j})");
+        assert!(
+            (rays.direction(i, j) - d).length() < 1e-9,
+            "pixel ({i},{j})"
+        );
         let len = far_len(&cam, d);
         // Nothing to hit: the ray ends at the far plane.
-        assert!((img.distance[(j * w + i) as usize] as f64 / len - 1.0).abs() < 1e-6, "distance at ({i},{j})");
+        assert!(
+            (img.distance[(j * w + i) as usize] as f64 / len - 1.0).abs() < 1e-6,
+            "distance at ({i},{j})"
+        );
         let want = inscatter(m, light, o, d, 0.0, len, 400);
         // Our own quadrature has converged far below the tolerance.
         let finer = inscatter(m, light, o, d, 0.0, len, 800);
-        assert!(rel_err(want, finer) < 1e-11, "test quadrature not converged at ({i},{j}): {want} vs {finer}");
+        assert!(
+            rel_err(want, finer) < 1e-11,
+            "test quadrature not converged at ({i},{j}): {want} vs {finer}"
+        );
         let got = px(&img.inscatter, i, j);
         if want.max_element() > 0.0 {
             nonzero += 1;
             let e = rel_err(got, want);
             worst = worst.max(e);
-            assert!(e < tol, "pixel ({i},{j}): reference {got} vs quadrature {want}: relative error {e:e}");
+            assert!(
+                e < tol,
+                "pixel ({i},{j}): reference {got} vs quadrature {want}: relative error {e:e}"
+            );
         } else {
             assert_eq!(got, DVec3::ZERO, "pixel ({i},{j}) sees no light");
         }
         assert_eq!(px(&img.surface, i, j), DVec3::ZERO);
-        assert_eq!(px(&img.total, i, j), got, "total = in-scatter with no surfaces and no ambient");
+        assert_eq!(
+            px(&img.total, i, j),
+            got,
+            "total = in-scatter with no surfaces and no ambient"
+        );
     }
     assert!(nonzero >= min_lit, "only {nonzero} sample pixels see light");
     worst
@@ -270,14 +350,24 @@ fn check_unshadowed(s: &Scene, m: Medium, light: TestLight, tol: f64, min_lit: u
 /// as the file does; with the f64 decimals instead, the difference is ~1e-7 relative.
 fn medium(g: f64) -> Medium {
     let (a, s) = (Vec3::new(0.02, 0.03, 0.05), Vec3::new(0.1, 0.2, 0.3));
-    Medium { sigma_s: s.as_dvec3(), sigma_t: (a + s).as_dvec3(), g }
+    Medium {
+        sigma_s: s.as_dvec3(),
+        sigma_t: (a + s).as_dvec3(),
+        g,
+    }
 }
 
 #[test]
 fn point_light_in_infinite_medium_matches_independent_quadrature() {
     let pos = DVec3::new(0.5, 1.5, -1.0);
-    let light = TestLight::Point { pos, intensity: DVec3::new(10.0, 20.0, 30.0) };
-    let s = infinite_medium(r#"{ "kind": "isotropic" }"#, r#"{ "kind": "point", "position": [0.5, 1.5, -1.0], "intensity": [10, 20, 30] }"#);
+    let light = TestLight::Point {
+        pos,
+        intensity: DVec3::new(10.0, 20.0, 30.0),
+    };
+    let s = infinite_medium(
+        r#"{ "kind": "isotropic" }"#,
+        r#"{ "kind": "point", "position": [0.5, 1.5, -1.0], "intensity": [10, 20, 30] }"#,
+    );
     let worst = check_unshadowed(&s, medium(0.0), light, 1e-6, 8);
     println!("point, isotropic: worst relative error {worst:e}");
 }
@@ -287,8 +377,14 @@ fn point_light_in_infinite_medium_matches_independent_quadrature() {
 #[test]
 fn anisotropic_phase_uses_the_documented_scattering_angle() {
     let pos = DVec3::new(0.5, 1.5, -1.0);
-    let light = TestLight::Point { pos, intensity: DVec3::new(10.0, 20.0, 30.0) };
-    let s = infinite_medium(r#"{ "kind": "henyey-greenstein", "g": 0.7 }"#, r#"{ "kind": "point", "position": [0.5, 1.5, -1.0], "intensity": [10, 20, 30] }"#);
+    let light = TestLight::Point {
+        pos,
+        intensity: DVec3::new(10.0, 20.0, 30.0),
+    };
+    let s = infinite_medium(
+        r#"{ "kind": "henyey-greenstein", "g": 0.7 }"#,
+        r#"{ "kind": "point", "position": [0.5, 1.5, -1.0], "intensity": [10, 20, 30] }"#,
+    );
     let worst = check_unshadowed(&s, medium(0.7), light, 1e-6, 8);
     println!("point, HG 0.7: worst relative error {worst:e}");
     // The wrong orientation (θ measured from the light toward x vs the eye direction d) would
@@ -326,7 +422,16 @@ fn spot_light_in_infinite_medium_matches_independent_quadrature() {
     let m = medium(0.0);
     let worst = check_unshadowed(&s, m, light, 1e-6, 2);
     let cam = s.frame(0).camera;
-    let img = trace_pixels(&s, 0, 32, 32, Settings::default(), &(0..32).map(|i| (i, 20)).collect::<Vec<_>>(), &|_| {}).unwrap();
+    let img = trace_pixels(
+        &s,
+        0,
+        32,
+        32,
+        Settings::default(),
+        &(0..32).map(|i| (i, 20)).collect::<Vec<_>>(),
+        &|_| {},
+    )
+    .unwrap();
     let o = cam.position.as_dvec3();
     let mut lit = 0;
     let mut worst_row: f64 = 0.0;
@@ -342,7 +447,10 @@ fn spot_light_in_infinite_medium_matches_independent_quadrature() {
             assert_eq!(r.inscatter, DVec3::ZERO);
         }
     }
-    assert!(lit >= 8 && lit < 32, "the row crosses the cone ({lit} of 32 pixels lit)");
+    assert!(
+        lit >= 8 && lit < 32,
+        "the row crosses the cone ({lit} of 32 pixels lit)"
+    );
     println!("spot: worst relative error {worst:e} (samples), {worst_row:e} (row)");
 }
 
@@ -350,7 +458,10 @@ fn spot_light_in_infinite_medium_matches_independent_quadrature() {
 /// (irradiance not attenuated on the light leg).
 #[test]
 fn directional_light_in_infinite_medium_matches_closed_form() {
-    let s = infinite_medium(r#"{ "kind": "rayleigh" }"#, r#"{ "kind": "directional", "direction": [1.0, -0.7, 0.35], "irradiance": [4.0, 3.8, 3.4] }"#);
+    let s = infinite_medium(
+        r#"{ "kind": "rayleigh" }"#,
+        r#"{ "kind": "directional", "direction": [1.0, -0.7, 0.35], "irradiance": [4.0, 3.8, 3.4] }"#,
+    );
     let (w, h) = (16, 16);
     let img = render(&s, 0, w, h, Settings::default(), &|_| {}).unwrap();
     let cam = s.frame(0).camera;
@@ -367,7 +478,11 @@ fn directional_light_in_infinite_medium_matches_closed_form() {
             let want = m.sigma_s * p * e * (DVec3::ONE - exp3(-m.sigma_t * len)) / m.sigma_t;
             let err = rel_err(px(&img.inscatter, i, j), want);
             worst = worst.max(err);
-            assert!(err < 1e-6, "({i},{j}): {:?} vs {want}", img.inscatter.get(i, j));
+            assert!(
+                err < 1e-6,
+                "({i},{j}): {:?} vs {want}",
+                img.inscatter.get(i, j)
+            );
         }
     }
     println!("directional: worst relative error {worst:e}");
@@ -401,13 +516,18 @@ fn thin_medium_tends_to_the_vacuum_closed_form() {
             let d = pixel_dir(&cam, w, h, i, j);
             let len = far_len(&cam, d);
             let (t0, hh) = closest(o, d, pos);
-            let vacuum = intensity / (4.0 * PI * hh) * (((len - t0) / hh).atan() - (-t0 / hh).atan());
+            let vacuum =
+                intensity / (4.0 * PI * hh) * (((len - t0) / hh).atan() - (-t0 / hh).atan());
             let ratio = r.inscatter / sigma / vacuum;
             let max_path = len + (o - pos).length().max((o + d * len - pos).length());
             for c in 0..3 {
                 let dev = 1.0 - ratio[c];
                 // Attenuation only ever removes light, by at most σ_t max(x + r).
-                assert!(dev > -1e-6 && dev < sigma * max_path + 1e-6, "σ={sigma:e} ({i},{j}) channel {c}: ratio {}", ratio[c]);
+                assert!(
+                    dev > -1e-6 && dev < sigma * max_path + 1e-6,
+                    "σ={sigma:e} ({i},{j}) channel {c}: ratio {}",
+                    ratio[c]
+                );
                 worst = worst.max(dev.abs());
             }
         }
@@ -426,7 +546,17 @@ fn thin_medium_tends_to_the_vacuum_closed_form() {
 
 fn sphere_point_64() -> &'static ReferenceImages {
     static IMG: OnceLock<ReferenceImages> = OnceLock::new();
-    IMG.get_or_init(|| render(&lib("sphere-point"), 0, 64, 64, Settings::default(), &|_| {}).unwrap())
+    IMG.get_or_init(|| {
+        render(
+            &lib("sphere-point"),
+            0,
+            64,
+            64,
+            Settings::default(),
+            &|_| {},
+        )
+        .unwrap()
+    })
 }
 
 /// Entry distance of the ray into the ball (c, rho), if it enters it ahead of the origin.
@@ -452,7 +582,10 @@ fn segment_distance(c: DVec3, a: DVec3, b: DVec3) -> f64 {
 fn ball_shadow(o: DVec3, d: DVec3, len: f64, l: DVec3, c: DVec3, rho: f64) -> Option<(f64, f64)> {
     let f = |t: f64| segment_distance(c, o + d * t, l) - rho;
     let n = 4000;
-    let inside: Vec<f64> = (0..=n).map(|k| len * k as f64 / n as f64).filter(|&t| f(t) < 0.0).collect();
+    let inside: Vec<f64> = (0..=n)
+        .map(|k| len * k as f64 / n as f64)
+        .filter(|&t| f(t) < 0.0)
+        .collect();
     let (first, last) = (*inside.first()?, *inside.last()?);
     let bisect = |mut a: f64, mut b: f64| {
         // f(a) ≥ 0 > f(b) or the reverse; find the sign change.
@@ -464,8 +597,16 @@ fn ball_shadow(o: DVec3, d: DVec3, len: f64, l: DVec3, c: DVec3, rho: f64) -> Op
         0.5 * (a + b)
     };
     let step = len / n as f64;
-    let a = if first <= 0.0 { 0.0 } else { bisect(first - step, first) };
-    let b = if last >= len { len } else { bisect(last, last + step) };
+    let a = if first <= 0.0 {
+        0.0
+    } else {
+        bisect(first - step, first)
+    };
+    let b = if last >= len {
+        len
+    } else {
+        bisect(last, last + step)
+    };
     Some((a, b))
 }
 
@@ -482,7 +623,13 @@ fn sphere_bounds(s: &Scene) -> SphereBounds {
     let c = DVec3::new(0.0, 2.0, 0.0);
     let r = 0.9;
     let world = World::new(s, &s.frame(0));
-    let tris: Vec<[DVec3; 3]> = world.bvh.tris.iter().map(|t| t.p).filter(|p| p.iter().all(|v| ((*v - c).length() - r).abs() < 1e-3)).collect();
+    let tris: Vec<[DVec3; 3]> = world
+        .bvh
+        .tris
+        .iter()
+        .map(|t| t.p)
+        .filter(|p| p.iter().all(|v| ((*v - c).length() - r).abs() < 1e-3))
+        .collect();
     assert_eq!(tris.len(), 2 * 48 * 23, "the UV sphere's triangles");
     let verts: Vec<DVec3> = tris.iter().flatten().copied().collect();
     let outer = verts.iter().map(|v| (*v - c).length()).fold(0.0, f64::max);
@@ -501,7 +648,11 @@ fn sphere_bounds(s: &Scene) -> SphereBounds {
             assert!(n.dot(*v - t[0]) < 1e-6, "the sphere mesh is not convex");
         }
     }
-    SphereBounds { c, inner, outer: outer + 1e-7 }
+    SphereBounds {
+        c,
+        inner,
+        outer: outer + 1e-7,
+    }
 }
 
 #[test]
@@ -514,7 +665,12 @@ fn sphere_point_surfaces_shadows_and_depth_match_analytic_geometry() {
     let l = DVec3::new(0.6, 4.6, -0.4);
     let b = sphere_bounds(&s);
     // R(1 − cos 7.5°) = 0.0077 would be a crude bound on the faces' depth; the real one is smaller.
-    println!("sphere mesh between radii {:.6} and {:.6} (depth {:.2e} m)", b.inner, b.outer, b.outer - b.inner);
+    println!(
+        "sphere mesh between radii {:.6} and {:.6} (depth {:.2e} m)",
+        b.inner,
+        b.outer,
+        b.outer - b.inner
+    );
     assert!(b.outer - b.inner < 0.9 * (1.0 - 7.5f64.to_radians().cos()) && b.outer < 0.9 + 1e-6);
     let sigma_t = 0.09;
     let (intensity, albedo) = (60.0, 0.7);
@@ -537,40 +693,60 @@ fn sphere_point_surfaces_shadows_and_depth_match_analytic_geometry() {
             if let Some(t_in) = ball_entry(o, d, b.c, b.inner) {
                 // Certainly the sphere: the mesh surface lies between the two balls.
                 let t_out = ball_entry(o, d, b.c, b.outer).unwrap();
-                assert!(dist >= t_out * (1.0 - 1e-6) && dist <= t_in * (1.0 + 1e-6), "({i},{j}): sphere at {dist}, expected in [{t_out}, {t_in}]");
+                assert!(
+                    dist >= t_out * (1.0 - 1e-6) && dist <= t_in * (1.0 + 1e-6),
+                    "({i},{j}): sphere at {dist}, expected in [{t_out}, {t_in}]"
+                );
                 assert!(surface.is_finite() && surface.min_element() >= 0.0);
                 sphere_px += 1;
             } else if ball_entry(o, d, b.c, b.outer).is_some() || floor_edge {
                 skipped += 1; // silhouette of the polyhedron, or the floor's edge
             } else if let Some(t) = floor {
-                assert!((dist / t - 1.0).abs() < 1e-6, "({i},{j}): floor at {t}, reference {dist}");
+                assert!(
+                    (dist / t - 1.0).abs() < 1e-6,
+                    "({i},{j}): floor at {t}, reference {dist}"
+                );
                 let p = o + d * t;
                 let gap = segment_distance(b.c, p, l);
                 if gap > b.outer + 1e-6 {
                     // Lit floor: Lambert, (albedo/π) I cos e^(−σt r)/r², attenuated over t.
                     let to = l - p;
                     let r = to.length();
-                    let want = albedo / PI * intensity * (to.y / r) * (-sigma_t * r).exp() / (r * r) * (-sigma_t * t).exp();
+                    let want = albedo / PI * intensity * (to.y / r) * (-sigma_t * r).exp()
+                        / (r * r)
+                        * (-sigma_t * t).exp();
                     let e = rel_err(surface, DVec3::splat(want));
                     worst_surface = worst_surface.max(e);
                     assert!(e < 1e-5, "({i},{j}): lit floor {surface} vs {want}");
                     lit_px += 1;
                 } else if gap < b.inner - 1e-6 {
-                    assert_eq!(surface, DVec3::ZERO, "({i},{j}): floor in the sphere's shadow must be black");
+                    assert_eq!(
+                        surface,
+                        DVec3::ZERO,
+                        "({i},{j}): floor in the sphere's shadow must be black"
+                    );
                     shadow_px += 1;
                 } else {
                     skipped += 1; // penumbra of mesh vs sphere
                 }
             } else {
                 let far = far_len(&cam, d);
-                assert!((dist / far - 1.0).abs() < 1e-6, "({i},{j}): no hit must end at the far plane {far}, got {dist}");
+                assert!(
+                    (dist / far - 1.0).abs() < 1e-6,
+                    "({i},{j}): no hit must end at the far plane {far}, got {dist}"
+                );
                 assert_eq!(surface, DVec3::ZERO);
                 sky_px += 1;
             }
         }
     }
-    println!("sphere {sphere_px}, lit floor {lit_px}, shadowed floor {shadow_px}, far plane {sky_px}, skipped {skipped}; worst lit-floor error {worst_surface:e}");
-    assert!(sphere_px > 200 && lit_px > 1000 && shadow_px > 50 && sky_px > 100, "every category is exercised");
+    println!(
+        "sphere {sphere_px}, lit floor {lit_px}, shadowed floor {shadow_px}, far plane {sky_px}, skipped {skipped}; worst lit-floor error {worst_surface:e}"
+    );
+    assert!(
+        sphere_px > 200 && lit_px > 1000 && shadow_px > 50 && sky_px > 100,
+        "every category is exercised"
+    );
     assert!(skipped < 200, "the margins skip few pixels");
 }
 
@@ -589,9 +765,19 @@ fn sphere_point_volumetric_shadow_is_bracketed_by_analytic_spheres() {
     let o = cam.position.as_dvec3();
     let l = DVec3::new(0.6, 4.6, -0.4);
     let b = sphere_bounds(&s);
-    let m = Medium { sigma_s: DVec3::splat(0.08), sigma_t: DVec3::splat(0.09), g: 0.0 };
-    let light = TestLight::Point { pos: l, intensity: DVec3::splat(60.0) };
-    let (t0_of, f_of) = (|d: DVec3| closest(o, d, l), |d: DVec3| move |t: f64| integrand(m, light, o, d, t));
+    let m = Medium {
+        sigma_s: DVec3::splat(0.08),
+        sigma_t: DVec3::splat(0.09),
+        g: 0.0,
+    };
+    let light = TestLight::Point {
+        pos: l,
+        intensity: DVec3::splat(60.0),
+    };
+    let (t0_of, f_of) = (
+        |d: DVec3| closest(o, d, l),
+        |d: DVec3| move |t: f64| integrand(m, light, o, d, t),
+    );
     let mut through = 0;
     let mut clear = 0;
     let (mut bracket_sum, mut deficit_sum, mut deepest) = (0.0, 0.0, 0.0f64);
@@ -615,7 +801,10 @@ fn sphere_point_volumetric_shadow_is_bracketed_by_analytic_spheres() {
             let full = integrate_peaked(&f, 0.0, len, t0, hh, 400);
             let lit_with = |rho: f64| match ball_shadow(o, d, len, l, b.c, rho) {
                 None => full,
-                Some((a, bb)) => integrate_peaked(&f, 0.0, a, t0, hh, 400) + integrate_peaked(&f, bb, len, t0, hh, 400),
+                Some((a, bb)) => {
+                    integrate_peaked(&f, 0.0, a, t0, hh, 400)
+                        + integrate_peaked(&f, bb, len, t0, hh, 400)
+                }
             };
             let (lo, hi) = (lit_with(b.outer), lit_with(b.inner));
             if ball_shadow(o, d, len, l, b.c, b.outer).is_none() {
@@ -627,7 +816,13 @@ fn sphere_point_volumetric_shadow_is_bracketed_by_analytic_spheres() {
                 continue;
             }
             for c in 0..3 {
-                assert!(got[c] >= lo[c] * (1.0 - 2e-6) && got[c] <= hi[c] * (1.0 + 2e-6), "({i},{j}): reference {} outside [{}, {}]", got[c], lo[c], hi[c]);
+                assert!(
+                    got[c] >= lo[c] * (1.0 - 2e-6) && got[c] <= hi[c] * (1.0 + 2e-6),
+                    "({i},{j}): reference {} outside [{}, {}]",
+                    got[c],
+                    lo[c],
+                    hi[c]
+                );
             }
             // How much the shadow removes, and how much room the mesh leaves.
             through += 1;
@@ -637,11 +832,21 @@ fn sphere_point_volumetric_shadow_is_bracketed_by_analytic_spheres() {
         }
     }
     let ratio = bracket_sum / deficit_sum;
-    println!("{through} rays through the shadow (deepest removes {:.0}% of the light; mesh bracket = {:.2}% of the shadow's effect), {clear} unshadowed rays (worst error {worst_clear:e})", 100.0 * deepest, 100.0 * ratio);
-    assert!(through >= 50 && clear >= 100, "through {through}, clear {clear}");
+    println!(
+        "{through} rays through the shadow (deepest removes {:.0}% of the light; mesh bracket = {:.2}% of the shadow's effect), {clear} unshadowed rays (worst error {worst_clear:e})",
+        100.0 * deepest,
+        100.0 * ratio
+    );
+    assert!(
+        through >= 50 && clear >= 100,
+        "through {through}, clear {clear}"
+    );
     // Teeth: a reference that ignored the shadow, or misplaced it by more than the mesh does,
     // would leave the bracket, which is a few % of the shadow's effect.
-    assert!(deepest > 0.15 && ratio < 0.05, "the mesh bracket is too wide to test anything: {ratio}");
+    assert!(
+        deepest > 0.15 && ratio < 0.05,
+        "the mesh bracket is too wide to test anything: {ratio}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -652,14 +857,26 @@ fn sphere_point_volumetric_shadow_is_bracketed_by_analytic_spheres() {
 fn reference_converges_on_sphere_point_and_fence_spot() {
     let sp = lib("sphere-point");
     let c = convergence(&sp, 0, sphere_point_64(), Settings::default(), 1).unwrap();
-    println!("sphere-point 64²: rel RMSE inscatter {:e}, total {:e} ({} pixels)", c.rel_rmse_inscatter, c.rel_rmse_total, c.pixels);
+    println!(
+        "sphere-point 64²: rel RMSE inscatter {:e}, total {:e} ({} pixels)",
+        c.rel_rmse_inscatter, c.rel_rmse_total, c.pixels
+    );
     assert_eq!(c.pixels, 64 * 64);
-    assert!(c.rel_rmse_total < 1e-4 && c.rel_rmse_inscatter < 1e-4, "{c:?}");
+    assert!(
+        c.rel_rmse_total < 1e-4 && c.rel_rmse_inscatter < 1e-4,
+        "{c:?}"
+    );
     let fs = lib("fence-spot");
     let img = render(&fs, 0, 64, 64, Settings::default(), &|_| {}).unwrap();
     let c = convergence(&fs, 0, &img, Settings::default(), 1).unwrap();
-    println!("fence-spot 64²: rel RMSE inscatter {:e}, total {:e}", c.rel_rmse_inscatter, c.rel_rmse_total);
-    assert!(c.rel_rmse_total < 1e-4 && c.rel_rmse_inscatter < 1e-4, "{c:?}");
+    println!(
+        "fence-spot 64²: rel RMSE inscatter {:e}, total {:e}",
+        c.rel_rmse_inscatter, c.rel_rmse_total
+    );
+    assert!(
+        c.rel_rmse_total < 1e-4 && c.rel_rmse_inscatter < 1e-4,
+        "{c:?}"
+    );
     // Not vacuous: the images have light in them.
     assert!(img.inscatter.mean() > 0.0 && img.total.mean() > img.inscatter.mean());
 }
@@ -671,7 +888,10 @@ fn reference_converges_on_sphere_point_and_fence_spot() {
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((self.0 >> 11) as f64) / (1u64 << 53) as f64
     }
     fn in_box(&mut self, lo: DVec3, hi: DVec3) -> DVec3 {
@@ -682,7 +902,12 @@ impl Lcg {
 /// For each ray, samples visibility at `n` points with a shadow ray each and checks it agrees
 /// with membership in `shadowed`'s intervals, except within 1e-6 m of an interval end.
 /// Returns (rays whose samples are both lit and shadowed, total sampled visibility changes).
-fn check_intervals(world: &World, rays: &[(DVec3, DVec3, f64)], src: Source, n: usize) -> (usize, usize) {
+fn check_intervals(
+    world: &World,
+    rays: &[(DVec3, DVec3, f64)],
+    src: Source,
+    n: usize,
+) -> (usize, usize) {
     let eps = 1e-9;
     let (mut shadowed_rays, mut changes, mut degenerate) = (0, 0, 0);
     for (k, &(o, d, len)) in rays.iter().enumerate() {
@@ -691,9 +916,15 @@ fn check_intervals(world: &World, rays: &[(DVec3, DVec3, f64)], src: Source, n: 
             continue;
         };
         for w in iv.windows(2) {
-            assert!(w[0].1 < w[1].0, "ray {k}: intervals sorted and disjoint: {iv:?}");
+            assert!(
+                w[0].1 < w[1].0,
+                "ray {k}: intervals sorted and disjoint: {iv:?}"
+            );
         }
-        assert!(iv.iter().all(|&(a, b)| 0.0 <= a && a < b && b <= len), "ray {k}: {iv:?} outside [0, {len}]");
+        assert!(
+            iv.iter().all(|&(a, b)| 0.0 <= a && a < b && b <= len),
+            "ray {k}: {iv:?} outside [0, {len}]"
+        );
         let mut prev = None;
         let mut mixed = false;
         for s in 0..n {
@@ -708,8 +939,14 @@ fn check_intervals(world: &World, rays: &[(DVec3, DVec3, f64)], src: Source, n: 
                 Source::Direction(sun, reach) => world.bvh.occluded(x, sun, eps, reach),
             };
             let inside = iv.iter().any(|&(a, b)| t > a && t < b);
-            let near_end = iv.iter().any(|&(a, b)| (t - a).abs() < 1e-6 || (t - b).abs() < 1e-6);
-            assert!(blocked == inside || near_end, "ray {k} (o {o}, d {d}, len {len}) at t = {t}: sampled {}, intervals {iv:?}", if blocked { "shadowed" } else { "lit" });
+            let near_end = iv
+                .iter()
+                .any(|&(a, b)| (t - a).abs() < 1e-6 || (t - b).abs() < 1e-6);
+            assert!(
+                blocked == inside || near_end,
+                "ray {k} (o {o}, d {d}, len {len}) at t = {t}: sampled {}, intervals {iv:?}",
+                if blocked { "shadowed" } else { "lit" }
+            );
             if prev.is_some_and(|p| p != blocked) {
                 changes += 1;
                 mixed = true;
@@ -725,14 +962,22 @@ fn check_intervals(world: &World, rays: &[(DVec3, DVec3, f64)], src: Source, n: 
 }
 
 /// Camera rays through random pixels of a 48×48 image, to their first hit or the far plane.
-fn camera_rays(world: &World, st: &scenes::FrameState, rng: &mut Lcg, n: usize) -> Vec<(DVec3, DVec3, f64)> {
+fn camera_rays(
+    world: &World,
+    st: &scenes::FrameState,
+    rng: &mut Lcg,
+    n: usize,
+) -> Vec<(DVec3, DVec3, f64)> {
     let rays_of = st.camera.rays(48, 48);
     (0..n)
         .map(|_| {
             let (i, j) = ((rng.next() * 48.0) as u32, (rng.next() * 48.0) as u32);
             let d = rays_of.direction(i, j);
             let far = rays_of.far_distance(d);
-            let len = world.bvh.intersect(rays_of.origin, d, rays_of.near_distance(d), far).map_or(far, |h| h.t);
+            let len = world
+                .bvh
+                .intersect(rays_of.origin, d, rays_of.near_distance(d), far)
+                .map_or(far, |h| h.t);
             (rays_of.origin, d, len)
         })
         .collect()
@@ -754,8 +999,14 @@ fn exact_shadow_intervals_agree_with_dense_sampling_fence_spot() {
     }
     rays.extend(camera_rays(&world, &st, &mut rng, 50));
     let (with_shadow, changes) = check_intervals(&world, &rays, Source::Point(l), 20_000);
-    println!("fence-spot: {with_shadow} of {} rays cross a shadow boundary, {changes} sampled lit/shadow changes", rays.len());
-    assert!(with_shadow >= 60 && changes >= 500, "the rays must actually cross the fence's shadows");
+    println!(
+        "fence-spot: {with_shadow} of {} rays cross a shadow boundary, {changes} sampled lit/shadow changes",
+        rays.len()
+    );
+    assert!(
+        with_shadow >= 60 && changes >= 500,
+        "the rays must actually cross the fence's shadows"
+    );
 }
 
 #[test]
@@ -777,9 +1028,16 @@ fn exact_shadow_intervals_agree_with_dense_sampling_window_sun() {
         rays.push((a, (b - a).normalize(), (b - a).length()));
     }
     rays.extend(camera_rays(&world, &st, &mut rng, 50));
-    let (with_shadow, changes) = check_intervals(&world, &rays, Source::Direction(sun, reach), 20_000);
-    println!("window-sun: {with_shadow} of {} rays cross a shadow boundary, {changes} sampled lit/shadow changes", rays.len());
-    assert!(with_shadow >= 60 && changes >= 150, "the rays must cross the window's light and shadows");
+    let (with_shadow, changes) =
+        check_intervals(&world, &rays, Source::Direction(sun, reach), 20_000);
+    println!(
+        "window-sun: {with_shadow} of {} rays cross a shadow boundary, {changes} sampled lit/shadow changes",
+        rays.len()
+    );
+    assert!(
+        with_shadow >= 60 && changes >= 150,
+        "the rays must cross the window's light and shadows"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -789,9 +1047,20 @@ fn exact_shadow_intervals_agree_with_dense_sampling_window_sun() {
 /// `objects` defaults to none ("a scene of fog and light only"): the reference must render it.
 #[test]
 fn a_scene_without_objects_renders() {
-    let s = infinite_medium(r#"{ "kind": "isotropic" }"#, r#"{ "kind": "point", "position": [0.5, 1.5, -1.0], "intensity": [10, 20, 30] }"#);
+    let s = infinite_medium(
+        r#"{ "kind": "isotropic" }"#,
+        r#"{ "kind": "point", "position": [0.5, 1.5, -1.0], "intensity": [10, 20, 30] }"#,
+    );
     assert_eq!(s.triangle_count(), 0);
     let img = std::panic::catch_unwind(|| render(&s, 0, 4, 4, Settings::default(), &|_| {}));
-    let img = img.expect("the reference panics on a scene without triangles (empty BVH)").unwrap();
-    assert!(img.inscatter.pixels.iter().flatten().all(|v| v.is_finite() && *v > 0.0));
+    let img = img
+        .expect("the reference panics on a scene without triangles (empty BVH)")
+        .unwrap();
+    assert!(
+        img.inscatter
+            .pixels
+            .iter()
+            .flatten()
+            .all(|v| v.is_finite() && *v > 0.0)
+    );
 }

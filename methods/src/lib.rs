@@ -9,8 +9,14 @@ use harness::method::Entry;
 
 /// Every method, in the order `list` and `run --methods all` use.
 pub const REGISTRY: &[Entry] = &[
-    Entry { id: "raymarch-brute", make: || Box::new(raymarch_brute::RaymarchBrute::default()) },
-    Entry { id: "no-scatter", make: || Box::new(no_scatter::NoScatter::default()) },
+    Entry {
+        id: "raymarch-brute",
+        make: || Box::new(raymarch_brute::RaymarchBrute::default()),
+    },
+    Entry {
+        id: "no-scatter",
+        make: || Box::new(no_scatter::NoScatter::default()),
+    },
 ];
 
 /// A registry entry by id.
@@ -23,7 +29,13 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
         ("shadow-pass", common::shadow_maps::shader_source()),
         ("surface-pass", common::renderer::surface_source()),
-        ("raymarch-brute/march", common::resolve::source(raymarch_brute::MARCH_WGSL)),
-        ("no-scatter/resolve", common::resolve::source(no_scatter::RESOLVE_WGSL)),
+        (
+            "raymarch-brute/march",
+            common::resolve::source(raymarch_brute::MARCH_WGSL),
+        ),
+        (
+            "no-scatter/resolve",
+            common::resolve::source(no_scatter::RESOLVE_WGSL),
+        ),
     ]
 }

@@ -235,7 +235,11 @@ pub struct Transform {
 
 impl Default for Transform {
     fn default() -> Self {
-        Self { translation: Vec3::ZERO, rotation_deg: Vec3::ZERO, scale: Vec3::ONE }
+        Self {
+            translation: Vec3::ZERO,
+            rotation_deg: Vec3::ZERO,
+            scale: Vec3::ONE,
+        }
     }
 }
 
@@ -256,7 +260,11 @@ pub struct Material {
 
 impl Default for Material {
     fn default() -> Self {
-        Self { albedo: grey(), phong: None, two_sided: false }
+        Self {
+            albedo: grey(),
+            phong: None,
+            two_sided: false,
+        }
     }
 }
 
@@ -316,10 +324,20 @@ pub enum Shape {
     },
     /// Hexagonal prism (across-corners radius) along Y from 0 to `length`, topped by a cone
     /// of `tip_length` (so the total length is length + tip_length).
-    Pencil { radius: f32, length: f32, tip_length: f32 },
+    Pencil {
+        radius: f32,
+        length: f32,
+        tip_length: f32,
+    },
     /// A fence in the XY plane, centred, facing +Z: `posts` vertical bars and `rails`
     /// horizontal bars of square section `bar`, spanning `width` × `height`.
-    Fence { width: f32, height: f32, posts: u32, rails: u32, bar: f32 },
+    Fence {
+        width: f32,
+        height: f32,
+        posts: u32,
+        rails: u32,
+        bar: f32,
+    },
     /// A Wavefront OBJ file, path relative to the scene file.
     Obj { path: String },
 }

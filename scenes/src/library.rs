@@ -13,7 +13,10 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ("spring-point", include_str!("../library/spring-point.json")),
     ("fence-spot", include_str!("../library/fence-spot.json")),
     ("window-sun", include_str!("../library/window-sun.json")),
-    ("stained-glass-spot", include_str!("../library/stained-glass-spot.json")),
+    (
+        "stained-glass-spot",
+        include_str!("../library/stained-glass-spot.json"),
+    ),
     ("clear-fog", include_str!("../library/clear-fog.json")),
     ("pen-orbit", include_str!("../library/pen-orbit.json")),
 ];
@@ -24,7 +27,10 @@ pub fn names() -> Vec<&'static str> {
 
 /// Loads a library scene by name.
 pub fn load(name: &str) -> Option<Result<Scene, SceneError>> {
-    LIBRARY.iter().find(|(n, _)| *n == name).map(|(n, text)| parse_scene(text, &format!("scenes/library/{n}.json"), n, Path::new(".")))
+    LIBRARY
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(n, text)| parse_scene(text, &format!("scenes/library/{n}.json"), n, Path::new(".")))
 }
 
 /// A library name, or a path to a scene file. Unknown names are refused with the valid ones.
@@ -36,5 +42,8 @@ pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
     if p.extension().is_some_and(|e| e == "json") || p.is_file() {
         return load_scene(p).map_err(|e| e.to_string());
     }
-    Err(format!("unknown scene '{name_or_path}': valid library scenes are {} (or give a path to a .json file)", names().join(", ")))
+    Err(format!(
+        "unknown scene '{name_or_path}': valid library scenes are {} (or give a path to a .json file)",
+        names().join(", ")
+    ))
 }

@@ -10,9 +10,23 @@ use crate::desc::Pattern;
 /// A light at one frame (keyframes already applied). Directions are unit length.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightState {
-    Point { position: Vec3, intensity: Vec3 },
-    Spot { position: Vec3, direction: Vec3, cos_inner: f32, cos_outer: f32, tan_outer: f32, intensity: Vec3, pattern: Option<Pattern> },
-    Directional { direction: Vec3, irradiance: Vec3 },
+    Point {
+        position: Vec3,
+        intensity: Vec3,
+    },
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+        tan_outer: f32,
+        intensity: Vec3,
+        pattern: Option<Pattern>,
+    },
+    Directional {
+        direction: Vec3,
+        irradiance: Vec3,
+    },
 }
 
 impl LightState {
@@ -27,7 +41,9 @@ impl LightState {
     /// The light's position, or None for a directional light.
     pub fn position(&self) -> Option<Vec3> {
         match self {
-            LightState::Point { position, .. } | LightState::Spot { position, .. } => Some(*position),
+            LightState::Point { position, .. } | LightState::Spot { position, .. } => {
+                Some(*position)
+            }
             LightState::Directional { .. } => None,
         }
     }
@@ -38,7 +54,15 @@ impl LightState {
         match self {
             LightState::Point { intensity, .. } => intensity.as_dvec3(),
             LightState::Directional { irradiance, .. } => irradiance.as_dvec3(),
-            LightState::Spot { position, direction, cos_inner, cos_outer, tan_outer, intensity, pattern } => {
+            LightState::Spot {
+                position,
+                direction,
+                cos_inner,
+                cos_outer,
+                tan_outer,
+                intensity,
+                pattern,
+            } => {
                 let w = x - position.as_dvec3();
                 let len = w.length();
                 if len <= 0.0 {
@@ -78,7 +102,11 @@ pub fn spot_falloff(cos_angle: f64, cos_inner: f64, cos_outer: f64) -> f64 {
 /// The spot's slide frame: (right, up) perpendicular to `axis`, right-handed with it.
 /// `up` is the world Y projected out of the axis (world Z if the axis is vertical).
 pub fn spot_frame(axis: DVec3) -> (DVec3, DVec3) {
-    let hint = if axis.y.abs() > 0.999 { DVec3::Z } else { DVec3::Y };
+    let hint = if axis.y.abs() > 0.999 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
     let right = axis.cross(hint).normalize();
     let up = right.cross(axis);
     (right, up)
@@ -106,8 +134,15 @@ pub fn pattern_value(p: &Pattern, u: f64, v: f64) -> DVec3 {
     match *p {
         Pattern::Checker { cells, dark } => {
             let n = cells.max(1) as f64;
-            let (i, j) = (((u * n).floor() as i64).min(cells as i64 - 1), ((v * n).floor() as i64).min(cells as i64 - 1));
-            if (i + j).rem_euclid(2) == 0 { DVec3::ONE } else { DVec3::splat(dark as f64) }
+            let (i, j) = (
+                ((u * n).floor() as i64).min(cells as i64 - 1),
+                ((v * n).floor() as i64).min(cells as i64 - 1),
+            );
+            if (i + j).rem_euclid(2) == 0 {
+                DVec3::ONE
+            } else {
+                DVec3::splat(dark as f64)
+            }
         }
         Pattern::StainedGlass { panes, seed, lead } => {
             let n = panes.max(1) as f64;
@@ -125,9 +160,16 @@ pub fn pattern_value(p: &Pattern, u: f64, v: f64) -> DVec3 {
 
 /// Saturated colour of pane (i, j): a hash picks one of a small palette of glass colours.
 fn pane_colour(seed: u32, i: u32, j: u32) -> DVec3 {
-    const PALETTE: [[f64; 3]; 6] =
-        [[0.9, 0.15, 0.1], [0.1, 0.35, 0.9], [0.95, 0.8, 0.1], [0.1, 0.75, 0.25], [0.6, 0.2, 0.8], [0.95, 0.95, 0.9]];
-    let mut h = seed.wrapping_mul(0x9E37_79B9) ^ i.wrapping_mul(0x85EB_CA6B) ^ j.wrapping_mul(0xC2B2_AE35);
+    const PALETTE: [[f64; 3]; 6] = [
+        [0.9, 0.15, 0.1],
+        [0.1, 0.35, 0.9],
+        [0.95, 0.8, 0.1],
+        [0.1, 0.75, 0.25],
+        [0.6, 0.2, 0.8],
+        [0.95, 0.95, 0.9],
+    ];
+    let mut h =
+        seed.wrapping_mul(0x9E37_79B9) ^ i.wrapping_mul(0x85EB_CA6B) ^ j.wrapping_mul(0xC2B2_AE35);
     h ^= h >> 16;
     h = h.wrapping_mul(0x7FEB_352D);
     h ^= h >> 15;
@@ -183,7 +225,17 @@ mod tests {
 
     #[test]
     fn patterns_change_only_at_their_breaks() {
-        for p in [Pattern::Checker { cells: 5, dark: 0.1 }, Pattern::StainedGlass { panes: 4, seed: 3, lead: 0.1 }] {
+        for p in [
+            Pattern::Checker {
+                cells: 5,
+                dark: 0.1,
+            },
+            Pattern::StainedGlass {
+                panes: 4,
+                seed: 3,
+                lead: 0.1,
+            },
+        ] {
             let mut breaks = pattern_breaks(&p);
             breaks.sort_by(f64::total_cmp);
             let v = 0.37;
@@ -191,7 +243,13 @@ mod tests {
                 let a = pattern_value(&p, w[0] + 1e-9, v);
                 for s in 1..10 {
                     let u = w[0] + (w[1] - w[0]) * s as f64 / 10.0;
-                    assert_eq!(pattern_value(&p, u, v), a, "{p:?} changes inside ({}, {})", w[0], w[1]);
+                    assert_eq!(
+                        pattern_value(&p, u, v),
+                        a,
+                        "{p:?} changes inside ({}, {})",
+                        w[0],
+                        w[1]
+                    );
                 }
             }
         }

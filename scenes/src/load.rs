@@ -14,9 +14,21 @@ use crate::validate::{Problem, validate};
 /// `file:line:column: field.path: what is wrong`.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SceneError {
-    Io { file: String, message: String },
-    Syntax { file: String, line: usize, column: usize, path: String, message: String },
-    Invalid { file: String, problems: Vec<LocatedProblem> },
+    Io {
+        file: String,
+        message: String,
+    },
+    Syntax {
+        file: String,
+        line: usize,
+        column: usize,
+        path: String,
+        message: String,
+    },
+    Invalid {
+        file: String,
+        problems: Vec<LocatedProblem>,
+    },
 }
 
 /// A semantic problem with where it is in the file (when the field is present in the text).
@@ -31,8 +43,18 @@ impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SceneError::Io { file, message } => write!(f, "{file}: {message}"),
-            SceneError::Syntax { file, line, column, path, message } => {
-                let at = if path.is_empty() || path == "." || path == "?" { String::new() } else { format!("{path}: ") };
+            SceneError::Syntax {
+                file,
+                line,
+                column,
+                path,
+                message,
+            } => {
+                let at = if path.is_empty() || path == "." || path == "?" {
+                    String::new()
+                } else {
+                    format!("{path}: ")
+                };
                 write!(f, "{file}:{line}:{column}: {at}{message}")
             }
             SceneError::Invalid { file, problems } => {
@@ -41,7 +63,11 @@ impl fmt::Display for SceneError {
                         writeln!(f)?;
                     }
                     match (p.line, p.column) {
-                        (Some(l), Some(c)) => write!(f, "{file}:{l}:{c}: {}: {}", p.problem.path, p.problem.message)?,
+                        (Some(l), Some(c)) => write!(
+                            f,
+                            "{file}:{l}:{c}: {}: {}",
+                            p.problem.path, p.problem.message
+                        )?,
                         _ => write!(f, "{file}: {}: {}", p.problem.path, p.problem.message)?,
                     }
                 }
@@ -56,8 +82,14 @@ impl std::error::Error for SceneError {}
 /// Loads and validates a scene file. The scene's name is the file stem.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io { file: file.clone(), message: format!("cannot read: {e}") })?;
-    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        file: file.clone(),
+        message: format!("cannot read: {e}"),
+    })?;
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut scene = parse_scene(&text, &file, &name, &base)?;
     scene.source = Some(path.to_path_buf());
@@ -70,14 +102,23 @@ pub fn parse_scene(text: &str, file: &str, name: &str, base: &Path) -> Result<Sc
     let desc: SceneDesc = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
-        SceneError::Syntax { file: file.to_string(), line: inner.line(), column: inner.column(), path, message: strip_position(&inner.to_string()) }
+        SceneError::Syntax {
+            file: file.to_string(),
+            line: inner.line(),
+            column: inner.column(),
+            path,
+            message: strip_position(&inner.to_string()),
+        }
     })?;
     let mut problems = validate(&desc, base);
     let mut meshes = Vec::with_capacity(desc.objects.len());
     if problems.is_empty() {
         for (i, o) in desc.objects.iter().enumerate() {
             match build_mesh(&o.shape, base) {
-                Ok(m) if m.indices.is_empty() => problems.push(Problem::new(format!("objects[{i}].shape"), "the mesh has no triangles")),
+                Ok(m) if m.indices.is_empty() => problems.push(Problem::new(
+                    format!("objects[{i}].shape"),
+                    "the mesh has no triangles",
+                )),
                 Ok(m) => meshes.push(Arc::new(m)),
                 Err(message) => problems.push(Problem::new(format!("objects[{i}].shape"), message)),
             }
@@ -88,12 +129,24 @@ pub fn parse_scene(text: &str, file: &str, name: &str, base: &Path) -> Result<Sc
             .into_iter()
             .map(|problem| {
                 let at = crate::locate::locate(text, &problem.path);
-                LocatedProblem { line: at.map(|a| a.0), column: at.map(|a| a.1), problem }
+                LocatedProblem {
+                    line: at.map(|a| a.0),
+                    column: at.map(|a| a.1),
+                    problem,
+                }
             })
             .collect();
-        return Err(SceneError::Invalid { file: file.to_string(), problems });
+        return Err(SceneError::Invalid {
+            file: file.to_string(),
+            problems,
+        });
     }
-    Ok(Scene { name: name.to_string(), desc, meshes, source: None })
+    Ok(Scene {
+        name: name.to_string(),
+        desc,
+        meshes,
+        source: None,
+    })
 }
 
 /// serde_json appends " at line L column C"; we print the position ourselves.
@@ -109,19 +162,58 @@ pub fn build_mesh(shape: &Shape, base: &Path) -> Result<TriMesh, String> {
     Ok(match *shape {
         Shape::Plane { size } => procedural::plane(size[0], size[1]),
         Shape::Box { size } => procedural::cuboid(size),
-        Shape::Sphere { radius, segments, rings } => procedural::sphere(radius, segments, rings),
-        Shape::Cylinder { radius, height, segments } => procedural::cylinder(radius, height, segments),
-        Shape::Torus { major_radius, minor_radius, segments, sides } => procedural::torus(major_radius, minor_radius, segments, sides),
-        Shape::Spring { coil_radius, wire_radius, turns, height, segments_per_turn, sides } => {
-            procedural::spring(coil_radius, wire_radius, turns, height, segments_per_turn, sides)
-        }
-        Shape::Pencil { radius, length, tip_length } => procedural::pencil(radius, length, tip_length),
-        Shape::Fence { width, height, posts, rails, bar } => procedural::fence(width, height, posts, rails, bar),
+        Shape::Sphere {
+            radius,
+            segments,
+            rings,
+        } => procedural::sphere(radius, segments, rings),
+        Shape::Cylinder {
+            radius,
+            height,
+            segments,
+        } => procedural::cylinder(radius, height, segments),
+        Shape::Torus {
+            major_radius,
+            minor_radius,
+            segments,
+            sides,
+        } => procedural::torus(major_radius, minor_radius, segments, sides),
+        Shape::Spring {
+            coil_radius,
+            wire_radius,
+            turns,
+            height,
+            segments_per_turn,
+            sides,
+        } => procedural::spring(
+            coil_radius,
+            wire_radius,
+            turns,
+            height,
+            segments_per_turn,
+            sides,
+        ),
+        Shape::Pencil {
+            radius,
+            length,
+            tip_length,
+        } => procedural::pencil(radius, length, tip_length),
+        Shape::Fence {
+            width,
+            height,
+            posts,
+            rails,
+            bar,
+        } => procedural::fence(width, height, posts, rails, bar),
         Shape::Obj { ref path } => obj::load_obj(&resolve(base, path))?,
     })
 }
 
 pub(crate) fn resolve(base: &Path, path: &str) -> PathBuf {
     let p = Path::new(path);
-    if p.is_absolute() { p.to_path_buf() } else { base.join(p) }
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
 }

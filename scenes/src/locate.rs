@@ -5,7 +5,12 @@
 /// 1-based (line, column) of the value at `path`, or of its nearest present ancestor.
 pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
     let want = split_path(path);
-    let mut s = Scanner { b: text.as_bytes(), i: 0, line: 1, col: 1 };
+    let mut s = Scanner {
+        b: text.as_bytes(),
+        i: 0,
+        line: 1,
+        col: 1,
+    };
     let mut best = None;
     s.value(&want, 0, &mut best);
     best
@@ -87,7 +92,12 @@ impl Scanner<'_> {
     }
     /// Scans one value. While `want[depth..]` is still being followed, records the position of
     /// each matched ancestor into `best`, so the deepest match wins.
-    fn value(&mut self, want: &[Seg], depth: usize, best: &mut Option<(usize, usize)>) -> Option<()> {
+    fn value(
+        &mut self,
+        want: &[Seg],
+        depth: usize,
+        best: &mut Option<(usize, usize)>,
+    ) -> Option<()> {
         self.ws();
         let tracking = depth <= want.len();
         if tracking {
@@ -111,7 +121,8 @@ impl Scanner<'_> {
                                 return None;
                             }
                             self.bump();
-                            let follow = tracking && matches!(want.get(depth), Some(Seg::Key(k)) if *k == key);
+                            let follow = tracking
+                                && matches!(want.get(depth), Some(Seg::Key(k)) if *k == key);
                             if follow {
                                 self.value(want, depth + 1, best)?;
                             } else {
@@ -137,7 +148,8 @@ impl Scanner<'_> {
                             index += 1;
                         }
                         _ => {
-                            let follow = tracking && matches!(want.get(depth), Some(Seg::Index(k)) if *k == index);
+                            let follow = tracking
+                                && matches!(want.get(depth), Some(Seg::Index(k)) if *k == index);
                             if follow {
                                 self.value(want, depth + 1, best)?;
                             } else {
@@ -168,7 +180,7 @@ mod tests {
     #[test]
     fn finds_nested_fields_and_array_elements() {
         let text = "{\n  \"a\": 1,\n  \"objects\": [\n    {\"r\": 2},\n    {\"shape\": {\"radius\": -1}}\n  ]\n}";
-        assert_eq!(locate(text, "objects[1].shape.radius"), Some((5, 25)));
+        assert_eq!(locate(text, "objects[1].shape.radius"), Some((5, 26)));
         assert_eq!(locate(text, "a"), Some((2, 8)));
         // A missing field points at its nearest ancestor.
         assert_eq!(locate(text, "objects[0].shape"), Some((4, 5)));

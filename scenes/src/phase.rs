@@ -70,8 +70,20 @@ mod tests {
     /// ∫ p dω = 2π ∫_{-1}^{1} p(c) dc, by composite Gauss–Legendre (independent of the closed forms).
     fn integrate_sphere(p: &Phase) -> f64 {
         // 5-point Gauss–Legendre on 4000 panels: murky Mie's cos⁶⁴ peak is resolved many times over.
-        let nodes = [0.0, -0.538_469_310_105_683_1, 0.538_469_310_105_683_1, -0.906_179_845_938_664, 0.906_179_845_938_664];
-        let weights = [0.568_888_888_888_888_9, 0.478_628_670_499_366_5, 0.478_628_670_499_366_5, 0.236_926_885_056_189_1, 0.236_926_885_056_189_1];
+        let nodes = [
+            0.0,
+            -0.538_469_310_105_683_1,
+            0.538_469_310_105_683_1,
+            -0.906_179_845_938_664,
+            0.906_179_845_938_664,
+        ];
+        let weights = [
+            0.568_888_888_888_888_9,
+            0.478_628_670_499_366_5,
+            0.478_628_670_499_366_5,
+            0.236_926_885_056_189_1,
+            0.236_926_885_056_189_1,
+        ];
         let panels = 4000;
         let h = 2.0 / panels as f64;
         let mut sum = 0.0;
@@ -104,8 +116,16 @@ mod tests {
 
     #[test]
     fn forward_peaked_phases_prefer_theta_zero() {
-        for p in [Phase::HazyMie, Phase::MurkyMie, Phase::HenyeyGreenstein { g: 0.5 }] {
-            assert!(p.eval(1.0) > 10.0 * p.eval(-1.0) || matches!(p, Phase::HenyeyGreenstein { .. }));
+        for p in [
+            Phase::HazyMie,
+            Phase::MurkyMie,
+            Phase::HenyeyGreenstein { g: 0.5 },
+        ] {
+            // Hazy Mie's forward/backward ratio is exactly 10, murky Mie's 51.
+            assert!(
+                p.eval(1.0) >= 10.0 * p.eval(-1.0) * (1.0 - 1e-12)
+                    || matches!(p, Phase::HenyeyGreenstein { .. })
+            );
             assert!(p.eval(1.0) > p.eval(0.0));
         }
     }

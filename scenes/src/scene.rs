@@ -48,9 +48,18 @@ pub struct FrameState {
 impl Scene {
     pub fn medium(&self) -> Homogeneous {
         match &self.desc.medium {
-            MediumDesc::Homogeneous { sigma_a, sigma_s, phase, ambient } => {
-                Homogeneous { sigma_a: *sigma_a, sigma_s: *sigma_s, sigma_t: *sigma_a + *sigma_s, phase: *phase, ambient: *ambient }
-            }
+            MediumDesc::Homogeneous {
+                sigma_a,
+                sigma_s,
+                phase,
+                ambient,
+            } => Homogeneous {
+                sigma_a: *sigma_a,
+                sigma_s: *sigma_s,
+                sigma_t: *sigma_a + *sigma_s,
+                phase: *phase,
+                ambient: *ambient,
+            },
         }
     }
 
@@ -65,10 +74,21 @@ impl Scene {
         let (position, look_at) = if c.keyframes.is_empty() {
             (c.position, c.look_at)
         } else {
-            let keys: Vec<(f32, (Vec3, Vec3))> = c.keyframes.iter().map(|k| (k.frame, (k.position, k.look_at))).collect();
+            let keys: Vec<(f32, (Vec3, Vec3))> = c
+                .keyframes
+                .iter()
+                .map(|k| (k.frame, (k.position, k.look_at)))
+                .collect();
             sample_keys(&keys, f, |a, b, t| (a.0.lerp(b.0, t), a.1.lerp(b.1, t)))
         };
-        let camera = CameraPose { position, look_at, up: c.up, fov_y_deg: c.fov_y_deg, near: c.near, far: c.far };
+        let camera = CameraPose {
+            position,
+            look_at,
+            up: c.up,
+            fov_y_deg: c.fov_y_deg,
+            near: c.near,
+            far: c.far,
+        };
         let lights = self.desc.lights.iter().map(|l| light_at(l, f)).collect();
         let world_from_local = self
             .desc
@@ -78,12 +98,21 @@ impl Scene {
                 if o.keyframes.is_empty() {
                     transform_matrix(&o.transform)
                 } else {
-                    let keys: Vec<(f32, Transform)> = o.keyframes.iter().map(|k| (k.frame, k.transform.clone())).collect();
+                    let keys: Vec<(f32, Transform)> = o
+                        .keyframes
+                        .iter()
+                        .map(|k| (k.frame, k.transform.clone()))
+                        .collect();
                     transform_matrix(&sample_keys(&keys, f, lerp_transform))
                 }
             })
             .collect();
-        FrameState { index, camera, lights, world_from_local }
+        FrameState {
+            index,
+            camera,
+            lights,
+            world_from_local,
+        }
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -108,7 +137,9 @@ impl Scene {
         let many = d.frames > 1;
         let animated_lights = many
             && d.lights.iter().any(|l| match l {
-                LightDesc::Point { keyframes, .. } | LightDesc::Spot { keyframes, .. } | LightDesc::Directional { keyframes, .. } => !keyframes.is_empty(),
+                LightDesc::Point { keyframes, .. }
+                | LightDesc::Spot { keyframes, .. }
+                | LightDesc::Directional { keyframes, .. } => !keyframes.is_empty(),
             });
         let animated_objects = many && d.objects.iter().any(|o| !o.keyframes.is_empty());
         let animated_camera = many && !d.camera.keyframes.is_empty();
@@ -120,7 +151,15 @@ impl Scene {
             ambient: m.ambient.max_element() > 0.0,
             lights: d.lights.len(),
             light_kinds,
-            textured_light: d.lights.iter().any(|l| matches!(l, LightDesc::Spot { pattern: Some(_), .. })),
+            textured_light: d.lights.iter().any(|l| {
+                matches!(
+                    l,
+                    LightDesc::Spot {
+                        pattern: Some(_),
+                        ..
+                    }
+                )
+            }),
             surfaces: !d.objects.is_empty(),
             volumetric_occluders: d.objects.iter().any(|o| o.casts_volumetric_shadow),
             phong: d.objects.iter().any(|o| o.material.phong.is_some()),
@@ -165,10 +204,23 @@ pub struct SceneFeatures {
 
 fn light_at(l: &LightDesc, f: f32) -> LightState {
     match l {
-        LightDesc::Point { position, intensity, keyframes } => {
-            LightState::Point { position: animate(*position, keyframes, f, |k| k.position), intensity: *intensity }
-        }
-        LightDesc::Spot { position, direction, inner_deg, outer_deg, intensity, pattern, keyframes } => LightState::Spot {
+        LightDesc::Point {
+            position,
+            intensity,
+            keyframes,
+        } => LightState::Point {
+            position: animate(*position, keyframes, f, |k| k.position),
+            intensity: *intensity,
+        },
+        LightDesc::Spot {
+            position,
+            direction,
+            inner_deg,
+            outer_deg,
+            intensity,
+            pattern,
+            keyframes,
+        } => LightState::Spot {
             position: animate(*position, keyframes, f, |k| k.position),
             direction: animate(*direction, keyframes, f, |k| k.direction).normalize(),
             cos_inner: inner_deg.to_radians().cos(),
@@ -177,16 +229,33 @@ fn light_at(l: &LightDesc, f: f32) -> LightState {
             intensity: *intensity,
             pattern: pattern.clone(),
         },
-        LightDesc::Directional { direction, irradiance, keyframes } => {
-            LightState::Directional { direction: animate(*direction, keyframes, f, |k| k.direction).normalize(), irradiance: *irradiance }
-        }
+        LightDesc::Directional {
+            direction,
+            irradiance,
+            keyframes,
+        } => LightState::Directional {
+            direction: animate(*direction, keyframes, f, |k| k.direction).normalize(),
+            irradiance: *irradiance,
+        },
     }
 }
 
 /// Interpolates the light keys that set a field, falling back to the static value.
-fn animate(base: Vec3, keys: &[crate::desc::LightKey], f: f32, field: impl Fn(&crate::desc::LightKey) -> Option<Vec3>) -> Vec3 {
-    let keyed: Vec<(f32, Vec3)> = keys.iter().filter_map(|k| field(k).map(|v| (k.frame, v))).collect();
-    if keyed.is_empty() { base } else { sample_keys(&keyed, f, |a, b, t| a.lerp(*b, t)) }
+fn animate(
+    base: Vec3,
+    keys: &[crate::desc::LightKey],
+    f: f32,
+    field: impl Fn(&crate::desc::LightKey) -> Option<Vec3>,
+) -> Vec3 {
+    let keyed: Vec<(f32, Vec3)> = keys
+        .iter()
+        .filter_map(|k| field(k).map(|v| (k.frame, v)))
+        .collect();
+    if keyed.is_empty() {
+        base
+    } else {
+        sample_keys(&keyed, f, |a, b, t| a.lerp(*b, t))
+    }
 }
 
 /// Piecewise-linear sampling of keys (sorted by frame here, so file order does not matter).
@@ -229,7 +298,11 @@ mod tests {
 
     #[test]
     fn rotation_order_is_x_then_y_then_z() {
-        let t = Transform { translation: Vec3::ZERO, rotation_deg: Vec3::new(90.0, 90.0, 0.0), scale: Vec3::ONE };
+        let t = Transform {
+            translation: Vec3::ZERO,
+            rotation_deg: Vec3::new(90.0, 90.0, 0.0),
+            scale: Vec3::ONE,
+        };
         // Rx(90) takes +Y to +Z; then Ry(90) takes +Z to +X.
         let v = transform_matrix(&t).transform_vector3(Vec3::Y);
         assert!((v - Vec3::X).length() < 1e-6, "{v}");

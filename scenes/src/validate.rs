@@ -17,7 +17,10 @@ pub struct Problem {
 
 impl Problem {
     pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
-        Self { path: path.into(), message: message.into() }
+        Self {
+            path: path.into(),
+            message: message.into(),
+        }
     }
 }
 
@@ -80,7 +83,10 @@ pub fn validate(d: &SceneDesc, base: &Path) -> Vec<Problem> {
     camera(&mut c, d);
     medium(&mut c, &d.medium);
     if d.lights.is_empty() {
-        c.push("lights", "the scene has no light: there is nothing to render");
+        c.push(
+            "lights",
+            "the scene has no light: there is nothing to render",
+        );
     }
     for (i, l) in d.lights.iter().enumerate() {
         light(&mut c, &format!("lights[{i}]"), l);
@@ -91,14 +97,21 @@ pub fn validate(d: &SceneDesc, base: &Path) -> Vec<Problem> {
         transform(&mut c, &format!("{p}.transform"), &o.transform);
         for (k, key) in o.keyframes.iter().enumerate() {
             c.finite(&format!("{p}.keyframes[{k}].frame"), key.frame);
-            transform(&mut c, &format!("{p}.keyframes[{k}].transform"), &key.transform);
+            transform(
+                &mut c,
+                &format!("{p}.keyframes[{k}].transform"),
+                &key.transform,
+            );
         }
         let m = &o.material;
         c.unit_interval3(&format!("{p}.material.albedo"), m.albedo);
         if let Some(ph) = &m.phong {
             c.unit_interval3(&format!("{p}.material.phong.ks"), ph.ks);
             if !(ph.shininess.is_finite() && ph.shininess >= 1.0) {
-                c.push(&format!("{p}.material.phong.shininess"), format!("must be a finite number ≥ 1, got {}", ph.shininess));
+                c.push(
+                    &format!("{p}.material.phong.shininess"),
+                    format!("must be a finite number ≥ 1, got {}", ph.shininess),
+                );
             }
         }
     }
@@ -113,33 +126,52 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
         c.push("camera.look_at", "must differ from camera.position");
     }
     c.nonzero3("camera.up", cam.up);
-    if ok && cam.up.is_finite() && cam.up.length_squared() > 1e-20 && (cam.look_at - cam.position).length_squared() >= 1e-12 {
+    if ok
+        && cam.up.is_finite()
+        && cam.up.length_squared() > 1e-20
+        && (cam.look_at - cam.position).length_squared() >= 1e-12
+    {
         let fwd = (cam.look_at - cam.position).normalize_or_zero();
         if fwd.cross(cam.up.normalize()).length() < 1e-4 {
             c.push("camera.up", "must not be parallel to the view direction");
         }
     }
     if !(cam.fov_y_deg.is_finite() && cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0) {
-        c.push("camera.fov_y_deg", format!("must be in (0, 180) degrees, got {}", cam.fov_y_deg));
+        c.push(
+            "camera.fov_y_deg",
+            format!("must be in (0, 180) degrees, got {}", cam.fov_y_deg),
+        );
     }
     c.positive("camera.near", cam.near);
     if c.finite("camera.far", cam.far) && cam.near.is_finite() && cam.far <= cam.near {
-        c.push("camera.far", format!("must be greater than near ({}), got {}", cam.near, cam.far));
+        c.push(
+            "camera.far",
+            format!("must be greater than near ({}), got {}", cam.near, cam.far),
+        );
     }
     for (k, key) in cam.keyframes.iter().enumerate() {
         let p = format!("camera.keyframes[{k}]");
         c.finite(&format!("{p}.frame"), key.frame);
-        if c.finite3(&format!("{p}.position"), key.position) & c.finite3(&format!("{p}.look_at"), key.look_at)
+        if c.finite3(&format!("{p}.position"), key.position)
+            & c.finite3(&format!("{p}.look_at"), key.look_at)
             && (key.look_at - key.position).length_squared() < 1e-12
         {
-            c.push(&format!("{p}.look_at"), "must differ from the key's position");
+            c.push(
+                &format!("{p}.look_at"),
+                "must differ from the key's position",
+            );
         }
     }
 }
 
 fn medium(c: &mut Checker, m: &MediumDesc) {
     match m {
-        MediumDesc::Homogeneous { sigma_a, sigma_s, phase, ambient } => {
+        MediumDesc::Homogeneous {
+            sigma_a,
+            sigma_s,
+            phase,
+            ambient,
+        } => {
             c.non_negative3("medium.sigma_a", *sigma_a);
             c.non_negative3("medium.sigma_s", *sigma_s);
             c.non_negative3("medium.ambient", *ambient);
@@ -154,22 +186,43 @@ fn medium(c: &mut Checker, m: &MediumDesc) {
 
 fn light(c: &mut Checker, p: &str, l: &LightDesc) {
     match l {
-        LightDesc::Point { position, intensity, keyframes } => {
+        LightDesc::Point {
+            position,
+            intensity,
+            keyframes,
+        } => {
             c.finite3(&format!("{p}.position"), *position);
             c.non_negative3(&format!("{p}.intensity"), *intensity);
             light_keys(c, p, keyframes, false);
         }
-        LightDesc::Spot { position, direction, inner_deg, outer_deg, intensity, pattern, keyframes } => {
+        LightDesc::Spot {
+            position,
+            direction,
+            inner_deg,
+            outer_deg,
+            intensity,
+            pattern,
+            keyframes,
+        } => {
             c.finite3(&format!("{p}.position"), *position);
             c.nonzero3(&format!("{p}.direction"), *direction);
             c.non_negative3(&format!("{p}.intensity"), *intensity);
             if !(inner_deg.is_finite() && *inner_deg >= 0.0) {
-                c.push(&format!("{p}.inner_deg"), format!("must be ≥ 0 degrees, got {inner_deg}"));
+                c.push(
+                    &format!("{p}.inner_deg"),
+                    format!("must be ≥ 0 degrees, got {inner_deg}"),
+                );
             }
             if !(outer_deg.is_finite() && *outer_deg > 0.0 && *outer_deg < 90.0) {
-                c.push(&format!("{p}.outer_deg"), format!("must be in (0, 90) degrees, got {outer_deg}"));
+                c.push(
+                    &format!("{p}.outer_deg"),
+                    format!("must be in (0, 90) degrees, got {outer_deg}"),
+                );
             } else if inner_deg.is_finite() && inner_deg >= outer_deg {
-                c.push(&format!("{p}.inner_deg"), format!("must be less than outer_deg ({outer_deg}), got {inner_deg}"));
+                c.push(
+                    &format!("{p}.inner_deg"),
+                    format!("must be less than outer_deg ({outer_deg}), got {inner_deg}"),
+                );
             }
             if let Some(pat) = pattern {
                 let pp = format!("{p}.pattern");
@@ -177,25 +230,38 @@ fn light(c: &mut Checker, p: &str, l: &LightDesc) {
                     Pattern::Checker { cells, dark } => {
                         c.count(&format!("{pp}.cells"), *cells, 1, 1024);
                         if !(dark.is_finite() && (0.0..=1.0).contains(dark)) {
-                            c.push(&format!("{pp}.dark"), format!("must be in [0, 1], got {dark}"));
+                            c.push(
+                                &format!("{pp}.dark"),
+                                format!("must be in [0, 1], got {dark}"),
+                            );
                         }
                     }
                     Pattern::StainedGlass { panes, lead, .. } => {
                         c.count(&format!("{pp}.panes"), *panes, 1, 256);
                         if !(lead.is_finite() && (0.0..1.0).contains(lead)) {
-                            c.push(&format!("{pp}.lead"), format!("must be in [0, 1), got {lead}"));
+                            c.push(
+                                &format!("{pp}.lead"),
+                                format!("must be in [0, 1), got {lead}"),
+                            );
                         }
                     }
                 }
             }
             light_keys(c, p, keyframes, true);
         }
-        LightDesc::Directional { direction, irradiance, keyframes } => {
+        LightDesc::Directional {
+            direction,
+            irradiance,
+            keyframes,
+        } => {
             c.nonzero3(&format!("{p}.direction"), *direction);
             c.non_negative3(&format!("{p}.irradiance"), *irradiance);
             for (k, key) in keyframes.iter().enumerate() {
                 if key.position.is_some() {
-                    c.push(&format!("{p}.keyframes[{k}].position"), "a directional light has no position");
+                    c.push(
+                        &format!("{p}.keyframes[{k}].position"),
+                        "a directional light has no position",
+                    );
                 }
             }
             light_keys(c, p, keyframes, true);
@@ -212,7 +278,9 @@ fn light_keys(c: &mut Checker, p: &str, keys: &[LightKey], has_direction: bool) 
         }
         match (key.direction, has_direction) {
             (Some(d), true) => c.nonzero3(&format!("{kp}.direction"), d),
-            (Some(_), false) => c.push(&format!("{kp}.direction"), "a point light has no direction"),
+            (Some(_), false) => {
+                c.push(&format!("{kp}.direction"), "a point light has no direction")
+            }
             _ => {}
         }
         if key.position.is_none() && key.direction.is_none() {
@@ -225,7 +293,10 @@ fn transform(c: &mut Checker, p: &str, t: &Transform) {
     c.finite3(&format!("{p}.translation"), t.translation);
     c.finite3(&format!("{p}.rotation_deg"), t.rotation_deg);
     if c.finite3(&format!("{p}.scale"), t.scale) && t.scale.min_element() <= 0.0 {
-        c.push(&format!("{p}.scale"), format!("must be > 0 on every axis, got {}", t.scale));
+        c.push(
+            &format!("{p}.scale"),
+            format!("must be > 0 on every axis, got {}", t.scale),
+        );
     }
 }
 
@@ -241,26 +312,49 @@ fn shape(c: &mut Checker, p: &str, s: &Shape, base: &Path) {
                 c.push(&f("size"), format!("must be > 0 on every axis, got {size}"));
             }
         }
-        Shape::Sphere { radius, segments, rings } => {
+        Shape::Sphere {
+            radius,
+            segments,
+            rings,
+        } => {
             c.positive(&f("radius"), *radius);
             c.count(&f("segments"), *segments, 3, MAX_SEGMENTS);
             c.count(&f("rings"), *rings, 2, MAX_SEGMENTS);
         }
-        Shape::Cylinder { radius, height, segments } => {
+        Shape::Cylinder {
+            radius,
+            height,
+            segments,
+        } => {
             c.positive(&f("radius"), *radius);
             c.positive(&f("height"), *height);
             c.count(&f("segments"), *segments, 3, MAX_SEGMENTS);
         }
-        Shape::Torus { major_radius, minor_radius, segments, sides } => {
+        Shape::Torus {
+            major_radius,
+            minor_radius,
+            segments,
+            sides,
+        } => {
             c.positive(&f("major_radius"), *major_radius);
             c.positive(&f("minor_radius"), *minor_radius);
             if minor_radius >= major_radius {
-                c.push(&f("minor_radius"), format!("must be less than major_radius ({major_radius}), got {minor_radius}"));
+                c.push(
+                    &f("minor_radius"),
+                    format!("must be less than major_radius ({major_radius}), got {minor_radius}"),
+                );
             }
             c.count(&f("segments"), *segments, 3, MAX_SEGMENTS);
             c.count(&f("sides"), *sides, 3, MAX_SEGMENTS);
         }
-        Shape::Spring { coil_radius, wire_radius, turns, height, segments_per_turn, sides } => {
+        Shape::Spring {
+            coil_radius,
+            wire_radius,
+            turns,
+            height,
+            segments_per_turn,
+            sides,
+        } => {
             c.positive(&f("coil_radius"), *coil_radius);
             c.positive(&f("wire_radius"), *wire_radius);
             c.positive(&f("height"), *height);
@@ -268,30 +362,49 @@ fn shape(c: &mut Checker, p: &str, s: &Shape, base: &Path) {
                 c.push(&f("turns"), format!("must be in (0, 1000], got {turns}"));
             }
             if wire_radius >= coil_radius {
-                c.push(&f("wire_radius"), format!("must be less than coil_radius ({coil_radius}), got {wire_radius}"));
+                c.push(
+                    &f("wire_radius"),
+                    format!("must be less than coil_radius ({coil_radius}), got {wire_radius}"),
+                );
             }
             c.count(&f("segments_per_turn"), *segments_per_turn, 3, MAX_SEGMENTS);
             c.count(&f("sides"), *sides, 3, MAX_SEGMENTS);
         }
-        Shape::Pencil { radius, length, tip_length } => {
+        Shape::Pencil {
+            radius,
+            length,
+            tip_length,
+        } => {
             c.positive(&f("radius"), *radius);
             c.positive(&f("length"), *length);
             c.positive(&f("tip_length"), *tip_length);
         }
-        Shape::Fence { width, height, posts, rails, bar } => {
+        Shape::Fence {
+            width,
+            height,
+            posts,
+            rails,
+            bar,
+        } => {
             c.positive(&f("width"), *width);
             c.positive(&f("height"), *height);
             c.positive(&f("bar"), *bar);
             c.count(&f("posts"), *posts, 1, MAX_SEGMENTS);
             c.count(&f("rails"), *rails, 0, MAX_SEGMENTS);
             if bar >= width || bar >= height {
-                c.push(&f("bar"), format!("must be smaller than the fence ({width} × {height}), got {bar}"));
+                c.push(
+                    &f("bar"),
+                    format!("must be smaller than the fence ({width} × {height}), got {bar}"),
+                );
             }
         }
         Shape::Obj { path } => {
             let full = crate::load::resolve(base, path);
             if !full.is_file() {
-                c.push(&f("path"), format!("OBJ file not found: {}", full.display()));
+                c.push(
+                    &f("path"),
+                    format!("OBJ file not found: {}", full.display()),
+                );
             }
         }
     }

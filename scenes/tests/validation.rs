@@ -38,15 +38,27 @@ fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);
-        assert_eq!(s.meshes.len(), s.desc.objects.len(), "{name}: one mesh per object");
-        assert!(!s.desc.description.is_empty(), "{name}: a library scene has a description for `list`");
+        assert_eq!(
+            s.meshes.len(),
+            s.desc.objects.len(),
+            "{name}: one mesh per object"
+        );
+        assert!(
+            !s.desc.description.is_empty(),
+            "{name}: a library scene has a description for `list`"
+        );
         for f in 0..s.frame_count() {
             let st = s.frame(f);
             assert_eq!(st.lights.len(), s.desc.lights.len());
             assert_eq!(st.world_from_local.len(), s.desc.objects.len());
             for l in &st.lights {
-                if let LightState::Spot { direction, .. } | LightState::Directional { direction, .. } = l {
-                    assert!((direction.length() - 1.0).abs() < 1e-6, "{name}: light directions are unit");
+                if let LightState::Spot { direction, .. }
+                | LightState::Directional { direction, .. } = l
+                {
+                    assert!(
+                        (direction.length() - 1.0).abs() < 1e-6,
+                        "{name}: light directions are unit"
+                    );
                 }
             }
             assert!(st.world_from_local.iter().all(|m| m.is_finite()));
@@ -73,10 +85,14 @@ fn library_folder_and_embedded_list_agree() {
     listed.sort();
     assert_eq!(on_disk, listed);
     for name in library::names() {
-        let from_disk = load_scene(&dir.join(format!("{name}.json"))).unwrap_or_else(|e| panic!("{e}"));
+        let from_disk =
+            load_scene(&dir.join(format!("{name}.json"))).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(from_disk.desc, lib(name).desc, "{name}");
         assert_eq!(from_disk.name, name);
-        assert_eq!(from_disk.source.as_deref(), Some(dir.join(format!("{name}.json")).as_path()));
+        assert_eq!(
+            from_disk.source.as_deref(),
+            Some(dir.join(format!("{name}.json")).as_path())
+        );
     }
 }
 
@@ -107,16 +123,108 @@ fn library_features_match_what_the_files_say() {
         animated_objects: bool,
     }
     let table = [
-        Want { name: "sphere-point", kinds: &["point"], lights: 1, phase: "isotropic", textured: false, occluders: true, phong: false, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "desk-pencils", kinds: &["point"], lights: 1, phase: "henyey-greenstein", textured: false, occluders: true, phong: true, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "spring-point", kinds: &["point"], lights: 1, phase: "isotropic", textured: false, occluders: true, phong: false, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "fence-spot", kinds: &["spot"], lights: 1, phase: "isotropic", textured: false, occluders: true, phong: false, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "window-sun", kinds: &["directional"], lights: 1, phase: "rayleigh", textured: false, occluders: true, phong: false, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "stained-glass-spot", kinds: &["spot"], lights: 1, phase: "hazy-mie", textured: true, occluders: true, phong: false, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "clear-fog", kinds: &["point"], lights: 1, phase: "isotropic", textured: false, occluders: false, phong: false, frames: 1, animated_lights: false, animated_objects: false },
-        Want { name: "pen-orbit", kinds: &["point"], lights: 2, phase: "isotropic", textured: false, occluders: true, phong: true, frames: 8, animated_lights: true, animated_objects: true },
+        Want {
+            name: "sphere-point",
+            kinds: &["point"],
+            lights: 1,
+            phase: "isotropic",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "desk-pencils",
+            kinds: &["point"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: true,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "spring-point",
+            kinds: &["point"],
+            lights: 1,
+            phase: "isotropic",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "fence-spot",
+            kinds: &["spot"],
+            lights: 1,
+            phase: "isotropic",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "window-sun",
+            kinds: &["directional"],
+            lights: 1,
+            phase: "rayleigh",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "stained-glass-spot",
+            kinds: &["spot"],
+            lights: 1,
+            phase: "hazy-mie",
+            textured: true,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "clear-fog",
+            kinds: &["point"],
+            lights: 1,
+            phase: "isotropic",
+            textured: false,
+            occluders: false,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+        },
+        Want {
+            name: "pen-orbit",
+            kinds: &["point"],
+            lights: 2,
+            phase: "isotropic",
+            textured: false,
+            occluders: true,
+            phong: true,
+            frames: 8,
+            animated_lights: true,
+            animated_objects: true,
+        },
     ];
-    assert_eq!(table.len(), library::names().len(), "every library scene is in the table");
+    assert_eq!(
+        table.len(),
+        library::names().len(),
+        "every library scene is in the table"
+    );
     for w in &table {
         let s = lib(w.name);
         let f = s.features();
@@ -138,7 +246,11 @@ fn library_features_match_what_the_files_say() {
         assert!(!f.ambient, "{n}: no library scene has ambient light");
         assert!(f.surfaces, "{n}: every library scene has a floor");
         assert!(!f.indirect_single_scattering, "{n}");
-        assert_eq!(f.triangles, s.meshes.iter().map(|m| m.indices.len()).sum::<usize>(), "{n}");
+        assert_eq!(
+            f.triangles,
+            s.meshes.iter().map(|m| m.indices.len()).sum::<usize>(),
+            "{n}"
+        );
     }
     // Triangle counts that follow from the procedural definitions: a plane is 2 triangles, a
     // UV sphere of 48 segments × 24 rings is 2·48·23.
@@ -151,10 +263,12 @@ fn every_library_scene_round_trips_through_json() {
     for name in library::names() {
         let s = lib(name);
         let text = serde_json::to_string_pretty(&s.desc).unwrap();
-        let back: SceneDesc = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+        let back: SceneDesc =
+            serde_json::from_str(&text).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
         assert_eq!(back, s.desc, "{name}: serde round trip");
         // And through the full loader (validation, meshes): the same scene.
-        let again = parse_scene(&text, "roundtrip.json", name, Path::new(".")).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let again = parse_scene(&text, "roundtrip.json", name, Path::new("."))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(again.desc, s.desc, "{name}: parse_scene round trip");
         assert_eq!(again.meshes.len(), s.meshes.len());
         for (a, b) in again.meshes.iter().zip(&s.meshes) {
@@ -169,13 +283,17 @@ fn every_library_scene_round_trips_through_json() {
 
 #[test]
 fn a_scene_may_use_an_obj_file_next_to_it() {
-    let s = load_scene(&tests_dir().join("fixtures/obj-scene.json")).unwrap_or_else(|e| panic!("{e}"));
+    let s =
+        load_scene(&tests_dir().join("fixtures/obj-scene.json")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.triangle_count(), 4);
     let m = &s.meshes[0];
     assert_eq!(m.positions.len(), m.normals.len());
     // Its bounds are the file's vertices.
     let (lo, hi) = m.bounds(&Mat4::IDENTITY);
-    assert_eq!((lo, hi), (Vec3::new(0.0, 0.0, -1.0), Vec3::new(1.0, 1.0, 0.0)));
+    assert_eq!(
+        (lo, hi),
+        (Vec3::new(0.0, 0.0, -1.0), Vec3::new(1.0, 1.0, 0.0))
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -197,10 +315,17 @@ fn read_expect(path: &Path) -> Vec<Expected> {
     text.lines()
         .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
         .map(|l| {
-            let (head, fragment) = l.split_once(" | ").unwrap_or_else(|| panic!("{}: bad line {l:?}", path.display()));
+            let (head, fragment) = l
+                .split_once(" | ")
+                .unwrap_or_else(|| panic!("{}: bad line {l:?}", path.display()));
             let (pos, field) = head.split_once(' ').unwrap_or((head, ""));
             let (line, column) = pos.split_once(':').unwrap();
-            Expected { line: line.parse().unwrap(), column: column.parse().unwrap(), path: field.trim().to_string(), fragment: fragment.trim().to_string() }
+            Expected {
+                line: line.parse().unwrap(),
+                column: column.parse().unwrap(),
+                path: field.trim().to_string(),
+                fragment: fragment.trim().to_string(),
+            }
         })
         .collect()
 }
@@ -208,10 +333,21 @@ fn read_expect(path: &Path) -> Vec<Expected> {
 /// Parses one line of `SceneError`'s Display: `file:line:col: path: message` (path may be absent
 /// on syntax errors at the document's root).
 fn parse_line(file: &str, line: &str) -> (usize, usize, String, String) {
-    let rest = line.strip_prefix(file).and_then(|r| r.strip_prefix(':')).unwrap_or_else(|| panic!("{line:?} does not start with {file:?}:"));
+    let rest = line
+        .strip_prefix(file)
+        .and_then(|r| r.strip_prefix(':'))
+        .unwrap_or_else(|| panic!("{line:?} does not start with {file:?}:"));
     let mut it = rest.splitn(3, ':');
-    let l = it.next().unwrap().parse().unwrap_or_else(|_| panic!("no line number in {line:?}"));
-    let c = it.next().unwrap().parse().unwrap_or_else(|_| panic!("no column in {line:?}"));
+    let l = it
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap_or_else(|_| panic!("no line number in {line:?}"));
+    let c = it
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap_or_else(|_| panic!("no column in {line:?}"));
     let rest = it.next().unwrap().strip_prefix(' ').unwrap();
     match rest.split_once(": ") {
         Some((p, m)) if !p.contains(' ') => (l, c, p.to_string(), m.to_string()),
@@ -222,17 +358,35 @@ fn parse_line(file: &str, line: &str) -> (usize, usize, String, String) {
 #[test]
 fn broken_scene_files_are_refused_with_every_problem_located() {
     let dir = tests_dir().join("broken");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
-    let jsons: Vec<&PathBuf> = files.iter().filter(|p| p.extension().is_some_and(|x| x == "json")).collect();
-    let expects: BTreeSet<PathBuf> = files.iter().filter(|p| p.extension().is_some_and(|x| x == "expect")).cloned().collect();
+    let jsons: Vec<&PathBuf> = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    let expects: BTreeSet<PathBuf> = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "expect"))
+        .cloned()
+        .collect();
     assert!(jsons.len() >= 10, "only {} broken files", jsons.len());
-    assert_eq!(expects.len(), jsons.len(), "one .expect per .json: {files:?}");
+    assert_eq!(
+        expects.len(),
+        jsons.len(),
+        "one .expect per .json: {files:?}"
+    );
     let mut failures = Vec::new();
     let mut multi = 0;
     for path in jsons {
         let expect_path = path.with_extension("expect");
-        assert!(expects.contains(&expect_path), "{} has no .expect sidecar", path.display());
+        assert!(
+            expects.contains(&expect_path),
+            "{} has no .expect sidecar",
+            path.display()
+        );
         let want = read_expect(&expect_path);
         let file = path.display().to_string();
         let got = match catch_unwind(AssertUnwindSafe(|| load_scene(path))) {
@@ -261,12 +415,22 @@ fn broken_scene_files_are_refused_with_every_problem_located() {
         let mut got_set: Vec<Expected> = Vec::new();
         for l in &lines {
             let (line, column, p, message) = parse_line(&file, l);
-            got_set.push(Expected { line, column, path: p, fragment: message });
+            got_set.push(Expected {
+                line,
+                column,
+                path: p,
+                fragment: message,
+            });
         }
         let mut unmatched: Vec<Expected> = got_set.clone();
         let mut missing = Vec::new();
         for w in &want {
-            match unmatched.iter().position(|g| g.line == w.line && g.column == w.column && g.path == w.path && g.fragment.contains(&w.fragment)) {
+            match unmatched.iter().position(|g| {
+                g.line == w.line
+                    && g.column == w.column
+                    && g.path == w.path
+                    && g.fragment.contains(&w.fragment)
+            }) {
                 Some(k) => {
                     unmatched.remove(k);
                 }
@@ -292,16 +456,28 @@ fn semantic_problem_positions_point_at_values() {
             continue;
         }
         let text = std::fs::read_to_string(&path).unwrap();
-        let Err(SceneError::Invalid { problems, .. }) = load_scene(&path) else { continue };
+        let Err(SceneError::Invalid { problems, .. }) = load_scene(&path) else {
+            continue;
+        };
         for p in problems {
-            let (Some(l), Some(c)) = (p.line, p.column) else { panic!("{}: {} has no position", path.display(), p.problem.path) };
+            let (Some(l), Some(c)) = (p.line, p.column) else {
+                panic!("{}: {} has no position", path.display(), p.problem.path)
+            };
             let line: Vec<char> = text.lines().nth(l - 1).unwrap().chars().collect();
             let ch = line[c - 1];
-            assert!(matches!(ch, '[' | '{' | '"' | '-' | '0'..='9' | 't' | 'f' | 'n'), "{}:{l}:{c}: {ch:?} starts no value", path.display());
+            assert!(
+                matches!(ch, '[' | '{' | '"' | '-' | '0'..='9' | 't' | 'f' | 'n'),
+                "{}:{l}:{c}: {ch:?} starts no value",
+                path.display()
+            );
             let before: String = line[..c - 1].iter().collect();
             let prev = before.trim_end().chars().last();
             // A value at the start of a line follows the previous line's `[` or `,`.
-            assert!(matches!(prev, Some(':' | '[' | ',') | None), "{}:{l}:{c}: preceded by {prev:?}", path.display());
+            assert!(
+                matches!(prev, Some(':' | '[' | ',') | None),
+                "{}:{l}:{c}: preceded by {prev:?}",
+                path.display()
+            );
         }
     }
 }
@@ -310,7 +486,16 @@ fn semantic_problem_positions_point_at_values() {
 /// located error, never panic, and a scene that loads must give finite frame states.
 #[test]
 fn hostile_numbers_never_panic() {
-    let hostile = ["-1", "0", "1e39", "-1e39", "1e-39", "4294967296", "0.5", "1000000"];
+    let hostile = [
+        "-1",
+        "0",
+        "1e39",
+        "-1e39",
+        "1e-39",
+        "4294967296",
+        "0.5",
+        "1000000",
+    ];
     let mut refused = 0;
     let mut accepted = 0;
     for (name, text) in library::LIBRARY {
@@ -325,13 +510,20 @@ fn hostile_numbers_never_panic() {
                         let _ = s.features();
                         st.lights.iter().all(|l| match l {
                             LightState::Point { position, .. } => position.is_finite(),
-                            LightState::Spot { position, direction, .. } => position.is_finite() && direction.is_finite(),
+                            LightState::Spot {
+                                position,
+                                direction,
+                                ..
+                            } => position.is_finite() && direction.is_finite(),
                             LightState::Directional { direction, .. } => direction.is_finite(),
                         })
                     })
                 }));
                 match r {
-                    Err(_) => panic!("{name}: panicked with {h} at byte {a}: ...{}...", &mutated[a.saturating_sub(40)..(a + 40).min(mutated.len())]),
+                    Err(_) => panic!(
+                        "{name}: panicked with {h} at byte {a}: ...{}...",
+                        &mutated[a.saturating_sub(40)..(a + 40).min(mutated.len())]
+                    ),
                     Ok(Ok(finite)) => {
                         assert!(finite, "{name}: {h} at byte {a} gives a non-finite light");
                         accepted += 1;
@@ -345,7 +537,10 @@ fn hostile_numbers_never_panic() {
             }
         }
     }
-    assert!(refused > 100 && accepted > 100, "refused {refused}, accepted {accepted}");
+    assert!(
+        refused > 100 && accepted > 100,
+        "refused {refused}, accepted {accepted}"
+    );
 }
 
 /// Byte spans of the numeric literals of a JSON text (outside strings).
@@ -373,7 +568,9 @@ fn number_spans(text: &str) -> Vec<(usize, usize)> {
         if c == b'-' || c.is_ascii_digit() {
             let s = i;
             i += 1;
-            while i < b.len() && (b[i].is_ascii_digit() || matches!(b[i], b'.' | b'e' | b'E' | b'+' | b'-')) {
+            while i < b.len()
+                && (b[i].is_ascii_digit() || matches!(b[i], b'.' | b'e' | b'E' | b'+' | b'-'))
+            {
                 i += 1;
             }
             out.push((s, i));
@@ -417,12 +614,23 @@ fn pen_orbit_keyframes_interpolate_linearly() {
         // The static light does not move; the keyed one moves along the straight line.
         assert_eq!(point_position(&st.lights[0]), Vec3::new(-2.2, 2.8, 0.0));
         let want = a + (b - a) * (k as f32 / 7.0);
-        assert!((point_position(&st.lights[1]) - want).length() < 1e-6, "frame {k}");
+        assert!(
+            (point_position(&st.lights[1]) - want).length() < 1e-6,
+            "frame {k}"
+        );
         // The pen turns about Y from 90° to 405° (45° per frame), still tipped 90° about X.
-        let m = trs(Vec3::new(0.0, 1.6, -0.8), Vec3::new(90.0, 90.0 + 45.0 * k as f32, 0.0), Vec3::ONE);
+        let m = trs(
+            Vec3::new(0.0, 1.6, -0.8),
+            Vec3::new(90.0, 90.0 + 45.0 * k as f32, 0.0),
+            Vec3::ONE,
+        );
         let got = st.world_from_local[1];
         assert!(got.abs_diff_eq(m, 1e-5), "frame {k}: {got:?} vs {m:?}");
-        assert_eq!(st.world_from_local[0], Mat4::IDENTITY, "the floor does not move");
+        assert_eq!(
+            st.world_from_local[0],
+            Mat4::IDENTITY,
+            "the floor does not move"
+        );
         assert_eq!(st.camera, s.frame(0).camera);
     }
     // Frame 3.5 is halfway: frames are integers, so it is the mean of frames 3 and 4 (the
@@ -440,9 +648,15 @@ fn pen_orbit_keyframes_interpolate_linearly() {
         k.frame *= 2.0;
     }
     let text = serde_json::to_string(&stretched).unwrap();
-    let st = parse_scene(&text, "stretched.json", "stretched", Path::new(".")).unwrap().frame(7);
+    let st = parse_scene(&text, "stretched.json", "stretched", Path::new("."))
+        .unwrap()
+        .frame(7);
     assert!((point_position(&st.lights[1]) - 0.5 * (a + b)).length() < 1e-6);
-    let m = trs(Vec3::new(0.0, 1.6, -0.8), Vec3::new(90.0, 247.5, 0.0), Vec3::ONE);
+    let m = trs(
+        Vec3::new(0.0, 1.6, -0.8),
+        Vec3::new(90.0, 247.5, 0.0),
+        Vec3::ONE,
+    );
     assert!(st.world_from_local[1].abs_diff_eq(m, 1e-5));
     // Outside the keys the last key holds.
     assert!((point_position(&s.frame(20).lights[1]) - b).length() < 1e-6);
@@ -459,14 +673,17 @@ fn keys_may_come_in_any_order_and_animate_direction_and_camera() {
                     "keyframes": [ { "frame": 4, "direction": [1, -1, 0] }, { "frame": 0, "direction": [-1, -1, 0] } ] } ],
       "frames": 5
     }"#;
-    let s = parse_scene(text, "keys.json", "keys", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    let s =
+        parse_scene(text, "keys.json", "keys", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
     let f = s.features();
     assert!(f.animated && f.animated_camera && f.animated_lights && !f.animated_objects);
     let st = s.frame(2);
     assert!((st.camera.position - Vec3::new(2.0, 1.0, 5.0)).length() < 1e-6);
     match st.lights[0] {
         // Halfway between (-1,-1,0) and (1,-1,0) is straight down, normalised.
-        LightState::Directional { direction, .. } => assert!((direction - Vec3::NEG_Y).length() < 1e-6, "{direction}"),
+        LightState::Directional { direction, .. } => {
+            assert!((direction - Vec3::NEG_Y).length() < 1e-6, "{direction}")
+        }
         ref o => panic!("{o:?}"),
     }
 }
@@ -479,23 +696,36 @@ fn keys_may_come_in_any_order_and_animate_direction_and_camera() {
 /// uses what it claims to.
 #[test]
 fn readme_example_is_a_valid_scene() {
-    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
-    let start = readme.find("```json\n").expect("README has a ```json block") + "```json\n".len();
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let start = readme
+        .find("```json\n")
+        .expect("README has a ```json block")
+        + "```json\n".len();
     let end = start + readme[start..].find("\n```").unwrap();
-    let s = parse_scene(&readme[start..end], "README.md", "example", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    let s = parse_scene(&readme[start..end], "README.md", "example", Path::new("."))
+        .unwrap_or_else(|e| panic!("{e}"));
     let f = s.features();
     assert_eq!(f.light_kinds, ["directional", "point", "spot"]);
     assert!(f.textured_light && f.phong && f.anisotropic_phase && f.volumetric_occluders);
     assert!(f.animated_camera && f.animated_lights && f.animated_objects);
     assert_eq!(f.frames, 4);
-    assert!(s.desc.objects.iter().any(|o| !o.casts_volumetric_shadow && o.material.two_sided));
+    assert!(
+        s.desc
+            .objects
+            .iter()
+            .any(|o| !o.casts_volumetric_shadow && o.material.two_sided)
+    );
     // Every field the format has appears in the example (so it is "complete"): the JSON keys of
     // the re-serialised description, all of which must occur in the example's text.
     let v = serde_json::to_value(&s.desc).unwrap();
     let mut keys = BTreeSet::new();
     collect_keys(&v, &mut keys);
     for k in keys {
-        assert!(readme[start..end].contains(&format!("\"{k}\"")), "the README example lacks the field {k:?}");
+        assert!(
+            readme[start..end].contains(&format!("\"{k}\"")),
+            "the README example lacks the field {k:?}"
+        );
     }
 }
 

@@ -8,7 +8,10 @@ use anyhow::{Result, bail};
 /// Parses `N` (square) or `WxH`.
 pub fn parse_res(s: &str) -> Result<(u32, u32)> {
     let parse = |t: &str| -> Result<u32> {
-        let v: u32 = t.trim().parse().map_err(|_| anyhow::anyhow!("--res: '{s}' is not N or WxH (e.g. 512 or 640x360)"))?;
+        let v: u32 = t
+            .trim()
+            .parse()
+            .map_err(|_| anyhow::anyhow!("--res: '{s}' is not N or WxH (e.g. 512 or 640x360)"))?;
         if v == 0 || v > 16384 {
             bail!("--res: {v} is outside 1..=16384");
         }

@@ -12,19 +12,33 @@ pub fn run(scene: &str, res: &str, frame: u32, out: Option<PathBuf>, stride: u32
     let scene = scenes::library::resolve(scene).map_err(|e| anyhow!(e))?;
     let (w, h) = super::parse_res(res)?;
     if frame >= scene.frame_count() {
-        return Err(anyhow!("--frame {frame}: scene '{}' has {} frames", scene.name, scene.frame_count()));
+        return Err(anyhow!(
+            "--frame {frame}: scene '{}' has {} frames",
+            scene.name,
+            scene.frame_count()
+        ));
     }
     let out = out.unwrap_or_else(|| PathBuf::from("results/reference").join(&scene.name));
     let settings = Settings::default();
     let bar = ProgressBar::new(w as u64 * h as u64);
-    bar.set_style(ProgressStyle::with_template("{msg} [{bar:40}] {percent}% {elapsed}/{eta}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {percent}% {elapsed}/{eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar.set_message(format!("reference {} {w}x{h}", scene.name));
-    let images = reference::render(&scene, frame, w, h, settings, &|n| bar.inc(n)).map_err(|e| anyhow!(e))?;
+    let images = reference::render(&scene, frame, w, h, settings, &|n| bar.inc(n))
+        .map_err(|e| anyhow!(e))?;
     bar.finish_and_clear();
-    let conv = reference::convergence(&scene, frame, &images, settings, stride).map_err(|e| anyhow!(e))?;
-    std::fs::create_dir_all(&out).map_err(|e| anyhow!("{}: cannot create output directory: {e}", out.display()))?;
+    let conv =
+        reference::convergence(&scene, frame, &images, settings, stride).map_err(|e| anyhow!(e))?;
+    std::fs::create_dir_all(&out)
+        .map_err(|e| anyhow!("{}: cannot create output directory: {e}", out.display()))?;
     let tone = ToneMap::auto(&images.total);
-    for (name, img) in [("inscatter", &images.inscatter), ("surface", &images.surface), ("total", &images.total)] {
+    for (name, img) in [
+        ("inscatter", &images.inscatter),
+        ("surface", &images.surface),
+        ("total", &images.total),
+    ] {
         io::write_exr(&out.join(format!("{name}.exr")), img).map_err(|e| anyhow!(e))?;
         io::write_png(&out.join(format!("{name}.png")), img, &tone).map_err(|e| anyhow!(e))?;
     }
@@ -33,10 +47,19 @@ pub fn run(scene: &str, res: &str, frame: u32, out: Option<PathBuf>, stride: u32
         "seconds": images.stats.seconds, "threads": images.stats.threads, "settings": settings,
         "convergence": conv, "tone_map_exposure": tone.exposure,
     });
-    harness::fsutil::write_atomic(&out.join("reference.json"), serde_json::to_string_pretty(&report)?.as_bytes()).map_err(|e| anyhow!(e))?;
+    harness::fsutil::write_atomic(
+        &out.join("reference.json"),
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )
+    .map_err(|e| anyhow!(e))?;
     println!(
         "reference {} {w}x{h}: {:.2} s on {} threads; convergence (4x tighter, {} px): rel RMSE in-scatter {:.2e}, total {:.2e}",
-        scene.name, images.stats.seconds, images.stats.threads, conv.pixels, conv.rel_rmse_inscatter, conv.rel_rmse_total
+        scene.name,
+        images.stats.seconds,
+        images.stats.threads,
+        conv.pixels,
+        conv.rel_rmse_inscatter,
+        conv.rel_rmse_total
     );
     println!("wrote {}", out.display());
     Ok(())

@@ -66,32 +66,60 @@ fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
     spec.split(',')
         .map(|id| {
             methods::find(id.trim()).ok_or_else(|| {
-                anyhow!("unknown method '{id}': valid methods are {}", methods::REGISTRY.iter().map(|e| e.id).collect::<Vec<_>>().join(", "))
+                anyhow!(
+                    "unknown method '{id}': valid methods are {}",
+                    methods::REGISTRY
+                        .iter()
+                        .map(|e| e.id)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
             })
         })
         .collect()
 }
 
 fn pick_scenes(spec: &str) -> Result<Vec<scenes::Scene>> {
-    let names: Vec<String> = if spec == "all" { scenes::library::names().into_iter().map(String::from).collect() } else { spec.split(',').map(|s| s.trim().to_string()).collect() };
-    names.iter().map(|n| scenes::library::resolve(n).map_err(|e| anyhow!(e))).collect()
+    let names: Vec<String> = if spec == "all" {
+        scenes::library::names()
+            .into_iter()
+            .map(String::from)
+            .collect()
+    } else {
+        spec.split(',').map(|s| s.trim().to_string()).collect()
+    };
+    names
+        .iter()
+        .map(|n| scenes::library::resolve(n).map_err(|e| anyhow!(e)))
+        .collect()
 }
 
 fn parse_overrides(items: &[String], chosen: &[&Entry]) -> Result<BTreeMap<String, Params>> {
     let mut out: BTreeMap<String, Params> = BTreeMap::new();
     for item in items {
-        let (lhs, value) = item.split_once('=').ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
-        let (method, knob) = lhs.split_once('.').ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
-        let entry = methods::find(method).ok_or_else(|| anyhow!("--param '{item}': unknown method '{method}'"))?;
+        let (lhs, value) = item
+            .split_once('=')
+            .ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
+        let (method, knob) = lhs
+            .split_once('.')
+            .ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
+        let entry = methods::find(method)
+            .ok_or_else(|| anyhow!("--param '{item}': unknown method '{method}'"))?;
         if !chosen.iter().any(|e| e.id == entry.id) {
             bail!("--param '{item}': method '{method}' is not in --methods");
         }
         let specs = (entry.make)().params();
         let spec = specs.iter().find(|s| s.name == knob).ok_or_else(|| {
-            anyhow!("--param '{item}': '{method}' has no knob '{knob}'; knobs are {}", specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", "))
+            anyhow!(
+                "--param '{item}': '{method}' has no knob '{knob}'; knobs are {}",
+                specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+            )
         })?;
-        let v = ParamValue::parse_like(value, &spec.default).map_err(|e| anyhow!("--param '{item}': {e}"))?;
-        out.entry(entry.id.to_string()).or_default().insert(knob.to_string(), v);
+        let v = ParamValue::parse_like(value, &spec.default)
+            .map_err(|e| anyhow!("--param '{item}': {e}"))?;
+        out.entry(entry.id.to_string())
+            .or_default()
+            .insert(knob.to_string(), v);
     }
     Ok(out)
 }
@@ -102,12 +130,21 @@ pub fn run(a: RunArgs) -> Result<()> {
     let scenes = pick_scenes(&a.scenes)?;
     let overrides = parse_overrides(&a.params, &chosen)?;
     let run_id = harness::results::run_id_now();
-    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("results").join(&run_id));
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(&run_id));
     if a.resume && !out.join("results.json").exists() {
-        bail!("--resume: {} has no results.json to continue", out.display());
+        bail!(
+            "--resume: {} has no results.json to continue",
+            out.display()
+        );
     }
     let gpu = harness::Gpu::new().map_err(|e| anyhow!(e))?;
-    eprintln!("adapter: {} ({}, {})", gpu.summary.adapter, gpu.summary.backend, gpu.summary.driver_info);
+    eprintln!(
+        "adapter: {} ({}, {})",
+        gpu.summary.adapter, gpu.summary.backend, gpu.summary.driver_info
+    );
     if gpu.summary.software {
         eprintln!("note: software adapter — timings compare only as ratios within this run");
     }
@@ -181,7 +218,18 @@ pub fn print_methods() {
         println!("  {:<20} {}", info.id, info.summary);
         for p in m.params() {
             let sweep: Vec<String> = p.sweep.iter().map(|v| v.to_string()).collect();
-            println!("  {:<20}   {} = {} (sweep: {}) — {}", "", p.name, p.default, if sweep.is_empty() { "-".into() } else { sweep.join(", ") }, p.meaning);
+            println!(
+                "  {:<20}   {} = {} (sweep: {}) — {}",
+                "",
+                p.name,
+                p.default,
+                if sweep.is_empty() {
+                    "-".into()
+                } else {
+                    sweep.join(", ")
+                },
+                p.meaning
+            );
         }
     }
 }

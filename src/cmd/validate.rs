@@ -7,7 +7,13 @@ pub fn run(files: &[PathBuf]) -> ExitCode {
     let mut bad = 0;
     for f in files {
         match scenes::load_scene(f) {
-            Ok(s) => println!("{}: ok ({} objects, {} triangles, {} lights)", f.display(), s.desc.objects.len(), s.triangle_count(), s.desc.lights.len()),
+            Ok(s) => println!(
+                "{}: ok ({} objects, {} triangles, {} lights)",
+                f.display(),
+                s.desc.objects.len(),
+                s.triangle_count(),
+                s.desc.lights.len()
+            ),
             Err(e) => {
                 bad += 1;
                 eprintln!("{e}");

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
-pub use readback::read_rgba32f;
+pub use readback::{map_read, read_rgba32f};
 pub use timer::GpuTimer;
 
 /// What adapter a result was measured on (DESIGN §4: every record carries the machine).
@@ -44,12 +44,15 @@ pub const NO_ADAPTER_HELP: &str = "no GPU adapter found. On a machine without a 
 impl Gpu {
     /// Creates the device. Errors (never panics) when no adapter matches.
     pub fn new() -> Result<Gpu, String> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         if adapters.is_empty() {
             return Err(NO_ADAPTER_HELP.to_string());
         }
-        let wanted = std::env::var("WGPU_ADAPTER_NAME").ok().map(|s| s.to_lowercase());
+        let wanted = std::env::var("WGPU_ADAPTER_NAME")
+            .ok()
+            .map(|s| s.to_lowercase());
         let rank = |a: &wgpu::Adapter| {
             let i = a.get_info();
             let ty = match i.device_type {
@@ -67,11 +70,19 @@ impl Gpu {
             (ty, backend)
         };
         let adapter = match &wanted {
-            Some(w) => adapters.into_iter().find(|a| a.get_info().name.to_lowercase().contains(w)).ok_or_else(|| format!("WGPU_ADAPTER_NAME={w}: no adapter of that name. {NO_ADAPTER_HELP}"))?,
+            Some(w) => adapters
+                .into_iter()
+                .find(|a| a.get_info().name.to_lowercase().contains(w))
+                .ok_or_else(|| {
+                    format!("WGPU_ADAPTER_NAME={w}: no adapter of that name. {NO_ADAPTER_HELP}")
+                })?,
             None => adapters.into_iter().max_by_key(rank).expect("non-empty"),
         };
         let info = adapter.get_info();
-        let optional = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS | wgpu::Features::FLOAT32_BLENDABLE | wgpu::Features::DEPTH32FLOAT_STENCIL8;
+        let optional = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::FLOAT32_BLENDABLE
+            | wgpu::Features::DEPTH32FLOAT_STENCIL8;
         let features = adapter.features() & optional;
         let limits = wgpu::Limits::default().using_resolution(adapter.limits());
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -95,7 +106,10 @@ impl Gpu {
                 *l = Some(format!("device lost ({reason:?}): {msg}"));
             }
         });
-        let software = info.device_type == wgpu::DeviceType::Cpu || ["llvmpipe", "lavapipe", "swiftshader", "warp"].iter().any(|s| info.name.to_lowercase().contains(s));
+        let software = info.device_type == wgpu::DeviceType::Cpu
+            || ["llvmpipe", "lavapipe", "swiftshader", "warp"]
+                .iter()
+                .any(|s| info.name.to_lowercase().contains(s));
         let summary = AdapterSummary {
             adapter: info.name.clone(),
             backend: format!("{:?}", info.backend).to_lowercase(),
@@ -104,7 +118,15 @@ impl Gpu {
             device_type: format!("{:?}", info.device_type),
             software,
         };
-        Ok(Gpu { adapter, device, queue, summary, errors, lost, allocated: AtomicU64::new(0) })
+        Ok(Gpu {
+            adapter,
+            device,
+            queue,
+            summary,
+            errors,
+            lost,
+            allocated: AtomicU64::new(0),
+        })
     }
 
     pub fn features(&self) -> wgpu::Features {
@@ -114,7 +136,11 @@ impl Gpu {
     /// Errors the device raised since the last call (validation, out of memory, internal),
     /// and device loss.
     pub fn take_errors(&self) -> Vec<String> {
-        let mut out: Vec<String> = self.errors.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default();
+        let mut out: Vec<String> = self
+            .errors
+            .lock()
+            .map(|mut v| std::mem::take(&mut *v))
+            .unwrap_or_default();
         if let Ok(l) = self.lost.lock()
             && let Some(m) = l.as_ref()
         {
@@ -129,7 +155,10 @@ impl Gpu {
 
     /// Blocks until all submitted work is done.
     pub fn wait(&self) -> Result<(), String> {
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| format!("device poll failed: {e}"))
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| format!("device poll failed: {e}"))
     }
 
     /// Creates a buffer and counts its bytes toward the current method's memory.
@@ -139,21 +168,41 @@ impl Gpu {
     }
 
     /// Creates a buffer with contents, counted like [`Gpu::buffer`].
-    pub fn buffer_init(&self, label: &str, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    pub fn buffer_init(
+        &self,
+        label: &str,
+        contents: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
         use wgpu::util::DeviceExt;
-        self.allocated.fetch_add(contents.len() as u64, Ordering::Relaxed);
-        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        self.allocated
+            .fetch_add(contents.len() as u64, Ordering::Relaxed);
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
     }
 
     /// Creates a texture and counts its bytes (all mips and layers) toward the method's memory.
     pub fn texture(&self, desc: &wgpu::TextureDescriptor) -> wgpu::Texture {
-        let block = desc.format.block_copy_size(Some(wgpu::TextureAspect::All)).or_else(|| desc.format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).map(|d| d + 1)).unwrap_or(4) as u64;
+        let block = desc
+            .format
+            .block_copy_size(Some(wgpu::TextureAspect::All))
+            .or_else(|| {
+                desc.format
+                    .block_copy_size(Some(wgpu::TextureAspect::DepthOnly))
+                    .map(|d| d + 1)
+            })
+            .unwrap_or(4) as u64;
         let mut bytes = 0u64;
         for mip in 0..desc.mip_level_count {
             let s = desc.size.mip_level_size(mip, desc.dimension);
             bytes += s.width as u64 * s.height as u64 * s.depth_or_array_layers as u64 * block;
         }
-        self.allocated.fetch_add(bytes * desc.sample_count as u64, Ordering::Relaxed);
+        self.allocated
+            .fetch_add(bytes * desc.sample_count as u64, Ordering::Relaxed);
         self.device.create_texture(desc)
     }
 

@@ -15,27 +15,61 @@ pub fn read_rgba32f(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Image, String>
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
-    let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    let mut enc = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("readback"),
+        });
     enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
-        wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
-        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
     );
     gpu.queue.submit([enc.finish()]);
+    let data = map_read(gpu, &buffer)?;
+    let mut floats = Vec::with_capacity((w * h * 4) as usize);
+    for row in 0..h as usize {
+        let bytes = &data[row * padded as usize..row * padded as usize + unpadded as usize];
+        floats.extend(
+            bytes
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+        );
+    }
+    Ok(Image::from_rgba_f32(w, h, &floats))
+}
+
+/// Waits for the queue, maps a MAP_READ buffer and returns a copy of its bytes (unmapped again).
+pub fn map_read(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, String> {
     let slice = buffer.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
     });
     gpu.wait()?;
-    rx.recv().map_err(|_| "read-back callback never ran".to_string())?.map_err(|e| format!("read-back map failed: {e}"))?;
-    let data = slice.get_mapped_range().map_err(|e| format!("read-back map range: {e}"))?;
-    let mut floats = Vec::with_capacity((w * h * 4) as usize);
-    for row in 0..h as usize {
-        let bytes = &data[row * padded as usize..row * padded as usize + unpadded as usize];
-        floats.extend(bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])));
-    }
-    drop(data);
+    rx.recv()
+        .map_err(|_| "map callback never ran".to_string())?
+        .map_err(|e| format!("buffer map failed: {e}"))?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| format!("buffer map range: {e}"))?
+        .to_vec();
     buffer.unmap();
-    Ok(Image::from_rgba_f32(w, h, &floats))
+    Ok(bytes)
 }

@@ -50,16 +50,28 @@ const MAX_DEPTH: usize = 48;
 impl Bvh {
     pub fn build(tris: Vec<Tri>) -> Bvh {
         let n = tris.len();
-        let centroids: Vec<DVec3> = tris.iter().map(|t| (t.p[0] + t.p[1] + t.p[2]) / 3.0).collect();
+        let centroids: Vec<DVec3> = tris
+            .iter()
+            .map(|t| (t.p[0] + t.p[1] + t.p[2]) / 3.0)
+            .collect();
         let mut idx: Vec<u32> = (0..n as u32).collect();
         let mut nodes = Vec::with_capacity(2 * n.max(1));
         if n == 0 {
-            nodes.push(Node { lo: DVec3::splat(f64::INFINITY), hi: DVec3::splat(f64::NEG_INFINITY), offset: 0, count: 0 });
+            nodes.push(Node {
+                lo: DVec3::splat(f64::INFINITY),
+                hi: DVec3::splat(f64::NEG_INFINITY),
+                offset: 0,
+                count: 0,
+            });
         } else {
             build_rec(&tris, &centroids, &mut idx, 0, n, &mut nodes, 0);
         }
         let ordered = idx.iter().map(|&i| tris[i as usize]).collect();
-        Bvh { nodes, tris: ordered, order: idx }
+        Bvh {
+            nodes,
+            tris: ordered,
+            order: idx,
+        }
     }
 
     /// Closest intersection with t in (tmin, tmax), any triangle.
@@ -70,7 +82,12 @@ impl Bvh {
         self.walk(o, inv, tmin, &mut tmax, |i, tmax| {
             if let Some((t, u, v)) = intersect_tri(&self.tris[i], o, d, tmin, *tmax) {
                 *tmax = t;
-                best = Some(Hit { t, tri: i as u32, u, v });
+                best = Some(Hit {
+                    t,
+                    tri: i as u32,
+                    u,
+                    v,
+                });
             }
             false
         });
@@ -95,40 +112,57 @@ impl Bvh {
 
     /// Visits every shadow-casting triangle in a leaf whose box `overlaps` accepts (a box test
     /// that must be conservative: true whenever the box may hold a triangle of interest).
-    pub fn for_each_caster(&self, overlaps: impl Fn(DVec3, DVec3) -> bool, mut visit: impl FnMut(&Tri)) {
-        if self.tris.is_empty() {
-            return;
-        }
-        let mut stack = [0u32; STACK];
-        let mut sp = 0usize;
-        let mut node = 0usize;
-        loop {
-            let n = &self.nodes[node];
-            if n.lo.x <= n.hi.x && overlaps(n.lo, n.hi) {
-                if n.count > 0 {
-                    for t in &self.tris[n.offset as usize..(n.offset + n.count) as usize] {
-                        if t.casts_shadow {
-                            visit(t);
-                        }
-                    }
-                } else {
-                    stack[sp] = n.offset;
-                    sp += 1;
-                    node += 1;
-                    continue;
-                }
-            }
-            if sp == 0 {
-                return;
-            }
-            sp -= 1;
-            node = stack[sp] as usize;
-        }
+    pub fn for_each_caster(
+        &self,
+        overlaps: impl Fn(DVec3, DVec3) -> bool,
+        mut visit: impl FnMut(&Tri),
+    ) {
+        self.traverse(
+            |n| overlaps(n.lo, n.hi),
+            |first, end| {
+                self.tris[first..end]
+                    .iter()
+                    .filter(|t| t.casts_shadow)
+                    .for_each(&mut visit);
+                false
+            },
+        );
     }
 
     /// Visits leaf triangles whose boxes the ray enters before `tmax`; `visit` returns true to stop.
     #[inline]
-    fn walk(&self, o: DVec3, inv: DVec3, tmin: f64, tmax: &mut f64, mut visit: impl FnMut(usize, &mut f64) -> bool) {
+    fn walk(
+        &self,
+        o: DVec3,
+        inv: DVec3,
+        tmin: f64,
+        tmax: &mut f64,
+        mut visit: impl FnMut(usize, &mut f64) -> bool,
+    ) {
+        // The leaf visitor shrinks tmax while the box test reads it.
+        let t = std::cell::Cell::new(*tmax);
+        self.traverse(
+            |n| slab(n, o, inv, tmin, t.get()),
+            |first, end| {
+                (first..end).any(|i| {
+                    let mut tm = t.get();
+                    let stop = visit(i, &mut tm);
+                    t.set(tm);
+                    stop
+                })
+            },
+        );
+        *tmax = t.get();
+    }
+
+    /// Depth-first traversal with a fixed stack: `enter` decides whether to open a node, `leaf`
+    /// gets each opened leaf's triangle range and returns true to stop.
+    #[inline]
+    fn traverse(
+        &self,
+        mut enter: impl FnMut(&Node) -> bool,
+        mut leaf: impl FnMut(usize, usize) -> bool,
+    ) {
         // An empty scene has a single empty root that is neither a leaf nor an inner node.
         if self.tris.is_empty() {
             return;
@@ -138,12 +172,10 @@ impl Bvh {
         let mut node = 0usize;
         loop {
             let n = &self.nodes[node];
-            if slab(n, o, inv, tmin, *tmax) {
+            if enter(n) {
                 if n.count > 0 {
-                    for i in n.offset as usize..(n.offset + n.count) as usize {
-                        if visit(i, tmax) {
-                            return;
-                        }
+                    if leaf(n.offset as usize, (n.offset + n.count) as usize) {
+                        return;
                     }
                 } else {
                     // The build caps depth at MAX_DEPTH < STACK, so this never overflows.
@@ -174,7 +206,13 @@ fn slab(n: &Node, o: DVec3, inv: DVec3, tmin: f64, tmax: f64) -> bool {
 
 /// Möller–Trumbore in f64, with t in (tmin, tmax); returns (t, u, v).
 #[inline]
-pub fn intersect_tri(tri: &Tri, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64, f64)> {
+pub fn intersect_tri(
+    tri: &Tri,
+    o: DVec3,
+    d: DVec3,
+    tmin: f64,
+    tmax: f64,
+) -> Option<(f64, f64, f64)> {
     let e1 = tri.p[1] - tri.p[0];
     let e2 = tri.p[2] - tri.p[0];
     let pv = d.cross(e2);
@@ -214,10 +252,23 @@ fn area(lo: DVec3, hi: DVec3) -> f64 {
     e.x * e.y + e.y * e.z + e.z * e.x
 }
 
-fn build_rec(tris: &[Tri], cen: &[DVec3], idx: &mut [u32], first: usize, count: usize, nodes: &mut Vec<Node>, depth: usize) {
+fn build_rec(
+    tris: &[Tri],
+    cen: &[DVec3],
+    idx: &mut [u32],
+    first: usize,
+    count: usize,
+    nodes: &mut Vec<Node>,
+    depth: usize,
+) {
     let me = nodes.len();
     let (lo, hi) = bounds_of(tris, &idx[first..first + count]);
-    nodes.push(Node { lo, hi, offset: first as u32, count: count as u32 });
+    nodes.push(Node {
+        lo,
+        hi,
+        offset: first as u32,
+        count: count as u32,
+    });
     if count <= LEAF || depth >= MAX_DEPTH {
         return;
     }
@@ -233,8 +284,13 @@ fn build_rec(tris: &[Tri], cen: &[DVec3], idx: &mut [u32], first: usize, count: 
         if ext[axis] <= 0.0 {
             continue;
         }
-        let mut bins = [(DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY), 0usize); BINS];
-        let bin_of = |c: DVec3| (((c[axis] - clo[axis]) / ext[axis] * BINS as f64) as usize).min(BINS - 1);
+        let mut bins = [(
+            DVec3::splat(f64::INFINITY),
+            DVec3::splat(f64::NEG_INFINITY),
+            0usize,
+        ); BINS];
+        let bin_of =
+            |c: DVec3| (((c[axis] - clo[axis]) / ext[axis] * BINS as f64) as usize).min(BINS - 1);
         for &i in &idx[first..first + count] {
             let b = &mut bins[bin_of(cen[i as usize])];
             for p in tris[i as usize].p {
@@ -244,7 +300,18 @@ fn build_rec(tris: &[Tri], cen: &[DVec3], idx: &mut [u32], first: usize, count: 
             b.2 += 1;
         }
         for split in 1..BINS {
-            let (mut l, mut r) = ((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY), 0), (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY), 0));
+            let (mut l, mut r) = (
+                (
+                    DVec3::splat(f64::INFINITY),
+                    DVec3::splat(f64::NEG_INFINITY),
+                    0,
+                ),
+                (
+                    DVec3::splat(f64::INFINITY),
+                    DVec3::splat(f64::NEG_INFINITY),
+                    0,
+                ),
+            );
             for (k, b) in bins.iter().enumerate() {
                 let side = if k < split { &mut l } else { &mut r };
                 if b.2 > 0 {
@@ -265,7 +332,8 @@ fn build_rec(tris: &[Tri], cen: &[DVec3], idx: &mut [u32], first: usize, count: 
     let slice = &mut idx[first..first + count];
     let mid = if best.0.is_finite() && best.0 < area(lo, hi) * count as f64 {
         let (axis, split) = (best.1, best.2);
-        let bin_of = |c: DVec3| (((c[axis] - clo[axis]) / ext[axis] * BINS as f64) as usize).min(BINS - 1);
+        let bin_of =
+            |c: DVec3| (((c[axis] - clo[axis]) / ext[axis] * BINS as f64) as usize).min(BINS - 1);
         let mut m = 0;
         for k in 0..slice.len() {
             if bin_of(cen[slice[k] as usize]) < split {
@@ -300,14 +368,23 @@ mod tests {
     fn bvh_agrees_with_brute_force() {
         let mut s = 12345u64;
         let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((s >> 11) as f64) / (1u64 << 53) as f64
         };
         let mut tris = Vec::new();
         for k in 0..2000 {
             let c = DVec3::new(rnd(), rnd(), rnd()) * 10.0;
-            let p = [c, c + DVec3::new(rnd(), rnd(), rnd()) * 0.6, c + DVec3::new(rnd(), rnd(), rnd()) * 0.6];
-            tris.push(Tri { p, casts_shadow: k % 3 != 0 });
+            let p = [
+                c,
+                c + DVec3::new(rnd(), rnd(), rnd()) * 0.6,
+                c + DVec3::new(rnd(), rnd(), rnd()) * 0.6,
+            ];
+            tris.push(Tri {
+                p,
+                casts_shadow: k % 3 != 0,
+            });
         }
         let bvh = Bvh::build(tris.clone());
         for _ in 0..2000 {
@@ -323,7 +400,9 @@ mod tests {
             if let (Some(b), Some(h)) = (brute, fast) {
                 assert_eq!(b.1 as u32, bvh.order[h.tri as usize]);
             }
-            let brute_occ = tris.iter().any(|t| t.casts_shadow && intersect_tri(t, o, d, 0.0, 8.0).is_some());
+            let brute_occ = tris
+                .iter()
+                .any(|t| t.casts_shadow && intersect_tri(t, o, d, 0.0, 8.0).is_some());
             assert_eq!(brute_occ, bvh.occluded(o, d, 0.0, 8.0));
         }
     }

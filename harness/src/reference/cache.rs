@@ -12,10 +12,20 @@ use crate::image::{Image, io};
 /// Bump when the reference's output changes for the same inputs.
 pub const REFERENCE_VERSION: u32 = 1;
 
-pub fn key(scene: &scenes::Scene, frame: u32, width: u32, height: u32, settings: &Settings) -> String {
+pub fn key(
+    scene: &scenes::Scene,
+    frame: u32,
+    width: u32,
+    height: u32,
+    settings: &Settings,
+) -> String {
     let mut h = Sha256::new();
     h.update(format!("scatterbench-reference v{REFERENCE_VERSION}\n").as_bytes());
-    h.update(serde_json::to_string(&scene.desc).unwrap_or_default().as_bytes());
+    h.update(
+        serde_json::to_string(&scene.desc)
+            .unwrap_or_default()
+            .as_bytes(),
+    );
     for m in &scene.meshes {
         for p in &m.positions {
             for c in p.to_array() {
@@ -44,7 +54,8 @@ fn entry(dir: &Path, key: &str) -> PathBuf {
 /// The cached images, or None if absent or unreadable.
 pub fn load(dir: &Path, key: &str) -> Option<ReferenceImages> {
     let e = entry(dir, key);
-    let stats: ReferenceStats = serde_json::from_str(&std::fs::read_to_string(e.join("stats.json")).ok()?).ok()?;
+    let stats: ReferenceStats =
+        serde_json::from_str(&std::fs::read_to_string(e.join("stats.json")).ok()?).ok()?;
     let inscatter = io::read_exr(&e.join("inscatter.exr")).ok()?;
     let surface = io::read_exr(&e.join("surface.exr")).ok()?;
     let total = io::read_exr(&e.join("total.exr")).ok()?;
@@ -53,14 +64,21 @@ pub fn load(dir: &Path, key: &str) -> Option<ReferenceImages> {
     if !(same(&inscatter) && same(&surface) && same(&dist)) {
         return None;
     }
-    Some(ReferenceImages { distance: dist.pixels.iter().map(|p| p[0]).collect(), inscatter, surface, total, stats })
+    Some(ReferenceImages {
+        distance: dist.pixels.iter().map(|p| p[0]).collect(),
+        inscatter,
+        surface,
+        total,
+        stats,
+    })
 }
 
 /// Stores images under the key (each file written atomically; stats last, so a partial entry
 /// has no stats.json and is never loaded).
 pub fn store(dir: &Path, key: &str, r: &ReferenceImages) -> Result<(), String> {
     let e = entry(dir, key);
-    std::fs::create_dir_all(&e).map_err(|err| format!("{}: cannot create cache directory: {err}", e.display()))?;
+    std::fs::create_dir_all(&e)
+        .map_err(|err| format!("{}: cannot create cache directory: {err}", e.display()))?;
     let _ = std::fs::remove_file(e.join("stats.json"));
     io::write_exr(&e.join("inscatter.exr"), &r.inscatter)?;
     io::write_exr(&e.join("surface.exr"), &r.surface)?;
@@ -70,7 +88,12 @@ pub fn store(dir: &Path, key: &str, r: &ReferenceImages) -> Result<(), String> {
         *p = [*d; 3];
     }
     io::write_exr(&e.join("distance.exr"), &dist)?;
-    crate::fsutil::write_atomic(&e.join("stats.json"), serde_json::to_string_pretty(&r.stats).unwrap_or_default().as_bytes())
+    crate::fsutil::write_atomic(
+        &e.join("stats.json"),
+        serde_json::to_string_pretty(&r.stats)
+            .unwrap_or_default()
+            .as_bytes(),
+    )
 }
 
 /// Renders through the cache.

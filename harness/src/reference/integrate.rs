@@ -35,13 +35,21 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { rel_tol: 1e-6, visibility_samples: 256, bisect_tol: 1e-9 }
+        Settings {
+            rel_tol: 1e-6,
+            visibility_samples: 256,
+            bisect_tol: 1e-9,
+        }
     }
 }
 
 impl Settings {
     pub fn tighter(&self) -> Settings {
-        Settings { rel_tol: self.rel_tol / 4.0, visibility_samples: self.visibility_samples * 4, bisect_tol: self.bisect_tol / 4.0 }
+        Settings {
+            rel_tol: self.rel_tol / 4.0,
+            visibility_samples: self.visibility_samples * 4,
+            bisect_tol: self.bisect_tol / 4.0,
+        }
     }
 }
 
@@ -78,7 +86,16 @@ impl Tracer<'_> {
         if self.medium.sigma_s.max_element() > 0.0 {
             for light in self.lights {
                 inscatter += match light {
-                    LightState::Directional { direction, irradiance } => self.directional(o, d, distance, direction.as_dvec3(), irradiance.as_dvec3()),
+                    LightState::Directional {
+                        direction,
+                        irradiance,
+                    } => self.directional(
+                        o,
+                        d,
+                        distance,
+                        direction.as_dvec3(),
+                        irradiance.as_dvec3(),
+                    ),
                     _ => self.local(o, d, distance, light),
                 };
             }
@@ -89,7 +106,13 @@ impl Tracer<'_> {
             surface = self.surface(p, d, h) * exp(-sigma_t * h.t);
         }
         let ambient = self.medium.ambient.as_dvec3() * (DVec3::ONE - exp(-sigma_t * distance));
-        RayRadiance { inscatter, surface, total: inscatter + surface + ambient, distance, hit: hit.is_some() }
+        RayRadiance {
+            inscatter,
+            surface,
+            total: inscatter + surface + ambient,
+            distance,
+            hit: hit.is_some(),
+        }
     }
 
     /// Reflected radiance at surface point `p` toward the eye (not yet attenuated).
@@ -97,8 +120,11 @@ impl Tracer<'_> {
         let tri = &self.world.bvh.tris[h.tri as usize];
         let sh = &self.world.shading[h.tri as usize];
         let mat = &self.world.materials[sh.material as usize];
-        let mut ng = (tri.p[1] - tri.p[0]).cross(tri.p[2] - tri.p[0]).normalize_or_zero();
-        let mut n = (sh.n[0] * (1.0 - h.u - h.v) + sh.n[1] * h.u + sh.n[2] * h.v).normalize_or_zero();
+        let mut ng = (tri.p[1] - tri.p[0])
+            .cross(tri.p[2] - tri.p[0])
+            .normalize_or_zero();
+        let mut n =
+            (sh.n[0] * (1.0 - h.u - h.v) + sh.n[1] * h.u + sh.n[2] * h.v).normalize_or_zero();
         if ng.dot(-d) < 0.0 {
             // We see the back of the face: lit only if the material is two-sided.
             if !mat.two_sided {
@@ -113,7 +139,10 @@ impl Tracer<'_> {
         let mut out = DVec3::ZERO;
         for light in self.lights {
             let (l, r, incident) = match light {
-                LightState::Directional { direction, irradiance } => (-direction.as_dvec3(), f64::INFINITY, irradiance.as_dvec3()),
+                LightState::Directional {
+                    direction,
+                    irradiance,
+                } => (-direction.as_dvec3(), f64::INFINITY, irradiance.as_dvec3()),
                 _ => {
                     let lp = light.position().unwrap().as_dvec3();
                     let to = lp - p;
@@ -121,7 +150,11 @@ impl Tracer<'_> {
                     if r <= 0.0 {
                         continue;
                     }
-                    (to / r, r, light.intensity_toward(p) * exp(-sigma_t * r) / (r * r))
+                    (
+                        to / r,
+                        r,
+                        light.intensity_toward(p) * exp(-sigma_t * r) / (r * r),
+                    )
                 }
             };
             let cos = n.dot(l);
@@ -135,7 +168,8 @@ impl Tracer<'_> {
             if let Some(ph) = &mat.phong {
                 let refl = n * (2.0 * cos) - l;
                 let s = refl.dot(-d).max(0.0).powf(ph.shininess as f64);
-                brdf += ph.ks.as_dvec3() * ((ph.shininess as f64 + 2.0) / (2.0 * std::f64::consts::PI) * s);
+                brdf += ph.ks.as_dvec3()
+                    * ((ph.shininess as f64 + 2.0) / (2.0 * std::f64::consts::PI) * s);
             }
             out += brdf * incident * cos;
         }
@@ -149,7 +183,15 @@ impl Tracer<'_> {
         let t0 = -w0.dot(d);
         let h = (w0 + d * t0).length();
         let mut cuts = vec![0.0, len];
-        if let LightState::Spot { direction, cos_inner, cos_outer, tan_outer, pattern, .. } = light {
+        if let LightState::Spot {
+            direction,
+            cos_inner,
+            cos_outer,
+            tan_outer,
+            pattern,
+            ..
+        } = light
+        {
             let axis = direction.as_dvec3();
             for c in [*cos_inner as f64, *cos_outer as f64] {
                 cone_roots(w0, d, axis, c, len, &mut cuts);
@@ -166,8 +208,18 @@ impl Tracer<'_> {
         }
         // Lit intervals: visibility sampled uniformly in φ (dense near the light), boundaries bisected.
         let angular = h > 1e-12 * (w0.length() + len);
-        let (phi_a, phi_b) = if angular { (((0.0 - t0) / h).atan(), ((len - t0) / h).atan()) } else { (0.0, 0.0) };
-        let t_of = |s: f64| if angular { t0 + h * (phi_a + (phi_b - phi_a) * s).tan() } else { len * s };
+        let (phi_a, phi_b) = if angular {
+            (((0.0 - t0) / h).atan(), ((len - t0) / h).atan())
+        } else {
+            (0.0, 0.0)
+        };
+        let t_of = |s: f64| {
+            if angular {
+                t0 + h * (phi_a + (phi_b - phi_a) * s).tan()
+            } else {
+                len * s
+            }
+        };
         let visible = |t: f64| {
             let x = o + d * t;
             let to = lp - x;
@@ -197,7 +249,10 @@ impl Tracer<'_> {
                 return DVec3::ZERO;
             }
             let cos_theta = -w.dot(d) / r;
-            sigma_s * (phase.eval(cos_theta) / (r * r)) * light.intensity_toward(lp + w) * exp(-sigma_t * (t + r))
+            sigma_s
+                * (phase.eval(cos_theta) / (r * r))
+                * light.intensity_toward(lp + w)
+                * exp(-sigma_t * (t + r))
         };
         let mut sum = DVec3::ZERO;
         for pair in cuts.windows(2) {
@@ -216,7 +271,12 @@ impl Tracer<'_> {
                     let r = h / phi.cos();
                     integrand_t(t) * (r * r / h)
                 };
-                adaptive(&g, ((a - t0) / h).atan(), ((b - t0) / h).atan(), self.settings.rel_tol)
+                adaptive(
+                    &g,
+                    ((a - t0) / h).atan(),
+                    ((b - t0) / h).atan(),
+                    self.settings.rel_tol,
+                )
             } else {
                 adaptive(&integrand_t, a, b, self.settings.rel_tol)
             };
@@ -226,9 +286,20 @@ impl Tracer<'_> {
 
     /// In-scatter of a directional light over [0, len]: lit intervals, each in closed form.
     fn directional(&self, o: DVec3, d: DVec3, len: f64, dir: DVec3, e: DVec3) -> DVec3 {
-        let visible = |t: f64| !self.world.bvh.occluded(o + d * t, -dir, self.eps, self.sun_distance);
+        let visible = |t: f64| {
+            !self
+                .world
+                .bvh
+                .occluded(o + d * t, -dir, self.eps, self.sun_distance)
+        };
         let mut cuts = vec![0.0, len];
-        let shadow = shadowed(&self.world.bvh, o, d, len, Source::Direction(-dir, self.sun_distance));
+        let shadow = shadowed(
+            &self.world.bvh,
+            o,
+            d,
+            len,
+            Source::Direction(-dir, self.sun_distance),
+        );
         match &shadow {
             Some(sh) => cuts.extend(sh.iter().flat_map(|&(a, b)| [a, b])),
             None => self.find_boundaries(len, |s| len * s, &visible, &mut cuts),
@@ -255,7 +326,13 @@ impl Tracer<'_> {
     }
 
     /// Samples visibility at `visibility_samples + 1` points t_of(k/N) and bisects every change.
-    fn find_boundaries(&self, len: f64, t_of: impl Fn(f64) -> f64, visible: &impl Fn(f64) -> bool, cuts: &mut Vec<f64>) {
+    fn find_boundaries(
+        &self,
+        len: f64,
+        t_of: impl Fn(f64) -> f64,
+        visible: &impl Fn(f64) -> bool,
+        cuts: &mut Vec<f64>,
+    ) {
         let n = self.settings.visibility_samples.max(2);
         // Stay a hair inside the ray's ends: at t = len the sample sits on the surface itself.
         let inset = 1e-9 * len;
@@ -336,14 +413,31 @@ pub fn exp_integral(s: f64, a: f64, b: f64) -> f64 {
 
 // Gauss–Kronrod 7–15 nodes and weights (QUADPACK qk15).
 const XGK: [f64; 8] = [
-    0.991_455_371_120_812_6, 0.949_107_912_342_758_5, 0.864_864_423_359_769_1, 0.741_531_185_599_394_4,
-    0.586_087_235_467_691_1, 0.405_845_151_377_397_2, 0.207_784_955_007_898_5, 0.0,
+    0.991_455_371_120_812_6,
+    0.949_107_912_342_758_5,
+    0.864_864_423_359_769_1,
+    0.741_531_185_599_394_4,
+    0.586_087_235_467_691_1,
+    0.405_845_151_377_397_2,
+    0.207_784_955_007_898_5,
+    0.0,
 ];
 const WGK: [f64; 8] = [
-    0.022_935_322_010_529_22, 0.063_092_092_629_978_55, 0.104_790_010_322_250_2, 0.140_653_259_715_525_9,
-    0.169_004_726_639_267_9, 0.190_350_578_064_785_4, 0.204_432_940_075_298_9, 0.209_482_141_084_728_0,
+    0.022_935_322_010_529_22,
+    0.063_092_092_629_978_55,
+    0.104_790_010_322_250_2,
+    0.140_653_259_715_525_9,
+    0.169_004_726_639_267_9,
+    0.190_350_578_064_785_4,
+    0.204_432_940_075_298_9,
+    0.209_482_141_084_728_0,
 ];
-const WG: [f64; 4] = [0.129_484_966_168_869_7, 0.279_705_391_489_276_7, 0.381_830_050_505_118_9, 0.417_959_183_673_469_4];
+const WG: [f64; 4] = [
+    0.129_484_966_168_869_7,
+    0.279_705_391_489_276_7,
+    0.381_830_050_505_118_9,
+    0.417_959_183_673_469_4,
+];
 
 /// One G7K15 panel: (Kronrod estimate, |Kronrod − Gauss| per channel).
 fn gk15(f: &impl Fn(f64) -> DVec3, a: f64, b: f64) -> (DVec3, DVec3) {

@@ -55,21 +55,45 @@ pub struct Convergence {
     pub seconds: f64,
 }
 
-fn tracer_for<'a>(scene: &Scene, world: &'a World, lights: &'a [scenes::LightState], far: f64, settings: Settings) -> Tracer<'a> {
+fn tracer_for<'a>(
+    scene: &Scene,
+    world: &'a World,
+    lights: &'a [scenes::LightState],
+    far: f64,
+    settings: Settings,
+) -> Tracer<'a> {
     let scale = world.scale();
-    Tracer { world, medium: scene.medium(), lights, settings, eps: 1e-7 * scale, sun_distance: 10.0 * scale.max(far) }
+    Tracer {
+        world,
+        medium: scene.medium(),
+        lights,
+        settings,
+        eps: 1e-7 * scale,
+        sun_distance: 10.0 * scale.max(far),
+    }
 }
 
 /// Rejects what the reference cannot compute yet, rather than rendering it wrong.
 pub fn check_supported(scene: &Scene) -> Result<(), String> {
     if scene.desc.indirect_single_scattering {
-        return Err(format!("scene '{}': the reference does not compute indirect single scattering yet", scene.name));
+        return Err(format!(
+            "scene '{}': the reference does not compute indirect single scattering yet",
+            scene.name
+        ));
     }
     Ok(())
 }
 
 /// Traces the given pixels of frame `frame` at `width`×`height`, in parallel.
-pub fn trace_pixels(scene: &Scene, frame: u32, width: u32, height: u32, settings: Settings, pixels: &[(u32, u32)], progress: &(dyn Fn(u64) + Sync)) -> Result<Vec<RayRadiance>, String> {
+pub fn trace_pixels(
+    scene: &Scene,
+    frame: u32,
+    width: u32,
+    height: u32,
+    settings: Settings,
+    pixels: &[(u32, u32)],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<RayRadiance>, String> {
     check_supported(scene)?;
     let state = scene.frame(frame);
     let world = World::new(scene, &state);
@@ -92,9 +116,18 @@ pub fn trace_pixels(scene: &Scene, frame: u32, width: u32, height: u32, settings
 }
 
 /// Renders the full image of one frame.
-pub fn render(scene: &Scene, frame: u32, width: u32, height: u32, settings: Settings, progress: &(dyn Fn(u64) + Sync)) -> Result<ReferenceImages, String> {
+pub fn render(
+    scene: &Scene,
+    frame: u32,
+    width: u32,
+    height: u32,
+    settings: Settings,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ReferenceImages, String> {
     let start = Instant::now();
-    let pixels: Vec<(u32, u32)> = (0..height).flat_map(|j| (0..width).map(move |i| (i, j))).collect();
+    let pixels: Vec<(u32, u32)> = (0..height)
+        .flat_map(|j| (0..width).map(move |i| (i, j)))
+        .collect();
     let rad = trace_pixels(scene, frame, width, height, settings, &pixels, progress)?;
     let to_image = |f: &dyn Fn(&RayRadiance) -> DVec3| {
         let mut img = Image::new(width, height);
@@ -108,17 +141,30 @@ pub fn render(scene: &Scene, frame: u32, width: u32, height: u32, settings: Sett
         surface: to_image(&|r| r.surface),
         total: to_image(&|r| r.total),
         distance: rad.iter().map(|r| r.distance as f32).collect(),
-        stats: ReferenceStats { seconds: start.elapsed().as_secs_f64(), settings: Some(settings), threads: rayon::current_num_threads() },
+        stats: ReferenceStats {
+            seconds: start.elapsed().as_secs_f64(),
+            settings: Some(settings),
+            threads: rayon::current_num_threads(),
+        },
     })
 }
 
 /// Re-traces every `stride`-th pixel (in both directions) at `settings.tighter()` and compares
 /// with `images`, which were rendered at `settings`.
-pub fn convergence(scene: &Scene, frame: u32, images: &ReferenceImages, settings: Settings, stride: u32) -> Result<Convergence, String> {
+pub fn convergence(
+    scene: &Scene,
+    frame: u32,
+    images: &ReferenceImages,
+    settings: Settings,
+    stride: u32,
+) -> Result<Convergence, String> {
     let start = Instant::now();
     let (w, h) = (images.total.width, images.total.height);
     let stride = stride.max(1);
-    let pixels: Vec<(u32, u32)> = (0..h).step_by(stride as usize).flat_map(|j| (0..w).step_by(stride as usize).map(move |i| (i, j))).collect();
+    let pixels: Vec<(u32, u32)> = (0..h)
+        .step_by(stride as usize)
+        .flat_map(|j| (0..w).step_by(stride as usize).map(move |i| (i, j)))
+        .collect();
     let tight = trace_pixels(scene, frame, w, h, settings.tighter(), &pixels, &|_| {})?;
     let rel = |img: &Image, pick: &dyn Fn(&RayRadiance) -> DVec3| {
         let (mut se, mut mean) = (0.0, 0.0);

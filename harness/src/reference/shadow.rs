@@ -68,11 +68,15 @@ pub fn shadowed(bvh: &Bvh, o: DVec3, d: DVec3, len: f64, src: Source) -> Option<
     let is_point = matches!(src, Source::Point(_));
     let mut out: Vec<(f64, f64)> = Vec::new();
     bvh.for_each_caster(overlaps, |tri| {
-        let Some((q1, q2)) = chord(tri.p, n, plane_d) else { return };
+        let Some((q1, q2)) = chord(tri.p, n, plane_d) else {
+            return;
+        };
         let (a, b) = (to2(q1), to2(q2));
         // Clip the chord to the part between the ray (y > 0) and the light (y < ly).
         let y_max = if is_point { ly } else { f64::INFINITY };
-        let Some((a, b)) = clip_y(a, b, 0.0, y_max) else { return };
+        let Some((a, b)) = clip_y(a, b, 0.0, y_max) else {
+            return;
+        };
         let project = |(x, y): (f64, f64)| {
             if is_point {
                 // Line from the light through (x, y) meets y = 0 at:
@@ -127,7 +131,12 @@ fn chord(p: [DVec3; 3], n: DVec3, plane_d: f64) -> Option<(DVec3, DVec3)> {
 }
 
 /// Clips segment ab (2-D) to y_min ≤ y ≤ y_max.
-fn clip_y(a: (f64, f64), b: (f64, f64), y_min: f64, y_max: f64) -> Option<((f64, f64), (f64, f64))> {
+fn clip_y(
+    a: (f64, f64),
+    b: (f64, f64),
+    y_min: f64,
+    y_max: f64,
+) -> Option<((f64, f64), (f64, f64))> {
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     let dy = b.1 - a.1;
     for (bound, lower) in [(y_min, true), (y_max, false)] {
@@ -144,7 +153,11 @@ fn clip_y(a: (f64, f64), b: (f64, f64), y_min: f64, y_max: f64) -> Option<((f64,
         let t = (bound - a.1) / dy;
         // Entering or leaving the half-plane as t grows.
         let entering = if lower { dy > 0.0 } else { dy < 0.0 };
-        if entering { t0 = t0.max(t) } else { t1 = t1.min(t) }
+        if entering {
+            t0 = t0.max(t)
+        } else {
+            t1 = t1.min(t)
+        }
     }
     if t0 > t1 {
         return None;
@@ -164,21 +177,70 @@ mod tests {
         // the ray runs along the x axis. The slab's shadow on y = 0 is x in [1.98, 2.02].
         let z = 5.0;
         let quad = |x0: f64, x1: f64| {
-            let (a, b, c, d) = (DVec3::new(x0, 5.0, -z), DVec3::new(x1, 5.0, -z), DVec3::new(x1, 5.0, z), DVec3::new(x0, 5.0, z));
-            vec![Tri { p: [a, b, c], casts_shadow: true }, Tri { p: [a, c, d], casts_shadow: true }]
+            let (a, b, c, d) = (
+                DVec3::new(x0, 5.0, -z),
+                DVec3::new(x1, 5.0, -z),
+                DVec3::new(x1, 5.0, z),
+                DVec3::new(x0, 5.0, z),
+            );
+            vec![
+                Tri {
+                    p: [a, b, c],
+                    casts_shadow: true,
+                },
+                Tri {
+                    p: [a, c, d],
+                    casts_shadow: true,
+                },
+            ]
         };
         let bvh = Bvh::build(quad(0.99, 1.01));
-        let s = shadowed(&bvh, DVec3::ZERO, DVec3::X, 10.0, Source::Point(DVec3::new(0.0, 10.0, 0.0))).unwrap();
+        let s = shadowed(
+            &bvh,
+            DVec3::ZERO,
+            DVec3::X,
+            10.0,
+            Source::Point(DVec3::new(0.0, 10.0, 0.0)),
+        )
+        .unwrap();
         assert_eq!(s.len(), 1);
-        assert!((s[0].0 - 1.98).abs() < 1e-12 && (s[0].1 - 2.02).abs() < 1e-12, "{s:?}");
+        assert!(
+            (s[0].0 - 1.98).abs() < 1e-12 && (s[0].1 - 2.02).abs() < 1e-12,
+            "{s:?}"
+        );
         // Sunlight straight down: the shadow is the slab itself.
-        let s = shadowed(&bvh, DVec3::ZERO, DVec3::X, 10.0, Source::Direction(DVec3::Y, 100.0)).unwrap();
-        assert!((s[0].0 - 0.99).abs() < 1e-12 && (s[0].1 - 1.01).abs() < 1e-12, "{s:?}");
+        let s = shadowed(
+            &bvh,
+            DVec3::ZERO,
+            DVec3::X,
+            10.0,
+            Source::Direction(DVec3::Y, 100.0),
+        )
+        .unwrap();
+        assert!(
+            (s[0].0 - 0.99).abs() < 1e-12 && (s[0].1 - 1.01).abs() < 1e-12,
+            "{s:?}"
+        );
         // A slab beyond the light casts nothing on the ray.
-        let above = Bvh::build(quad(0.99, 1.01).into_iter().map(|mut t| {
-            t.p = t.p.map(|p| p + DVec3::new(0.0, 7.0, 0.0));
-            t
-        }).collect());
-        assert!(shadowed(&above, DVec3::ZERO, DVec3::X, 10.0, Source::Point(DVec3::new(0.0, 10.0, 0.0))).unwrap().is_empty());
+        let above = Bvh::build(
+            quad(0.99, 1.01)
+                .into_iter()
+                .map(|mut t| {
+                    t.p = t.p.map(|p| p + DVec3::new(0.0, 7.0, 0.0));
+                    t
+                })
+                .collect(),
+        );
+        assert!(
+            shadowed(
+                &above,
+                DVec3::ZERO,
+                DVec3::X,
+                10.0,
+                Source::Point(DVec3::new(0.0, 10.0, 0.0))
+            )
+            .unwrap()
+            .is_empty()
+        );
     }
 }

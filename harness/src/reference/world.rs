@@ -38,17 +38,36 @@ impl World {
                 }
                 let p = ids.map(|i| md.transform_point3(mesh.positions[i].as_dvec3()));
                 let n = ids.map(|i| (normal_m * mesh.normals[i].as_dvec3()).normalize_or_zero());
-                tris.push(Tri { p, casts_shadow: obj.casts_volumetric_shadow });
-                shading.push(Shading { n, material: k as u32 });
+                tris.push(Tri {
+                    p,
+                    casts_shadow: obj.casts_volumetric_shadow,
+                });
+                shading.push(Shading {
+                    n,
+                    material: k as u32,
+                });
             }
         }
         let bvh = Bvh::build(tris);
-        let shading = bvh.order.iter().map(|&i| shading[i as usize].clone()).collect();
-        World { bvh, shading, materials }
+        let shading = bvh
+            .order
+            .iter()
+            .map(|&i| shading[i as usize].clone())
+            .collect();
+        World {
+            bvh,
+            shading,
+            materials,
+        }
     }
 
     /// A length scale of the scene (for offsets): the largest coordinate magnitude, ≥ 1.
     pub fn scale(&self) -> f64 {
-        self.bvh.tris.iter().flat_map(|t| t.p).map(|p| p.abs().max_element()).fold(1.0, f64::max)
+        self.bvh
+            .tris
+            .iter()
+            .flat_map(|t| t.p)
+            .map(|p| p.abs().max_element())
+            .fold(1.0, f64::max)
     }
 }

@@ -58,12 +58,21 @@ impl GpuScene {
             let base = verts.len() as u32;
             let first = idx.len() as u32;
             for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
-                verts.push(Vertex { position: p.to_array(), object: k as u32, normal: n.to_array(), _pad: 0 });
+                verts.push(Vertex {
+                    position: p.to_array(),
+                    object: k as u32,
+                    normal: n.to_array(),
+                    _pad: 0,
+                });
             }
             for t in &mesh.indices {
                 idx.extend(t.iter().map(|i| base + i));
             }
-            draws.push(Draw { first_index: first, index_count: idx.len() as u32 - first, casts_shadow: obj.casts_volumetric_shadow });
+            draws.push(Draw {
+                first_index: first,
+                index_count: idx.len() as u32 - first,
+                casts_shadow: obj.casts_volumetric_shadow,
+            });
         }
         if verts.is_empty() {
             // wgpu refuses zero-sized vertex buffers; a scene without objects draws nothing.
@@ -72,8 +81,16 @@ impl GpuScene {
         }
         let n = scene.meshes.len().max(1);
         GpuScene {
-            vertices: gpu.buffer_init("scene vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
-            indices: gpu.buffer_init("scene indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX),
+            vertices: gpu.buffer_init(
+                "scene vertices",
+                bytemuck::cast_slice(&verts),
+                wgpu::BufferUsages::VERTEX,
+            ),
+            indices: gpu.buffer_init(
+                "scene indices",
+                bytemuck::cast_slice(&idx),
+                wgpu::BufferUsages::INDEX,
+            ),
             objects: gpu.buffer(&wgpu::BufferDescriptor {
                 label: Some("scene objects"),
                 size: (n * std::mem::size_of::<ObjectData>()) as u64,
@@ -101,15 +118,65 @@ impl GpuScene {
                 ObjectData {
                     world_from_local: world.to_cols_array_2d(),
                     normal_from_local: glam::Mat4::from_mat3(nm).to_cols_array_2d(),
-                    albedo: mat.albedo.extend(if mat.two_sided { 1.0 } else { 0.0 }).to_array(),
-                    phong: mat.phong.as_ref().map_or([0.0; 4], |p| p.ks.extend(p.shininess).to_array()),
+                    albedo: mat
+                        .albedo
+                        .extend(if mat.two_sided { 1.0 } else { 0.0 })
+                        .to_array(),
+                    phong: mat
+                        .phong
+                        .as_ref()
+                        .map_or([0.0; 4], |p| p.ks.extend(p.shininess).to_array()),
                 }
             })
             .collect();
-        gpu.queue.write_buffer(&self.objects, 0, bytemuck::cast_slice(&data));
+        gpu.queue
+            .write_buffer(&self.objects, 0, bytemuck::cast_slice(&data));
     }
 
     pub fn has_casters(&self) -> bool {
-        self.draws.iter().any(|d| d.casts_shadow && d.index_count > 0)
+        self.draws
+            .iter()
+            .any(|d| d.casts_shadow && d.index_count > 0)
     }
+}
+
+/// A depth-tested (Depth32Float, less), uncull'd pipeline drawing the scene's vertex buffer with
+/// `vs`/`fs` of `module`: what the shadow-map and surface passes share.
+pub fn mesh_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(Vertex::LAYOUT)],
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }

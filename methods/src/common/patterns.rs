@@ -20,12 +20,18 @@ impl PatternTextures {
         let mut n = 0;
         for l in lights {
             match l {
-                LightDesc::Spot { pattern: Some(p), .. } => {
+                LightDesc::Spot {
+                    pattern: Some(p), ..
+                } => {
                     layers.push(Some(n));
                     n += 1;
                     for y in 0..size {
                         for x in 0..size {
-                            let v = pattern_value(p, (x as f64 + 0.5) / size as f64, (y as f64 + 0.5) / size as f64);
+                            let v = pattern_value(
+                                p,
+                                (x as f64 + 0.5) / size as f64,
+                                (y as f64 + 0.5) / size as f64,
+                            );
                             data.extend([v.x, v.y, v.z, 1.0].map(|c| half::f16::from_f64(c)));
                         }
                     }
@@ -39,7 +45,11 @@ impl PatternTextures {
         }
         let texture = gpu.texture(&wgpu::TextureDescriptor {
             label: Some("light patterns"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: count },
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: count,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -50,10 +60,25 @@ impl PatternTextures {
         gpu.queue.write_texture(
             texture.as_image_copy(),
             bytemuck::cast_slice(&data),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size * 8), rows_per_image: Some(size) },
-            wgpu::Extent3d { width: size, height: size, depth_or_array_layers: count },
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(size * 8),
+                rows_per_image: Some(size),
+            },
+            wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: count,
+            },
         );
-        let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
-        PatternTextures { texture, view, layers }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        PatternTextures {
+            texture,
+            view,
+            layers,
+        }
     }
 }

@@ -10,7 +10,7 @@ use harness::method::{AOV_FORMAT, PrepareContext};
 use harness::{FrameReport, Gpu, Targets};
 use scenes::{FrameState, Scene};
 
-use super::gpu_scene::{GpuScene, Vertex};
+use super::gpu_scene::{GpuScene, mesh_pipeline};
 use super::patterns::PatternTextures;
 use super::shadow_maps::ShadowMaps;
 use super::uniforms::{CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform};
@@ -40,11 +40,20 @@ pub struct SceneRenderer {
 
 /// Why a scene cannot use the shared renderer, if it cannot.
 pub fn unsupported(features: &scenes::SceneFeatures) -> Option<String> {
-    (features.lights > MAX_LIGHTS).then(|| format!("{} lights; the shared renderer handles at most {MAX_LIGHTS}", features.lights))
+    (features.lights > MAX_LIGHTS).then(|| {
+        format!(
+            "{} lights; the shared renderer handles at most {MAX_LIGHTS}",
+            features.lights
+        )
+    })
 }
 
 impl SceneRenderer {
-    pub fn new(ctx: &PrepareContext, shadow_size: u32, pattern_size: u32) -> anyhow::Result<SceneRenderer> {
+    pub fn new(
+        ctx: &PrepareContext,
+        shadow_size: u32,
+        pattern_size: u32,
+    ) -> anyhow::Result<SceneRenderer> {
         let gpu = ctx.gpu;
         let scene = ctx.scene.clone();
         if let Some(why) = unsupported(&scene.features()) {
@@ -55,35 +64,59 @@ impl SceneRenderer {
         let frame0 = scene.frame(0);
         let shadows = ShadowMaps::new(gpu, &frame0.lights, shadow_size, shadows_on, &gpu_scene);
         let patterns = PatternTextures::new(gpu, &scene.desc.lights, pattern_size);
-        let uniform = |label: &str, size: usize| gpu.buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let uniform = |label: &str, size: usize| {
+            gpu.buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
         let camera = uniform("camera", std::mem::size_of::<CameraUniform>());
         let medium = uniform("medium", std::mem::size_of::<MediumUniform>());
         let lights = uniform("lights", std::mem::size_of::<LightsUniform>());
-        let buf = |b: u32, vis: wgpu::ShaderStages, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding: b,
-            visibility: vis,
-            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-            count: None,
+        let buf = |b: u32, vis: wgpu::ShaderStages, ty: wgpu::BufferBindingType| {
+            wgpu::BindGroupLayoutEntry {
+                binding: b,
+                visibility: vis,
+                ty: wgpu::BindingType::Buffer {
+                    ty,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }
         };
         let tex = |b: u32, filterable: bool| wgpu::BindGroupLayoutEntry {
             binding: b,
             visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable }, view_dimension: wgpu::TextureViewDimension::D2Array, multisampled: false },
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
             count: None,
         };
         let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
-        let frame_layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("frame"),
-            entries: &[
-                buf(0, all, wgpu::BufferBindingType::Uniform),
-                buf(1, all, wgpu::BufferBindingType::Uniform),
-                buf(2, all, wgpu::BufferBindingType::Uniform),
-                buf(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
-                tex(4, false),
-                tex(5, true),
-                wgpu::BindGroupLayoutEntry { binding: 6, visibility: all, ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering), count: None },
-            ],
-        });
+        let frame_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("frame"),
+                entries: &[
+                    buf(0, all, wgpu::BufferBindingType::Uniform),
+                    buf(1, all, wgpu::BufferBindingType::Uniform),
+                    buf(2, all, wgpu::BufferBindingType::Uniform),
+                    buf(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
+                    tex(4, false),
+                    tex(5, true),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 6,
+                        visibility: all,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                        count: None,
+                    },
+                ],
+            });
         let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("linear clamp"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -94,48 +127,87 @@ impl SceneRenderer {
             label: Some("frame"),
             layout: &frame_layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: medium.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: lights.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: gpu_scene.objects.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&shadows.view) },
-                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&patterns.view) },
-                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&sampler) },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: medium.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: gpu_scene.objects.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&shadows.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::TextureView(&patterns.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
             ],
         });
         let module = wgsl::module(&gpu.device, "surface pass", &surface_source());
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surface"), bind_group_layouts: &[Some(&frame_layout)], immediate_size: 0 });
-        let surface_pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("surface"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(Vertex::LAYOUT)] },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(AOV_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let size = wgpu::Extent3d { width: ctx.width, height: ctx.height, depth_or_array_layers: 1 };
-        let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
-            gpu.texture(&wgpu::TextureDescriptor { label: Some(label), size, mip_level_count: 1, sample_count: 1, dimension: wgpu::TextureDimension::D2, format, usage, view_formats: &[] })
+        let pl = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("surface"),
+                bind_group_layouts: &[Some(&frame_layout)],
+                immediate_size: 0,
+            });
+        let surface_pipeline = mesh_pipeline(
+            &gpu.device,
+            "surface",
+            &pl,
+            &module,
+            &[Some(AOV_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
+        );
+        let size = wgpu::Extent3d {
+            width: ctx.width,
+            height: ctx.height,
+            depth_or_array_layers: 1,
         };
-        let depth = target("camera depth", wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING);
-        let distance = target("ray distance", DISTANCE_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
+        let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
+            gpu.texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let depth = target(
+            "camera depth",
+            wgpu::TextureFormat::Depth32Float,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let distance = target(
+            "ray distance",
+            DISTANCE_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        );
         let depth_view = depth.create_view(&Default::default());
         let distance_view = distance.create_view(&Default::default());
-        gpu.queue.write_buffer(&medium, 0, bytemuck::bytes_of(&MediumUniform::new(&scene.medium())));
+        gpu.queue.write_buffer(
+            &medium,
+            0,
+            bytemuck::bytes_of(&MediumUniform::new(&scene.medium())),
+        );
         Ok(SceneRenderer {
             scene,
             gpu_scene,
@@ -158,14 +230,22 @@ impl SceneRenderer {
 
     /// Writes this frame's camera, lights, object transforms and shadow faces.
     pub fn update(&mut self, gpu: &Gpu, frame: &FrameState) {
-        gpu.queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&CameraUniform::new(&frame.camera, self.width, self.height)));
+        gpu.queue.write_buffer(
+            &self.camera,
+            0,
+            bytemuck::bytes_of(&CameraUniform::new(&frame.camera, self.width, self.height)),
+        );
         self.gpu_scene.update(gpu, &self.scene, frame);
         self.shadows.update(gpu, &self.scene, frame);
-        let mut lu = LightsUniform { count: [frame.lights.len() as u32, 0, 0, 0], lights: [bytemuck::Zeroable::zeroed(); MAX_LIGHTS] };
+        let mut lu = LightsUniform {
+            count: [frame.lights.len() as u32, 0, 0, 0],
+            lights: [bytemuck::Zeroable::zeroed(); MAX_LIGHTS],
+        };
         for (k, l) in frame.lights.iter().enumerate().take(MAX_LIGHTS) {
             lu.lights[k] = LightUniform::new(l, self.patterns.layers[k], self.shadows.slots.get(k));
         }
-        gpu.queue.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lu));
+        gpu.queue
+            .write_buffer(&self.lights, 0, bytemuck::bytes_of(&lu));
     }
 
     /// The shadow-map passes, or their skip record.
@@ -179,21 +259,45 @@ impl SceneRenderer {
     }
 
     /// The surface pass: writes `targets.surface` and the ray-distance texture.
-    pub fn encode_surface(&self, enc: &mut wgpu::CommandEncoder, targets: &Targets, report: &mut FrameReport) {
+    pub fn encode_surface(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        report: &mut FrameReport,
+    ) {
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("surface"),
             color_attachments: &[
-                Some(wgpu::RenderPassColorAttachment { view: targets.surface, depth_slice: None, resolve_target: None, ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store } }),
+                Some(wgpu::RenderPassColorAttachment {
+                    view: targets.surface,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
                 Some(wgpu::RenderPassColorAttachment {
                     view: &self.distance_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: -1.0, g: 0.0, b: 0.0, a: 0.0 }), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: -1.0,
+                            g: 0.0,
+                            b: 0.0,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
                 }),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             ..Default::default()

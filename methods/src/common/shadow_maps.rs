@@ -8,7 +8,7 @@ use glam::{Mat4, Vec3};
 use harness::{FrameReport, Gpu};
 use scenes::{FrameState, LightState, Scene};
 
-use super::gpu_scene::{GpuScene, Vertex};
+use super::gpu_scene::{GpuScene, mesh_pipeline};
 use super::uniforms::ShadowSlot;
 use super::wgsl;
 
@@ -40,21 +40,45 @@ pub struct ShadowMaps {
 impl ShadowMaps {
     /// Allocates maps for `lights` (6 layers for local lights, 1 for directional), `size`² each;
     /// `enabled = false` allocates a single 1×1 layer that nothing samples.
-    pub fn new(gpu: &Gpu, lights: &[LightState], size: u32, enabled: bool, scene_gpu: &GpuScene) -> ShadowMaps {
+    pub fn new(
+        gpu: &Gpu,
+        lights: &[LightState],
+        size: u32,
+        enabled: bool,
+        scene_gpu: &GpuScene,
+    ) -> ShadowMaps {
         let mut slots = Vec::new();
         let mut layers = 0u32;
         for l in lights {
-            let faces = if matches!(l, LightState::Directional { .. }) { 1 } else { 6 };
-            slots.push(ShadowSlot { layer_base: layers, faces, size, bias: 1.5, clip_from_world: [Mat4::IDENTITY; 6] });
+            let faces = if matches!(l, LightState::Directional { .. }) {
+                1
+            } else {
+                6
+            };
+            slots.push(ShadowSlot {
+                layer_base: layers,
+                faces,
+                size,
+                bias: 1.5,
+                clip_from_world: [Mat4::IDENTITY; 6],
+            });
             layers += faces;
         }
-        let (size, layers) = if enabled && layers > 0 { (size, layers) } else { (1, 1) };
+        let (size, layers) = if enabled && layers > 0 {
+            (size, layers)
+        } else {
+            (1, 1)
+        };
         if !enabled {
             slots.clear();
         }
         let texture = gpu.texture(&wgpu::TextureDescriptor {
             label: Some("shadow maps"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -62,13 +86,27 @@ impl ShadowMaps {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
         let layer_views = (0..layers)
-            .map(|k| texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2), base_array_layer: k, array_layer_count: Some(1), ..Default::default() }))
+            .map(|k| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: k,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
             .collect();
         let depth = gpu.texture(&wgpu::TextureDescriptor {
             label: Some("shadow depth"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -77,55 +115,83 @@ impl ShadowMaps {
             view_formats: &[],
         });
         let depth_view = depth.create_view(&Default::default());
-        let faces = gpu.buffer(&wgpu::BufferDescriptor { label: Some("shadow faces"), size: FACE_STRIDE * layers as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shadow pass"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: true, min_binding_size: None },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None },
-                    count: None,
-                },
-            ],
+        let faces = gpu.buffer(&wgpu::BufferDescriptor {
+            label: Some("shadow faces"),
+            size: FACE_STRIDE * layers as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("shadow pass"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: true,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: true },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                ],
+            });
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow pass"),
             layout: &layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &faces, offset: 0, size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64) }),
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &faces,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64),
+                    }),
                 },
-                wgpu::BindGroupEntry { binding: 1, resource: scene_gpu.objects.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: scene_gpu.objects.as_entire_binding(),
+                },
             ],
         });
         let module = wgsl::module(&gpu.device, "shadow map", &shader_source());
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("shadow map"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow map"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(Vertex::LAYOUT)] },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: &[Some(FORMAT.into())] }),
-            multiview_mask: None,
-            cache: None,
-        });
-        ShadowMaps { size, texture, view, layer_views, depth_view, faces, pipeline, bind_group, slots }
+        let pl = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow map"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let pipeline = mesh_pipeline(
+            &gpu.device,
+            "shadow map",
+            &pl,
+            &module,
+            &[Some(FORMAT.into())],
+        );
+        ShadowMaps {
+            size,
+            texture,
+            view,
+            layer_views,
+            depth_view,
+            faces,
+            pipeline,
+            bind_group,
+            slots,
+        }
     }
 
     /// Places this frame's faces: cube faces around local lights, an orthographic box around
@@ -146,7 +212,14 @@ impl ShadowMaps {
                     let eye = centre - dir * (2.0 * radius);
                     let view = glam::camera::rh::view::look_to_mat4(eye, dir, up);
                     // Depth is stored as dot(x, dir); the ortho box only selects the texel.
-                    let proj = glam::camera::rh::proj::directx::orthographic(-radius, radius, -radius, radius, 0.0, 4.0 * radius);
+                    let proj = glam::camera::rh::proj::directx::orthographic(
+                        -radius,
+                        radius,
+                        -radius,
+                        radius,
+                        0.0,
+                        4.0 * radius,
+                    );
                     slot.bias = 1.5 * 2.0 * radius / slot.size as f32;
                     (vec![proj * view], dir.extend(1.0).to_array())
                 }
@@ -154,24 +227,50 @@ impl ShadowMaps {
                     let p = light.position().expect("local light");
                     let far = (p - centre).length() + radius + 1.0;
                     let near = (1e-4 * far).max(1e-4);
-                    let proj = glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, near, far);
-                    let dirs = [(Vec3::X, -Vec3::Y), (-Vec3::X, -Vec3::Y), (Vec3::Y, Vec3::Z), (-Vec3::Y, -Vec3::Z), (Vec3::Z, -Vec3::Y), (-Vec3::Z, -Vec3::Y)];
+                    let proj = glam::camera::rh::proj::directx::perspective(
+                        std::f32::consts::FRAC_PI_2,
+                        1.0,
+                        near,
+                        far,
+                    );
+                    let dirs = [
+                        (Vec3::X, -Vec3::Y),
+                        (-Vec3::X, -Vec3::Y),
+                        (Vec3::Y, Vec3::Z),
+                        (-Vec3::Y, -Vec3::Z),
+                        (Vec3::Z, -Vec3::Y),
+                        (-Vec3::Z, -Vec3::Y),
+                    ];
                     slot.bias = 1.5;
-                    (dirs.iter().map(|(d, u)| proj * glam::camera::rh::view::look_to_mat4(p, *d, *u)).collect(), p.extend(0.0).to_array())
+                    (
+                        dirs.iter()
+                            .map(|(d, u)| proj * glam::camera::rh::view::look_to_mat4(p, *d, *u))
+                            .collect(),
+                        p.extend(0.0).to_array(),
+                    )
                 }
             };
             for (k, m) in mats.iter().enumerate() {
                 slot.clip_from_world[k] = *m;
-                let u = FaceUniform { clip_from_world: m.to_cols_array_2d(), light: light_v };
+                let u = FaceUniform {
+                    clip_from_world: m.to_cols_array_2d(),
+                    light: light_v,
+                };
                 let off = (slot.layer_base as usize + k) * FACE_STRIDE as usize;
-                data[off..off + std::mem::size_of::<FaceUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
+                data[off..off + std::mem::size_of::<FaceUniform>()]
+                    .copy_from_slice(bytemuck::bytes_of(&u));
             }
         }
         gpu.queue.write_buffer(&self.faces, 0, &data);
     }
 
     /// Renders every face (casters only).
-    pub fn encode(&self, enc: &mut wgpu::CommandEncoder, scene_gpu: &GpuScene, report: &mut FrameReport) {
+    pub fn encode(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        scene_gpu: &GpuScene,
+        report: &mut FrameReport,
+    ) {
         for slot in &self.slots {
             for k in 0..slot.faces {
                 let layer = slot.layer_base + k;
@@ -181,11 +280,22 @@ impl ShadowMaps {
                         view: &self.layer_views[layer as usize],
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 1e30, g: 0.0, b: 0.0, a: 0.0 }), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: 1e30,
+                                g: 0.0,
+                                b: 0.0,
+                                a: 0.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &self.depth_view,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Discard,
+                        }),
                         stencil_ops: None,
                     }),
                     ..Default::default()
@@ -207,14 +317,23 @@ impl ShadowMaps {
 pub fn caster_bounds(scene: &Scene, frame: &FrameState) -> (Vec3, Vec3) {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for ((mesh, obj), m) in scene.meshes.iter().zip(&scene.desc.objects).zip(&frame.world_from_local) {
+    for ((mesh, obj), m) in scene
+        .meshes
+        .iter()
+        .zip(&scene.desc.objects)
+        .zip(&frame.world_from_local)
+    {
         if obj.casts_volumetric_shadow {
             let (a, b) = mesh.bounds(m);
             lo = lo.min(a);
             hi = hi.max(b);
         }
     }
-    if lo.x > hi.x { (-Vec3::ONE, Vec3::ONE) } else { (lo, hi) }
+    if lo.x > hi.x {
+        (-Vec3::ONE, Vec3::ONE)
+    } else {
+        (lo, hi)
+    }
 }
 
 pub fn shader_source() -> String {

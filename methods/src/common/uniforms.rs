@@ -30,7 +30,12 @@ impl CameraUniform {
             world_from_clip: world_from_clip.to_cols_array_2d(),
             position: cam.position.extend(cam.near).to_array(),
             forward: fwd.extend(cam.far).to_array(),
-            viewport: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
+            viewport: [
+                width as f32,
+                height as f32,
+                1.0 / width as f32,
+                1.0 / height as f32,
+            ],
         }
     }
 }
@@ -88,11 +93,25 @@ impl LightUniform {
     /// `pattern_layer`: the light's layer in the pattern texture, if it has a pattern.
     pub fn new(l: &LightState, pattern_layer: Option<u32>, shadow: Option<&ShadowSlot>) -> Self {
         let (kind, pos, dir, ci, co, tan_o, intensity) = match l {
-            LightState::Point { position, intensity } => (0.0, *position, Vec3::Z, 1.0, 1.0, 0.0, *intensity),
-            LightState::Spot { position, direction, cos_inner, cos_outer, tan_outer, intensity, .. } => {
-                (1.0, *position, *direction, *cos_inner, *cos_outer, *tan_outer, *intensity)
-            }
-            LightState::Directional { direction, irradiance } => (2.0, Vec3::ZERO, *direction, 1.0, 1.0, 0.0, *irradiance),
+            LightState::Point {
+                position,
+                intensity,
+            } => (0.0, *position, Vec3::Z, 1.0, 1.0, 0.0, *intensity),
+            LightState::Spot {
+                position,
+                direction,
+                cos_inner,
+                cos_outer,
+                tan_outer,
+                intensity,
+                ..
+            } => (
+                1.0, *position, *direction, *cos_inner, *cos_outer, *tan_outer, *intensity,
+            ),
+            LightState::Directional {
+                direction,
+                irradiance,
+            } => (2.0, Vec3::ZERO, *direction, 1.0, 1.0, 0.0, *irradiance),
         };
         let (right, up) = spot_frame(dir.as_dvec3());
         let mut faces = [[[0.0; 4]; 4]; 6];
@@ -110,7 +129,10 @@ impl LightUniform {
             direction: dir.extend(ci).to_array(),
             intensity: intensity.extend(co).to_array(),
             right: right.as_vec3().extend(tan_o).to_array(),
-            up: up.as_vec3().extend(pattern_layer.map_or(-1.0, |p| p as f32)).to_array(),
+            up: up
+                .as_vec3()
+                .extend(pattern_layer.map_or(-1.0, |p| p as f32))
+                .to_array(),
             shadow: shadow_v,
             faces,
         }

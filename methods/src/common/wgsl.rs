@@ -17,7 +17,8 @@ pub const PRELUDE: &[&str] = &[CAMERA, MEDIUM, LIGHTS, SHADOW, SCENE, FRAME_BIND
 
 /// Concatenates shared modules and a method's own source.
 pub fn compose(shared: &[&str], own: &str) -> String {
-    let mut s = String::with_capacity(shared.iter().map(|m| m.len() + 1).sum::<usize>() + own.len());
+    let mut s =
+        String::with_capacity(shared.iter().map(|m| m.len() + 1).sum::<usize>() + own.len());
     for m in shared {
         s.push_str(m);
         s.push('\n');
@@ -28,5 +29,8 @@ pub fn compose(shared: &[&str], own: &str) -> String {
 
 /// Creates a shader module from composed source.
 pub fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
-    device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.into()) })
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
 }

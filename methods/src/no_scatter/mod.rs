@@ -22,7 +22,11 @@ pub struct NoScatter {
 
 impl Method for NoScatter {
     fn info(&self) -> MethodInfo {
-        MethodInfo { id: "no-scatter", paper: "baseline (fixed-function fog: attenuation only)", summary: "Attenuated surfaces, no in-scattering" }
+        MethodInfo {
+            id: "no-scatter",
+            paper: "baseline (fixed-function fog: attenuation only)",
+            summary: "Attenuated surfaces, no in-scattering",
+        }
     }
 
     fn params(&self) -> Vec<ParamSpec> {
@@ -43,15 +47,29 @@ impl Method for NoScatter {
     }
 
     fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
-        let size = ctx.params.get("shadow_map").and_then(ParamValue::as_i64).unwrap_or(1024).clamp(16, 8192) as u32;
+        let size = ctx
+            .params
+            .get("shadow_map")
+            .and_then(ParamValue::as_i64)
+            .unwrap_or(1024)
+            .clamp(16, 8192) as u32;
         let renderer = SceneRenderer::new(ctx, size, 256)?;
         let resolve = ResolvePass::new(ctx.gpu, &renderer, "fog resolve", RESOLVE_WGSL, None);
         self.state = Some((renderer, resolve));
         Ok(())
     }
 
-    fn render(&mut self, gpu: &Gpu, frame: &FrameState, targets: &Targets, enc: &mut wgpu::CommandEncoder) -> Result<FrameReport> {
-        let (renderer, resolve) = self.state.as_mut().ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let (renderer, resolve) = self
+            .state
+            .as_mut()
+            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
         let mut report = FrameReport::default();
         renderer.update(gpu, frame);
         renderer.encode_shadows(enc, &mut report);

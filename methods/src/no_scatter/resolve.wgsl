@@ -12,8 +12,7 @@ struct Out {
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
-    let hit = textureLoad(ray_distance, px, 0).r;
-    let d = select(camera_far_distance(camera, dir), hit, hit >= 0.0);
+    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
     let ambient = medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, d));
     return Out(vec4<f32>(0.0, 0.0, 0.0, 1.0), vec4<f32>(textureLoad(surface, px, 0).rgb + ambient, 1.0));
 }

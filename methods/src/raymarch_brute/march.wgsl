@@ -49,8 +49,7 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
-    let hit = textureLoad(ray_distance, px, 0).r;
-    let d = select(camera_far_distance(camera, dir), hit, hit >= 0.0);
+    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
     let n = max(march.config.x, 1u);
     let dt = d / f32(n);
     let offset = select(0.5, hash01(vec2<u32>(px), march.config.z), march.config.y != 0u);

@@ -74,8 +74,20 @@ impl Method for RaymarchBrute {
                 choices: vec![],
                 meaning: "shadow-map resolution per face, texels",
             },
-            ParamSpec { name: "jitter", default: ParamValue::Bool(false), sweep: vec![ParamValue::Bool(true)], choices: vec![], meaning: "per-pixel random step offset instead of midpoints" },
-            ParamSpec { name: "pattern_res", default: ParamValue::Int(512), sweep: vec![], choices: vec![], meaning: "spot pattern texture resolution, texels" },
+            ParamSpec {
+                name: "jitter",
+                default: ParamValue::Bool(false),
+                sweep: vec![ParamValue::Bool(true)],
+                choices: vec![],
+                meaning: "per-pixel random step offset instead of midpoints",
+            },
+            ParamSpec {
+                name: "pattern_res",
+                default: ParamValue::Int(512),
+                sweep: vec![],
+                choices: vec![],
+                meaning: "spot pattern texture resolution, texels",
+            },
         ]
     }
 
@@ -92,25 +104,62 @@ impl Method for RaymarchBrute {
     fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
         let get = |k: &str| ctx.params.get(k).and_then(ParamValue::as_i64).unwrap_or(0);
         let steps = get("steps").clamp(1, 1 << 16) as u32;
-        let jitter = ctx.params.get("jitter").and_then(ParamValue::as_bool).unwrap_or(false);
-        let renderer = SceneRenderer::new(ctx, get("shadow_map").clamp(16, 8192) as u32, get("pattern_res").clamp(1, 8192) as u32)?;
-        let march = ResolvePass::new(ctx.gpu, &renderer, "march", MARCH_WGSL, Some(std::mem::size_of::<MarchUniform>() as u64));
-        self.state = Some(State { renderer, march, steps, jitter });
+        let jitter = ctx
+            .params
+            .get("jitter")
+            .and_then(ParamValue::as_bool)
+            .unwrap_or(false);
+        let renderer = SceneRenderer::new(
+            ctx,
+            get("shadow_map").clamp(16, 8192) as u32,
+            get("pattern_res").clamp(1, 8192) as u32,
+        )?;
+        let march = ResolvePass::new(
+            ctx.gpu,
+            &renderer,
+            "march",
+            MARCH_WGSL,
+            Some(std::mem::size_of::<MarchUniform>() as u64),
+        );
+        self.state = Some(State {
+            renderer,
+            march,
+            steps,
+            jitter,
+        });
         Ok(())
     }
 
-    fn render(&mut self, gpu: &Gpu, frame: &FrameState, targets: &Targets, enc: &mut wgpu::CommandEncoder) -> Result<FrameReport> {
-        let st = self.state.as_mut().ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let st = self
+            .state
+            .as_mut()
+            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
         let mut report = FrameReport::default();
         st.renderer.update(gpu, frame);
         if let Some(u) = &st.march.uniform {
-            gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&MarchUniform { config: [st.steps, st.jitter as u32, frame.index, 0] }));
+            gpu.queue.write_buffer(
+                u,
+                0,
+                bytemuck::bytes_of(&MarchUniform {
+                    config: [st.steps, st.jitter as u32, frame.index, 0],
+                }),
+            );
         }
         st.renderer.encode_shadows(enc, &mut report);
         st.renderer.encode_surface(enc, targets, &mut report);
         st.march.encode(gpu, enc, &st.renderer, targets);
         report.ran("march");
-        report.count("steps", (st.steps as u64 * targets.width as u64 * targets.height as u64) as f64);
+        report.count(
+            "steps",
+            (st.steps as u64 * targets.width as u64 * targets.height as u64) as f64,
+        );
         Ok(report)
     }
 }

@@ -22,3 +22,9 @@ fn camera_ray_dir(cam: Camera, frag: vec2<f32>) -> vec3<f32> {
 fn camera_far_distance(cam: Camera, dir: vec3<f32>) -> f32 {
     return cam.forward.w / dot(dir, cam.forward.xyz);
 }
+
+// Length of the camera ray along `dir` given the surface pass's distance (−1 where the ray hit
+// nothing: then the ray ends at the far plane).
+fn camera_ray_length(cam: Camera, dir: vec3<f32>, hit: f32) -> f32 {
+    return select(camera_far_distance(cam, dir), hit, hit >= 0.0);
+}
