@@ -119,7 +119,7 @@ fn rasterised_distance_matches_reference_hits() {
     let aovs = harness::runner::AovTargets::new(&gpu, w, h);
     harness::runner::render_frame(&gpu, &mut m, &scene, 0, &aovs, None).unwrap();
     // The method's distance texture is private; read it through the renderer it exposes.
-    let dist = read_r32f(&gpu, m.distance_texture().unwrap());
+    let dist = harness::gpu::read_r32f(&gpu, m.distance_texture().unwrap()).unwrap();
     let rays = scene.frame(0).camera.rays(w, h);
     let (mut agree, mut total) = (0, 0);
     for j in 0..h {
@@ -145,44 +145,6 @@ fn rasterised_distance_matches_reference_hits() {
         agree as f64 >= 0.995 * total as f64,
         "{agree} of {total} pixels agree"
     );
-}
-
-fn read_r32f(gpu: &Gpu, tex: &wgpu::Texture) -> Vec<f32> {
-    let (w, h) = (tex.width(), tex.height());
-    let padded = (w * 4).div_ceil(256) * 256;
-    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (padded * h) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    enc.copy_texture_to_buffer(
-        tex.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buf,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
-    gpu.queue.submit([enc.finish()]);
-    let data = harness::gpu::map_read(gpu, &buf).unwrap();
-    let mut out = Vec::new();
-    for row in 0..h as usize {
-        for c in data[row * padded as usize..row * padded as usize + w as usize * 4].chunks_exact(4)
-        {
-            out.push(f32::from_le_bytes([c[0], c[1], c[2], c[3]]));
-        }
-    }
-    out
 }
 
 /// A test-only method that panics in render, and one that outputs NaN.

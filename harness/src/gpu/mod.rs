@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
-pub use readback::{map_read, read_rgba32f};
+pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use timer::GpuTimer;
 
 /// What adapter a result was measured on (DESIGN §4: every record carries the machine).

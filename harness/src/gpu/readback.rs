@@ -1,12 +1,27 @@
-//! Copies an Rgba32Float texture back to the CPU.
+//! Copies float textures (Rgba32Float, R32Float) back to the CPU.
 
 use super::Gpu;
 use crate::image::Image;
 
 /// Reads a 2-D Rgba32Float texture (mip 0, layer 0) into an image, top row first.
 pub fn read_rgba32f(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Image, String> {
+    let floats = read_floats(gpu, texture, 4)?;
+    Ok(Image::from_rgba_f32(
+        texture.width(),
+        texture.height(),
+        &floats,
+    ))
+}
+
+/// Reads a 2-D R32Float texture (mip 0, layer 0), row-major, top row first.
+pub fn read_r32f(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>, String> {
+    read_floats(gpu, texture, 1)
+}
+
+/// The f32 texels of a texture with `channels` f32 channels, rows unpadded.
+fn read_floats(gpu: &Gpu, texture: &wgpu::Texture, channels: u32) -> Result<Vec<f32>, String> {
     let (w, h) = (texture.width(), texture.height());
-    let unpadded = w * 16;
+    let unpadded = w * 4 * channels;
     let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let padded = unpadded.div_ceil(align) * align;
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -43,7 +58,7 @@ pub fn read_rgba32f(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Image, String>
     );
     gpu.queue.submit([enc.finish()]);
     let data = map_read(gpu, &buffer)?;
-    let mut floats = Vec::with_capacity((w * h * 4) as usize);
+    let mut floats = Vec::with_capacity((w * h * channels) as usize);
     for row in 0..h as usize {
         let bytes = &data[row * padded as usize..row * padded as usize + unpadded as usize];
         floats.extend(
@@ -52,7 +67,7 @@ pub fn read_rgba32f(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Image, String>
                 .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
         );
     }
-    Ok(Image::from_rgba_f32(w, h, &floats))
+    Ok(floats)
 }
 
 /// Waits for the queue, maps a MAP_READ buffer and returns a copy of its bytes (unmapped again).
