@@ -10,7 +10,7 @@ use super::{ReferenceImages, ReferenceStats, Settings};
 use crate::image::{Image, io};
 
 /// Bump when the reference's output changes for the same inputs.
-pub const REFERENCE_VERSION: u32 = 1;
+pub const REFERENCE_VERSION: u32 = 2;
 
 pub fn key(
     scene: &scenes::Scene,
