@@ -1,0 +1,239 @@
+//! The numbers the report draws conclusions from: which time a record is compared on, the
+//! time-vs-error Pareto front, and the cheapest configuration under an error budget.
+//!
+//! These are plain functions on plain data so they can be tested with hand-made points;
+//! the page and the plots only display what they return.
+
+use harness::results::{Record, Status};
+
+/// Error budgets of the "cheapest method under an error budget" table, as in-scatter
+/// relative RMSE (0.01 = 1 %).
+pub const BUDGETS: [f64; 3] = [0.01, 0.05, 0.10];
+
+/// Which per-frame time a scene's records are compared on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeBasis {
+    /// Median GPU time from timestamp queries (every ok record of the scene has it).
+    Gpu,
+    /// Median wall time of encode + submit + wait (some record lacks GPU timestamps).
+    Wall,
+}
+
+impl TimeBasis {
+    /// GPU time when every ok record has it, else wall time, so one scene never mixes the two.
+    pub fn for_records<'a>(records: impl IntoIterator<Item = &'a Record>) -> TimeBasis {
+        let all_gpu = records
+            .into_iter()
+            .filter(|r| r.status == Status::Ok)
+            .all(|r| r.timing.as_ref().is_some_and(|t| t.gpu_ms.is_some()));
+        if all_gpu {
+            TimeBasis::Gpu
+        } else {
+            TimeBasis::Wall
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            TimeBasis::Gpu => "GPU time per frame, median (ms)",
+            TimeBasis::Wall => "wall time per frame, median (ms)",
+        }
+    }
+
+    /// The record's median frame time in ms on this basis, if it was timed.
+    pub fn time_ms(self, r: &Record) -> Option<f64> {
+        let t = r.timing.as_ref()?;
+        match self {
+            TimeBasis::Gpu => t.gpu_ms.map(|g| g.median),
+            TimeBasis::Wall => Some(t.wall_ms.median),
+        }
+    }
+}
+
+/// In-scatter relative RMSE of a record, if it was scored.
+pub fn inscatter_error(r: &Record) -> Option<f64> {
+    r.errors.get("inscatter").map(|m| m.rel_rmse)
+}
+
+/// One configuration's cost and error; `index` points back into the caller's list.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point {
+    pub index: usize,
+    /// Frame time (ms).
+    pub time: f64,
+    /// In-scatter relative RMSE.
+    pub error: f64,
+}
+
+/// The (time, error) point of every ok record with finite time and error, indexed into
+/// `records`. Skipped and failed records have no meaningful cost or error and are left out.
+pub fn points(records: &[&Record], basis: TimeBasis) -> Vec<Point> {
+    records
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.status == Status::Ok)
+        .filter_map(|(index, r)| {
+            let time = basis.time_ms(r)?;
+            let error = inscatter_error(r)?;
+            (time.is_finite() && error.is_finite()).then_some(Point { index, time, error })
+        })
+        .collect()
+}
+
+/// The Pareto front of `points` (minimising both time and error), sorted by increasing time
+/// (and so by decreasing error). A point is on the front when no other point is at least
+/// as good in both and strictly better in one. Of exact duplicates only the first is kept,
+/// so the front has no repeated positions. Non-finite points are ignored.
+pub fn pareto_front(points: &[Point]) -> Vec<Point> {
+    let mut sorted: Vec<Point> = points
+        .iter()
+        .copied()
+        .filter(|p| p.time.is_finite() && p.error.is_finite())
+        .collect();
+    // By time, then by error, then by input order (stable), so the sweep below sees the
+    // cheapest of equally fast points first.
+    sorted.sort_by(|a, b| a.time.total_cmp(&b.time).then(a.error.total_cmp(&b.error)));
+    let mut front: Vec<Point> = Vec::new();
+    for p in sorted {
+        // Everything before `p` is at most as fast; `p` survives only if it is strictly
+        // more accurate than the best of them (equally fast points arrive most accurate
+        // first, so a later one with the same time never gets in).
+        if front.last().is_none_or(|best| p.error < best.error) {
+            front.push(p);
+        }
+    }
+    front
+}
+
+/// The fastest point whose error is within `budget` (ties on time go to the lower error,
+/// then to the earlier point); `None` when no point meets it.
+pub fn cheapest_under_budget(points: &[Point], budget: f64) -> Option<Point> {
+    points
+        .iter()
+        .copied()
+        .filter(|p| p.error <= budget && p.time.is_finite())
+        .min_by(|a, b| {
+            a.time
+                .total_cmp(&b.time)
+                .then(a.error.total_cmp(&b.error))
+                .then(a.index.cmp(&b.index))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pts(v: &[(f64, f64)]) -> Vec<Point> {
+        v.iter()
+            .enumerate()
+            .map(|(index, &(time, error))| Point { index, time, error })
+            .collect()
+    }
+
+    fn indices(v: &[Point]) -> Vec<usize> {
+        v.iter().map(|p| p.index).collect()
+    }
+
+    /// Brute force: a point is on the front iff nothing dominates it.
+    fn dominated(p: &Point, all: &[Point]) -> bool {
+        all.iter().any(|q| {
+            q.time <= p.time && q.error <= p.error && (q.time < p.time || q.error < p.error)
+        })
+    }
+
+    #[test]
+    fn front_of_a_hand_made_set() {
+        // 0 (1, 0.5) fast and rough; 1 (2, 0.6) is slower AND worse than 0 → dominated;
+        // 2 (3, 0.1) on the front; 3 (3, 0.2) ties 2 on time but is worse → dominated;
+        // 4 (10, 0.01) on the front; 5 (20, 0.01) same error, slower → dominated;
+        // 6 (0.5, 2.0) the fastest → on the front.
+        let p = pts(&[
+            (1.0, 0.5),
+            (2.0, 0.6),
+            (3.0, 0.1),
+            (3.0, 0.2),
+            (10.0, 0.01),
+            (20.0, 0.01),
+            (0.5, 2.0),
+        ]);
+        let front = pareto_front(&p);
+        assert_eq!(indices(&front), vec![6, 0, 2, 4]);
+        // Agrees with the brute-force definition.
+        let expected: Vec<usize> = p
+            .iter()
+            .filter(|q| !dominated(q, &p))
+            .map(|q| q.index)
+            .collect();
+        let mut got = indices(&front);
+        got.sort();
+        assert_eq!(got, expected);
+        // Sorted by time, errors strictly decreasing.
+        for w in front.windows(2) {
+            assert!(w[0].time < w[1].time && w[0].error > w[1].error);
+        }
+    }
+
+    #[test]
+    fn front_matches_brute_force_on_a_grid() {
+        // A deterministic scatter (LCG) with many ties, compared with the O(n²) definition.
+        let mut s: u64 = 12345;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 33) % 8) as f64 + 1.0
+        };
+        let raw: Vec<(f64, f64)> = (0..200).map(|_| (next(), next())).collect();
+        let p = pts(&raw);
+        let front = pareto_front(&p);
+        for q in &p {
+            let on = front.iter().any(|f| f.time == q.time && f.error == q.error);
+            assert_eq!(on, !dominated(q, &p), "point {q:?}");
+        }
+        // No duplicate positions.
+        for (i, a) in front.iter().enumerate() {
+            for b in &front[i + 1..] {
+                assert!(a.time != b.time || a.error != b.error);
+            }
+        }
+    }
+
+    #[test]
+    fn front_ignores_non_finite_and_handles_empty() {
+        assert!(pareto_front(&[]).is_empty());
+        let p = pts(&[(f64::NAN, 0.1), (1.0, f64::INFINITY), (2.0, 0.3)]);
+        assert_eq!(indices(&pareto_front(&p)), vec![2]);
+    }
+
+    #[test]
+    fn cheapest_under_each_budget() {
+        let p = pts(&[
+            (1.0, 0.5),   // never within budget
+            (4.0, 0.08),  // cheapest under 10 %
+            (6.0, 0.04),  // cheapest under 5 %
+            (5.0, 0.09),  // within 10 % but slower than index 1
+            (30.0, 0.01), // exactly at 1 %: counts
+            (50.0, 0.005),
+        ]);
+        let pick = |b| cheapest_under_budget(&p, b).map(|q| q.index);
+        assert_eq!(pick(0.10), Some(1));
+        assert_eq!(pick(0.05), Some(2));
+        assert_eq!(pick(0.01), Some(4));
+        assert_eq!(pick(0.001), None);
+        assert_eq!(cheapest_under_budget(&[], 1.0), None);
+        // The answer is always a front point (nothing faster is also within budget).
+        let front = pareto_front(&p);
+        for b in BUDGETS {
+            if let Some(c) = cheapest_under_budget(&p, b) {
+                assert!(front.iter().any(|f| f.index == c.index), "budget {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn cheapest_breaks_time_ties_by_error() {
+        let p = pts(&[(2.0, 0.04), (2.0, 0.02)]);
+        assert_eq!(cheapest_under_budget(&p, 0.05).map(|q| q.index), Some(1));
+    }
+}

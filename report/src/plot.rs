@@ -1,0 +1,303 @@
+//! Time-vs-error Pareto plots (log-log), drawn with plotters to PNG and SVG.
+//!
+//! One colour per method: every configuration of its sweep is a marker and the method's
+//! own Pareto front is a line through its best trade-offs; the scene's overall front is a
+//! dashed black line. Text uses the bundled DejaVu Sans (fonts/), registered once with
+//! plotters' ab_glyph backend, so the PNG looks the same on every machine and needs no
+//! system fonts.
+
+use std::path::Path;
+use std::sync::Once;
+
+use anyhow::{Result, anyhow};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::analysis::{Point, pareto_front};
+
+static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
+const FAMILY: &str = "sans-serif";
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bundled file is a valid TTF; failing here would be a packaging bug, and the
+        // plot then reports a font error rather than panicking.
+        let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);
+    });
+}
+
+/// A method's points, in any order.
+pub struct Series<'a> {
+    pub name: &'a str,
+    pub points: Vec<Point>,
+}
+
+/// Tableau-10: distinguishable, colour-blind tolerant for the first few series.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+pub const SIZE: (u32, u32) = (720, 480);
+
+/// A log axis range covering `values` (all > 0), padded by a factor on each side so markers
+/// are not clipped; a single value gets a decade around it.
+fn log_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !lo.is_finite() {
+        return None;
+    }
+    Some((lo / 1.5, hi * 1.5))
+}
+
+/// Draws the plot to `png` and `svg`. Points with non-positive time or error cannot sit on a
+/// log axis and are left out; returns how many were left out.
+pub fn pareto(
+    title: &str,
+    x_label: &str,
+    series: &[Series],
+    png: &Path,
+    svg: &Path,
+) -> Result<usize> {
+    register_font();
+    let positive = |p: &&Point| p.time > 0.0 && p.error > 0.0;
+    let shown: Vec<Series> = series
+        .iter()
+        .map(|s| Series {
+            name: s.name,
+            points: s.points.iter().filter(positive).copied().collect(),
+        })
+        .collect();
+    let total: usize = series.iter().map(|s| s.points.len()).sum();
+    let kept: usize = shown.iter().map(|s| s.points.len()).sum();
+    {
+        let root = BitMapBackend::new(png, SIZE).into_drawing_area();
+        draw(root, title, x_label, &shown)
+            .map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
+    }
+    {
+        let root = SVGBackend::new(svg, SIZE).into_drawing_area();
+        draw(root, title, x_label, &shown)
+            .map_err(|e| anyhow!("drawing {}: {e}", svg.display()))?;
+    }
+    Ok(total - kept)
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    series: &[Series],
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let all = || series.iter().flat_map(|s| s.points.iter());
+    let (Some(x), Some(y)) = (
+        log_range(all().map(|p| p.time)),
+        log_range(all().map(|p| p.error)),
+    ) else {
+        root.draw(&Text::new(
+            "no timed, scored record to plot",
+            (20, 40),
+            (FAMILY, 16).into_font(),
+        ))?;
+        root.present()?;
+        return Ok(());
+    };
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FAMILY, 18))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        // plotters' own log key points start at the first power of ten inside the range, so
+        // a range within one decade would get no labels; give it 1-2-5 ticks instead.
+        .build_cartesian_2d(
+            (x.0..x.1)
+                .log_scale()
+                .with_key_points(log_ticks(x.0, x.1))
+                .with_light_points(log_minor(x.0, x.1)),
+            (y.0..y.1)
+                .log_scale()
+                .with_key_points(log_ticks(y.0, y.1))
+                .with_light_points(log_minor(y.0, y.1)),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc("in-scatter relative RMSE")
+        .label_style((FAMILY, 13))
+        .axis_desc_style((FAMILY, 14))
+        .x_label_formatter(&|v| fmt_tick(*v))
+        .y_label_formatter(&|v| fmt_tick(*v))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+
+    // Colours follow the method's position in the list so they stay stable across scenes;
+    // methods without a plottable point get no legend entry.
+    for (i, s) in series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.points.is_empty())
+    {
+        let color = PALETTE[i % PALETTE.len()];
+        let own_front: Vec<(f64, f64)> = pareto_front(&s.points)
+            .iter()
+            .map(|p| (p.time, p.error))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(own_front, color.stroke_width(2)))?
+            .label(s.name)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+            });
+        chart.draw_series(
+            s.points
+                .iter()
+                .map(|p| Circle::new((p.time, p.error), 4, color.filled())),
+        )?;
+    }
+    // The scene's overall front, over all methods.
+    let everything: Vec<Point> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .collect();
+    let front: Vec<(f64, f64)> = pareto_front(&everything)
+        .iter()
+        .map(|p| (p.time, p.error))
+        .collect();
+    chart
+        .draw_series(DashedLineSeries::new(
+            front.clone(),
+            6,
+            4,
+            BLACK.stroke_width(1),
+        ))?
+        .label("Pareto front (all methods)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(1)));
+    chart.draw_series(
+        front
+            .iter()
+            .map(|&(t, e)| Circle::new((t, e), 7, BLACK.stroke_width(1))),
+    )?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .label_font((FAMILY, 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// Tick values for a log axis over `[lo, hi]` (0 < lo < hi): 1-2-5 per decade when the range
+/// spans at most three decades, else powers of ten (every k-th one to stay under ~10 labels).
+pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let decades = d1 - d0;
+    let mantissas: &[f64] = if decades <= 3 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0]
+    };
+    let step = (decades / 10 + 1).max(1);
+    let mut out = Vec::new();
+    for d in (d0..=d1).filter(|d| (d - d0) % step == 0) {
+        for m in mantissas {
+            let v = m * 10f64.powi(d);
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+    }
+    out
+}
+
+/// Minor grid lines: 1..9 × every power of ten inside `[lo, hi]`.
+fn log_minor(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (d0..=d1)
+        .flat_map(|d| (1..10).map(move |m| m as f64 * 10f64.powi(d)))
+        .filter(|v| *v >= lo && *v <= hi)
+        .collect()
+}
+
+/// Tick labels: plain decimals in the usual range, scientific notation outside it.
+fn fmt_tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e4).contains(&a) {
+        format!("{v:.0e}")
+    } else if a >= 10.0 {
+        format!("{v:.0}")
+    } else if a >= 1.0 {
+        format!("{v:.1}")
+    } else {
+        // Enough digits to keep one significant figure.
+        let digits = (-a.log10()).ceil() as usize;
+        format!("{v:.digits$}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_range_pads_and_ignores_non_positive() {
+        let (lo, hi) = log_range([0.0, -1.0, 2.0, 8.0, f64::NAN].into_iter()).unwrap();
+        assert!((lo - 2.0 / 1.5).abs() < 1e-12 && (hi - 12.0).abs() < 1e-12);
+        assert!(log_range([0.0, -2.0].into_iter()).is_none());
+    }
+
+    #[test]
+    fn log_ticks_label_every_range() {
+        // Within one decade: 1-2-5 values inside, never empty.
+        assert_eq!(log_ticks(12.0, 90.0), vec![20.0, 50.0]);
+        let t = log_ticks(9.0, 870.0);
+        assert_eq!(t, vec![10.0, 20.0, 50.0, 100.0, 200.0, 500.0]);
+        // Many decades: powers of ten only.
+        let t = log_ticks(3e-4, 4.0);
+        assert_eq!(t.len(), 4);
+        assert!(
+            t.iter()
+                .zip([1e-3, 1e-2, 1e-1, 1.0])
+                .all(|(a, b)| (a / b - 1.0).abs() < 1e-12)
+        );
+        // Twenty decades: thinned to at most ~11 labels.
+        assert!(log_ticks(1e-10, 1e10).len() <= 11);
+        assert!(log_ticks(0.0, 1.0).is_empty() && log_ticks(2.0, 1.0).is_empty());
+        assert_eq!(log_minor(15.0, 45.0), vec![20.0, 30.0, 40.0]);
+    }
+
+    #[test]
+    fn tick_labels_keep_a_significant_digit() {
+        assert_eq!(fmt_tick(0.05), "0.05");
+        assert_eq!(fmt_tick(0.2), "0.2");
+        assert_eq!(fmt_tick(3.0), "3.0");
+        assert_eq!(fmt_tick(20.0), "20");
+        assert_eq!(fmt_tick(1e-5), "1e-5");
+    }
+}

@@ -1,0 +1,357 @@
+//! The report built from a committed synthetic run (tests/fixtures/results.json + images the
+//! fixture generates): every record is on the page, every link resolves to a file, the page
+//! and the SVG plots are well-formed XML, nothing is loaded from the network, and the
+//! budget table agrees with answers worked out by hand from the fixture's numbers.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use harness::results::{Results, Status};
+
+const FIXTURE: &str = include_str!("fixtures/results.json");
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scatterbench-report-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn build(name: &str) -> (PathBuf, Results, String) {
+    let dir = tmp(name);
+    let results = report::fixture::write(&dir, FIXTURE).expect("fixture");
+    let index = report::generate(&dir).expect("report");
+    assert_eq!(index, dir.join("report").join("index.html"));
+    let html = std::fs::read_to_string(&index).unwrap();
+    (dir, results, html)
+}
+
+/// Parses strictly as XML; the DOCTYPE is the only DTD allowed.
+fn parse(html: &str) -> roxmltree::Document<'_> {
+    let opt = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    roxmltree::Document::parse_with_options(html, opt).expect("index.html is well-formed XML")
+}
+
+/// Every `src` attribute on the page.
+fn srcs(doc: &roxmltree::Document) -> Vec<String> {
+    doc.descendants()
+        .filter_map(|n| n.attribute("src").map(String::from))
+        .collect()
+}
+
+/// Text content of a node and its descendants.
+fn text(n: roxmltree::Node) -> String {
+    n.descendants()
+        .filter(|d| d.is_text())
+        .filter_map(|d| d.text())
+        .collect()
+}
+
+fn has_class(n: &roxmltree::Node, class: &str) -> bool {
+    n.attribute("class")
+        .is_some_and(|c| c.split_whitespace().any(|x| x == class))
+}
+
+/// Undoes the report's percent-encoding of link paths.
+fn percent_decode(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' && i + 2 < b.len() {
+            let hex = std::str::from_utf8(&b[i + 1..i + 3]).unwrap();
+            out.push(u8::from_str_radix(hex, 16).unwrap());
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).unwrap()
+}
+
+#[test]
+fn page_is_well_formed_and_has_every_record() {
+    let (dir, results, html) = build("records");
+    let doc = parse(&html);
+
+    // One row per record, in the table of its own scene, naming method, params and status.
+    let rows: Vec<roxmltree::Node> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && has_class(n, "record"))
+        .collect();
+    assert_eq!(rows.len(), results.records.len());
+    for r in &results.records {
+        let section = doc
+            .descendants()
+            .find(|n| {
+                n.has_tag_name("section")
+                    && n.attribute("id") == Some(&report::view::anchor(&r.scene))
+            })
+            .unwrap_or_else(|| panic!("no section for scene {}", r.scene));
+        let params = report::view::params_text(r);
+        let status = report::view::status_text(r.status);
+        let found = section
+            .descendants()
+            .filter(|n| n.has_tag_name("tr") && has_class(n, "record"))
+            .any(|row| {
+                let cells: Vec<String> = row
+                    .children()
+                    .filter(|c| c.has_tag_name("td"))
+                    .map(text)
+                    .collect();
+                cells[0].trim_end_matches(" ★") == r.method
+                    && cells[1].starts_with(&params)
+                    && cells[9] == status
+                    && cells[10] == r.reason.clone().unwrap_or_default()
+            });
+        assert!(found, "record {} not in the table of {}", r.key(), r.scene);
+    }
+    // Skipped and failed reasons are shown verbatim (escaped, so "<x>" survives as text).
+    assert!(html.contains("needs closed shadow casters"));
+    assert!(html.contains("12 non-finite pixels"));
+    assert!(text(doc.root()).contains("mode=a&b <x>"));
+
+    // Summary matrix: one row per method, one cell per scene.
+    let matrix = doc
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "matrix"))
+        .unwrap();
+    let methods: HashSet<&str> = results.records.iter().map(|r| r.method.as_str()).collect();
+    let body_rows: Vec<_> = matrix
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .collect();
+    assert_eq!(body_rows.len(), methods.len());
+    for row in body_rows {
+        assert_eq!(row.children().filter(|c| c.has_tag_name("td")).count(), 2);
+    }
+
+    // Machine and run info.
+    for s in [
+        "Synthetic <test> adapter",
+        "Test CPU",
+        "Fixture OS",
+        "0123456789ab",
+        "fixture-2026-01-01T00-00-00Z",
+    ] {
+        assert!(text(doc.root()).contains(s), "missing {s}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn every_link_resolves_and_nothing_is_remote() {
+    let (dir, results, html) = build("links");
+    let doc = parse(&html);
+    let report_dir = dir.join("report");
+    let mut checked = 0;
+    let mut images = 0;
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        for attr in ["src", "href"] {
+            let Some(v) = n.attribute(attr) else { continue };
+            assert!(
+                !v.contains("://") && !v.starts_with("//"),
+                "remote resource {v}"
+            );
+            if let Some(id) = v.strip_prefix('#') {
+                assert!(
+                    doc.descendants().any(|m| m.attribute("id") == Some(id)),
+                    "dangling anchor {v}"
+                );
+                continue;
+            }
+            let target = report_dir.join(percent_decode(v));
+            assert!(
+                target.is_file(),
+                "{attr}={v} → {} does not exist",
+                target.display()
+            );
+            checked += 1;
+            images += usize::from(n.has_tag_name("img"));
+        }
+    }
+    // 3 reference AOVs per scene, 5 images per record that wrote any, a colour bar per
+    // scale, a plot per scene.
+    let scenes: HashSet<&str> = results.records.iter().map(|r| r.scene.as_str()).collect();
+    let with_images = results
+        .records
+        .iter()
+        .filter(|r| !r.images.is_empty())
+        .count();
+    assert_eq!(
+        images,
+        3 * scenes.len() + 5 * with_images + 2 * scenes.len() + scenes.len()
+    );
+    assert!(checked > images, "PNG/SVG download links are checked too");
+    // The path with a space and an ampersand was linked (percent-encoded), not reported missing.
+    assert!(
+        srcs(&doc)
+            .iter()
+            .any(|s| s.ends_with("/mode%20a%26b/inscatter.png"))
+    );
+    assert!(!doc.descendants().any(|n| has_class(&n, "missing")));
+    // The plots are real files: well-formed SVG, PNG with the signature.
+    for s in &scenes {
+        let stem = report_dir.join("plots").join(report::view::anchor(s));
+        let svg = std::fs::read_to_string(stem.with_extension("pareto.svg")).unwrap();
+        let svg_doc = roxmltree::Document::parse(&svg).expect("SVG is well-formed");
+        assert_eq!(svg_doc.root_element().tag_name().name(), "svg");
+        let png = std::fs::read(stem.with_extension("pareto.png")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    }
+    // No script or stylesheet comes from elsewhere.
+    assert!(!doc.descendants().any(
+        |n| (n.has_tag_name("script") && n.attribute("src").is_some())
+            || (n.has_tag_name("link") && n.attribute("rel") == Some("stylesheet"))
+    ));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn missing_images_are_shown_as_missing_not_linked() {
+    let dir = tmp("missing");
+    let results = report::fixture::write(&dir, FIXTURE).unwrap();
+    let r = results
+        .records
+        .iter()
+        .find(|r| r.status == Status::Ok)
+        .unwrap();
+    let gone = &r.images["inscatter_png"];
+    std::fs::remove_file(dir.join(gone)).unwrap();
+    let html = std::fs::read_to_string(report::generate(&dir).unwrap()).unwrap();
+    let doc = parse(&html);
+    assert!(
+        !srcs(&doc).iter().any(|s| s == &format!("../{gone}")),
+        "a missing file is linked"
+    );
+    let shown = doc
+        .descendants()
+        .filter(|n| has_class(n, "missing"))
+        .map(text)
+        .collect::<Vec<_>>();
+    assert_eq!(shown.len(), 1, "{shown:?}");
+    assert!(
+        shown[0].contains(gone.as_str()),
+        "the missing path is not shown: {shown:?}"
+    );
+    // The other images of that record are still linked.
+    assert!(
+        srcs(&doc)
+            .iter()
+            .any(|s| s == &format!("../{}", r.images["total_png"]))
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Cheapest configuration under each budget, worked out by hand from the fixture:
+/// sphere-point (GPU times): ≤1 % only raymarch steps=256 (0.008 at 22 ms); ≤5 % epipolar
+/// lines=256 (0.03 at 4.5 ms) beats raymarch steps=64 (0.04 at 6 ms); ≤10 % epipolar
+/// lines=64 (0.06 at 3 ms). clear-fog has no GPU times, so wall times: the failed no-scatter
+/// record is excluded; ≤1 % nothing; ≤5 % and ≤10 % raymarch steps=64 (0.02 at 7 ms).
+#[test]
+fn budget_tables_match_hand_worked_answers() {
+    let (dir, _, html) = build("budget");
+    let doc = parse(&html);
+    let table = |scene: &str| -> Vec<Vec<String>> {
+        let section = doc
+            .descendants()
+            .find(|n| n.attribute("id") == Some(&report::view::anchor(scene)))
+            .unwrap();
+        let t = section
+            .descendants()
+            .find(|n| n.has_tag_name("table") && has_class(n, "budget"))
+            .unwrap();
+        t.descendants()
+            .filter(|n| n.has_tag_name("tr"))
+            .skip(1)
+            .map(|row| {
+                row.children()
+                    .filter(|c| c.has_tag_name("td"))
+                    .map(text)
+                    .collect()
+            })
+            .collect()
+    };
+    let sp = table("sphere-point");
+    assert_eq!(sp.len(), 3);
+    assert_eq!(
+        (sp[0][1].as_str(), sp[0][2].as_str()),
+        ("raymarch-brute", "steps=256")
+    );
+    assert_eq!(
+        (sp[1][1].as_str(), sp[1][2].as_str()),
+        ("epipolar", "lines=256")
+    );
+    assert_eq!(
+        (sp[2][1].as_str(), sp[2][2].as_str()),
+        ("epipolar", "lines=64")
+    );
+    assert!(sp[1][3].starts_with("4.50 ms (GPU)"), "{:?}", sp[1]);
+    let cf = table("clear-fog");
+    assert!(cf[0][1].contains("no configuration"), "{:?}", cf[0]);
+    assert_eq!(
+        (cf[1][1].as_str(), cf[1][2].as_str()),
+        ("raymarch-brute", "steps=64")
+    );
+    assert_eq!(
+        (cf[2][1].as_str(), cf[2][2].as_str()),
+        ("raymarch-brute", "steps=64")
+    );
+    assert!(cf[2][3].starts_with("7.00 ms (wall)"), "{:?}", cf[2]);
+    // Pareto stars in sphere-point: no-scatter (0.5 ms), raymarch 16 (1.8), epipolar 64 (3.0),
+    // epipolar 256 (4.5), raymarch 256 (22); raymarch 64 (6 ms, 0.04) is dominated by
+    // epipolar 256 (4.5 ms, 0.03).
+    let section = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("scene-sphere-point"))
+        .unwrap();
+    let mut starred: Vec<String> = section
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && has_class(n, "front"))
+        .map(|row| {
+            let c: Vec<String> = row
+                .children()
+                .filter(|c| c.has_tag_name("td"))
+                .map(text)
+                .collect();
+            format!("{} {}", c[0].trim_end_matches(" ★"), c[1])
+        })
+        .collect();
+    starred.sort();
+    assert_eq!(
+        starred,
+        [
+            "epipolar lines=256",
+            "epipolar lines=64",
+            "no-scatter (none)",
+            "raymarch-brute steps=16",
+            "raymarch-brute steps=256"
+        ]
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn bad_run_directories_are_clear_errors() {
+    let dir = tmp("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let e = report::generate(&dir).unwrap_err().to_string();
+    assert!(e.contains("has no results.json"), "{e}");
+    std::fs::write(
+        dir.join("results.json"),
+        "{\"schema_version\": 1, \"run\": 3}",
+    )
+    .unwrap();
+    let e = format!("{:#}", report::generate(&dir).unwrap_err());
+    assert!(
+        e.contains("results.json") && e.contains("not a scatterbench results file"),
+        "{e}"
+    );
+    let missing = Path::new("/nonexistent/scatterbench/run");
+    assert!(report::generate(missing).is_err());
+    let _ = std::fs::remove_dir_all(dir);
+}
