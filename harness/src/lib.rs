@@ -8,6 +8,7 @@ pub mod method;
 pub mod reference;
 pub mod results;
 pub mod runner;
+pub mod stress;
 
 pub use gpu::Gpu;
 pub use method::{

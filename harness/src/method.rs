@@ -184,6 +184,15 @@ pub trait Method {
         targets: &Targets,
         encoder: &mut wgpu::CommandEncoder,
     ) -> anyhow::Result<FrameReport>;
+
+    /// The error this method promises on a `scatterbench stress` case (case names in
+    /// `harness::stress::CASES`): a bound on the relative RMSE (RMSE / mean of the reference) of
+    /// the `total` AOV at the method's default parameters. `None` (the default): only the
+    /// no-panic, no-wgpu-error and no-non-finite-pixel criteria apply to that case.
+    fn stress_bound(&self, case: &str) -> Option<f64> {
+        let _ = case;
+        None
+    }
 }
 
 /// A registry entry: the id and a constructor.

@@ -27,6 +27,34 @@ impl Problem {
 /// The most triangles a procedural parameter may ask for (a typo guard, not a limit on OBJ files).
 const MAX_SEGMENTS: u32 = 4096;
 const MAX_FRAMES: u32 = 100_000;
+/// The most triangles one procedural shape may have: parameters each within range can still
+/// multiply to billions (a spring of 1000 turns × 4096 × 4096), which must be refused, not
+/// allocated (found by `tests/fuzz.rs`).
+const MAX_TRIANGLES: u64 = 1 << 25;
+
+/// An upper bound on the triangles a procedural shape builds (None: an OBJ file).
+fn triangle_estimate(s: &Shape) -> Option<u64> {
+    let n = |x: u32| x as u64;
+    Some(match s {
+        Shape::Plane { .. } => 2,
+        Shape::Box { .. } => 12,
+        Shape::Sphere { segments, rings, .. } => 2 * n(*segments) * n(*rings),
+        Shape::Cylinder { segments, .. } => 4 * n(*segments),
+        Shape::Torus { segments, sides, .. } => 2 * n(*segments) * n(*sides),
+        Shape::Spring {
+            turns,
+            segments_per_turn,
+            sides,
+            ..
+        } => {
+            let rows = (turns.max(0.0).min(1e6) as f64 * *segments_per_turn as f64).ceil() as u64 + 1;
+            2 * rows * n(*sides) + 2 * n(*sides)
+        }
+        Shape::Pencil { .. } => 64,
+        Shape::Fence { posts, rails, .. } => 12 * (n(*posts) + n(*rails)),
+        Shape::Obj { .. } => return None,
+    })
+}
 
 struct Checker {
     out: Vec<Problem>,
@@ -302,6 +330,14 @@ fn transform(c: &mut Checker, p: &str, t: &Transform) {
 
 fn shape(c: &mut Checker, p: &str, s: &Shape, base: &Path) {
     let f = |name: &str| format!("{p}.{name}");
+    if let Some(t) = triangle_estimate(s)
+        && t > MAX_TRIANGLES
+    {
+        c.push(
+            p,
+            format!("would have about {t} triangles; a procedural shape may have at most {MAX_TRIANGLES}"),
+        );
+    }
     match s {
         Shape::Plane { size } => {
             c.positive(&f("size[0]"), size[0]);

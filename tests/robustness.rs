@@ -1,0 +1,276 @@
+//! Robustness from the outside: the CLI under SIGKILL and `--resume`, unwritable output,
+//! unknown names; the reference cache with a corrupt entry; methods that raise a wgpu
+//! validation error or lose the device are recorded as failed and the run goes on.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use harness::method::{Entry, FrameReport, Method, MethodInfo, ParamSpec, PrepareContext, Support, Targets};
+use harness::reference::{self, Settings, cache};
+use harness::results::{Results, Status};
+use harness::stress::{self, StressConfig};
+use harness::Gpu;
+use scenes::{FrameState, SceneFeatures};
+
+const BIN: &str = env!("CARGO_BIN_EXE_scatterbench");
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scatterbench-robust-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn have_gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => Some(g),
+        Err(e) if std::env::var_os("CI").is_some() => panic!("CI is set and there is no GPU adapter: {e}"),
+        Err(e) => {
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}
+
+fn cli(args: &[&str]) -> (i32, String) {
+    let o = Command::new(BIN).args(args).env("NODEVICE_SELECT", "1").output().unwrap();
+    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+/// Kills `scatterbench run` with SIGKILL once results.json holds a finished record: the file
+/// left behind is a valid results file with every record finished so far, and `--resume`
+/// completes the run, keeping those records as they were.
+#[test]
+fn sigkill_mid_run_leaves_valid_results_and_resume_completes_them() {
+    if have_gpu().is_none() {
+        return;
+    }
+    let out = tmp("kill");
+    let cache = tmp("kill-cache");
+    let args = |resume: bool| {
+        let mut a = vec![
+            "run", "--scenes", "clear-fog,sphere-point,fence-spot", "--methods", "no-scatter,raymarch-brute",
+            "--res", "32", "--frames", "2", "--warmup", "0",
+            "--out", out.to_str().unwrap(), "--cache", cache.to_str().unwrap(),
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+        if resume {
+            a.push("--resume".into());
+        }
+        a
+    };
+    let mut child = Command::new(BIN)
+        .args(args(false))
+        .env("NODEVICE_SELECT", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let path = out.join("results.json");
+    let start = Instant::now();
+    let killed_at = loop {
+        if let Ok(r) = Results::load(&path)
+            && !r.records.is_empty()
+        {
+            child.kill().unwrap(); // SIGKILL on Unix
+            break r.records.len();
+        }
+        if let Some(st) = child.try_wait().unwrap() {
+            panic!("the run ended ({st}) before it could be killed");
+        }
+        assert!(start.elapsed() < Duration::from_secs(300), "no record after 300 s");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    child.wait().unwrap();
+    let after_kill = Results::load(&path).expect("results.json is valid after SIGKILL");
+    assert!(after_kill.records.len() >= killed_at);
+    assert!(after_kill.records.len() < 6, "the kill came too late to test resume");
+    let (code, err) = cli(&args(true).iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    let done = Results::load(&path).unwrap();
+    assert_eq!(done.records.len(), 6, "3 scenes × 2 methods");
+    assert_eq!(&done.records[..after_kill.records.len()], &after_kill.records[..], "finished records kept");
+    let mut keys: Vec<String> = done.records.iter().map(|r| r.key()).collect();
+    keys.sort();
+    keys.dedup();
+    assert_eq!(keys.len(), 6, "no record twice");
+    assert!(done.records.iter().all(|r| r.status == Status::Ok), "{:?}", done.records);
+}
+
+#[test]
+fn an_unwritable_output_directory_is_a_clear_error() {
+    if have_gpu().is_none() {
+        return;
+    }
+    // A directory under a regular file cannot be created, even by root.
+    let dir = tmp("unwritable");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let out = file.join("out");
+    for cmd in ["run", "stress"] {
+        let mut args = vec![cmd, "--methods", "no-scatter", "--res", "16", "--out", out.to_str().unwrap()];
+        if cmd == "run" {
+            args.extend(["--scenes", "clear-fog", "--frames", "1", "--warmup", "0"]);
+        } else {
+            args.extend(["--cases", "sigma-t-1e-6"]);
+        }
+        let (code, err) = cli(&args);
+        assert_eq!(code, 1, "{cmd}: {err}");
+        assert!(err.contains("cannot create the output directory"), "{cmd}: {err}");
+        assert!(!err.contains("panicked"), "{cmd}: {err}");
+    }
+}
+
+#[test]
+fn unknown_names_are_refused_with_the_valid_ones() {
+    let (code, err) = cli(&["run", "--scenes", "no-such-scene", "--methods", "no-scatter"]);
+    assert_eq!(code, 1);
+    for name in scenes::library::names() {
+        assert!(err.contains(name), "{err}");
+    }
+    for (cmd, extra) in [("run", ["--scenes", "clear-fog"]), ("stress", ["--cases", "all"])] {
+        let (code, err) = cli(&[cmd, "--methods", "no-such-method", extra[0], extra[1]]);
+        assert_eq!(code, 1, "{cmd}");
+        for e in methods::REGISTRY {
+            assert!(err.contains(e.id), "{cmd}: {err}");
+        }
+    }
+    let (code, err) = cli(&["stress", "--cases", "no-such-case"]);
+    assert_eq!(code, 1);
+    for c in stress::names() {
+        assert!(err.contains(c), "{err}");
+    }
+    let (code, err) = cli(&["reference", "--scene", "no-such-scene"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("sphere-point"), "{err}");
+}
+
+fn truncate(p: &Path) {
+    let bytes = std::fs::read(p).unwrap();
+    std::fs::write(p, &bytes[..bytes.len() / 2]).unwrap();
+}
+
+/// A cached reference whose EXR was truncated is not trusted: it is recomputed, the images
+/// equal a fresh render, and the entry is whole again afterwards.
+#[test]
+fn a_corrupt_cache_entry_is_recomputed_not_trusted() {
+    let scene = scenes::library::resolve("sphere-point").unwrap();
+    let dir = tmp("cache");
+    let (w, h, s) = (24, 16, Settings::default());
+    let (first, cached) = cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
+    assert!(!cached);
+    let (_, cached) = cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
+    assert!(cached, "a whole entry is used");
+    let key = cache::key(&scene, 0, w, h, &s);
+    for file in ["inscatter.exr", "total.exr", "distance.exr"] {
+        truncate(&dir.join(&key).join(file));
+        assert!(cache::load(&dir, &key).is_none(), "{file} truncated but the entry loads");
+        let (again, cached) = cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
+        assert!(!cached, "{file} truncated but the entry was trusted");
+        let fresh = reference::render(&scene, 0, w, h, s, &|_| {}).unwrap();
+        for (a, b) in [(&again.inscatter, &fresh.inscatter), (&again.total, &fresh.total), (&again.surface, &fresh.surface)] {
+            assert_eq!(a.pixels, b.pixels);
+        }
+        assert_eq!(again.total.pixels, first.total.pixels);
+        assert!(cache::load(&dir, &key).is_some(), "the entry is rewritten whole");
+    }
+    // Garbage in stats.json: not trusted either.
+    std::fs::write(dir.join(&key).join("stats.json"), "{not json").unwrap();
+    assert!(cache::load(&dir, &key).is_none());
+}
+
+/// Test-only methods: one whose render encodes a render pass with mismatched attachment sizes
+/// (a wgpu validation error), one that destroys the device.
+struct Faulty {
+    lose_device: bool,
+}
+
+impl Method for Faulty {
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            id: if self.lose_device { "test-device-lost" } else { "test-validation" },
+            paper: "test",
+            summary: "fails on purpose",
+        }
+    }
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![]
+    }
+    fn support(&self, _: &SceneFeatures, _: wgpu::Features) -> Support {
+        Support::Full
+    }
+    fn prepare(&mut self, _: &PrepareContext) -> anyhow::Result<()> {
+        Ok(())
+    }
+    fn render(&mut self, gpu: &Gpu, _: &FrameState, t: &Targets, enc: &mut wgpu::CommandEncoder) -> anyhow::Result<FrameReport> {
+        if self.lose_device {
+            gpu.device.destroy();
+            return Ok(FrameReport::default());
+        }
+        let small = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("mismatched"),
+            size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: harness::method::AOV_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let small = small.create_view(&Default::default());
+        let att = |v| {
+            Some(wgpu::RenderPassColorAttachment {
+                view: v,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            })
+        };
+        let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("mismatched attachments"),
+            color_attachments: &[att(t.inscatter), att(&small)],
+            ..Default::default()
+        });
+        Ok(FrameReport::default())
+    }
+}
+
+const VALIDATION: Entry = Entry { id: "test-validation", make: || Box::new(Faulty { lose_device: false }) };
+const DEVICE_LOST: Entry = Entry { id: "test-device-lost", make: || Box::new(Faulty { lose_device: true }) };
+
+/// A wgpu validation error and a lost device are each recorded as failed with the message, and
+/// the run goes on: the next method's record (on a fresh device after the loss) is ok.
+#[test]
+fn validation_errors_and_device_loss_are_recorded_as_failed() {
+    let Some(mut gpu) = have_gpu() else { return };
+    let out = tmp("faulty");
+    let cfg = StressConfig {
+        out_dir: out.clone(),
+        width: 16,
+        height: 16,
+        cases: vec![stress::find("sigma-t-1e-6").unwrap()],
+        triangles: 1000,
+        resume: false,
+        reference: Settings::default(),
+        cache_dir: None,
+        run_id: "test".into(),
+    };
+    let no_scatter = methods::find("no-scatter").unwrap();
+    let r = stress::run(&mut gpu, &[&VALIDATION, no_scatter, &DEVICE_LOST, no_scatter], &cfg, &mut |_| {}).unwrap();
+    // no-scatter twice is one record (the second is the resumed first): 3 records.
+    let by = |id: &str| r.records.iter().find(|x| x.method == id).unwrap();
+    let v = by("test-validation");
+    assert_eq!(v.status, Status::Failed);
+    assert!(v.reason.as_deref().unwrap().contains("Validation"), "{:?}", v.reason);
+    let l = by("test-device-lost");
+    assert_eq!(l.status, Status::Failed);
+    assert!(l.reason.as_deref().unwrap().to_lowercase().contains("lost"), "{:?}", l.reason);
+    assert_eq!(by("no-scatter").status, Status::Ok);
+    // The run goes on after the loss, on a working device.
+    let again = stress::run(&mut gpu, &[no_scatter], &StressConfig { out_dir: tmp("faulty2"), ..cfg }, &mut |_| {}).unwrap();
+    assert_eq!(again.records[0].status, Status::Ok, "{:?}", again.records[0].reason);
+    assert_eq!(Results::load(&out.join("results.json")).unwrap(), r);
+}
