@@ -1,0 +1,38 @@
+// Dobashi, Yamamoto & Nishita (2000), eq. 5: I_s ≈ Σ_k I(θ_k, φ_k) ξ(t_k) H(t_k) Δt. The smooth
+// factor ξ is evaluated on the planes' lattice (or per fragment), the light map I(θ, φ) and the
+// visibility H per fragment. Shared by the plane, resolve and probe passes. Needs PRELUDE.
+
+struct Planes {
+    // x: planes n; y: lattice points per row (nu); z: per column (nv);
+    // w: flags (FLAG_JITTER | FLAG_XI_FRAGMENT | FLAG_CLIP_LAST)
+    config: vec4<u32>,
+    // x: frame index (jitter seed); yzw: unused
+    frame: vec4<u32>,
+    // x: accumulation scale s (the target holds s·L_in; 1 for float targets); yzw: unused
+    scale: vec4<f32>,
+};
+
+const FLAG_JITTER: u32 = 1u;
+const FLAG_XI_FRAGMENT: u32 = 2u;
+const FLAG_CLIP_LAST: u32 = 4u;
+
+// ξ of light k at world point x, distance t from the eye along the unit ray `dir` (eye → x):
+// σ_s p(α) e^(−σt (t + r)) / r² for point and spot lights (eq. 5), σ_s p(α) e^(−σt t) for a
+// parallel light, whose light leg is not attenuated (DESIGN §1).
+fn xi(k: u32, x: vec3<f32>, dir: vec3<f32>, t: f32) -> vec3<f32> {
+    if (light_kind(k) == LIGHT_DIRECTIONAL) {
+        let l = lights.lights[k].direction.xyz;
+        return medium.sigma_s.rgb * phase(medium, dot(l, -dir)) * transmittance(medium, t);
+    }
+    let w = x - lights.lights[k].position.xyz;
+    let r2 = max(dot(w, w), 1e-12);
+    let r = sqrt(r2);
+    return medium.sigma_s.rgb * phase(medium, dot(w / r, -dir)) * transmittance(medium, t + r) / r2;
+}
+
+// The light map: I(θ, φ) of light k toward world point x, W/sr (the irradiance E for a parallel
+// light). For a spot, the pattern texture is projected from the light onto the plane — projective
+// texturing with slide coordinates ((w·right)/(w·axis), (w·up)/(w·axis)) — times the cone falloff.
+fn light_map(k: u32, x: vec3<f32>) -> vec3<f32> {
+    return light_intensity(k, x - lights.lights[k].position.xyz);
+}
