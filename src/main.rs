@@ -49,8 +49,16 @@ enum Command {
         #[arg(long, default_value_t = 4)]
         convergence_stride: u32,
     },
+    /// Write RUN_DIR/report/index.html (images, tables, Pareto plots) from RUN_DIR/results.json.
+    Report {
+        /// A directory written by `scatterbench run` (holds results.json).
+        run_dir: PathBuf,
+    },
     #[command(flatten)]
     Bench(cmd::run::BenchCommand),
+    /// Robustness suite: extreme but valid scenes × every method (no panic, no wgpu error, no
+    /// non-finite pixel, error within the method's declared bound, or a clean "unsupported").
+    Stress(cmd::stress::StressArgs),
 }
 
 fn main() -> ExitCode {
@@ -65,7 +73,9 @@ fn main() -> ExitCode {
             out,
             convergence_stride,
         } => cmd::reference::run(&scene, &res, frame, out, convergence_stride),
+        Command::Report { run_dir } => cmd::report::run(&run_dir),
         Command::Bench(b) => cmd::run::dispatch(b),
+        Command::Stress(a) => cmd::stress::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -2,8 +2,10 @@
 //! pieces in `common/`, and the registry — an explicit list in a stable order.
 
 pub mod common;
+pub mod dobashi_virtual_planes;
 pub mod no_scatter;
 pub mod raymarch_brute;
+pub mod wyman_hybrid;
 
 use harness::method::Entry;
 
@@ -12,6 +14,14 @@ pub const REGISTRY: &[Entry] = &[
     Entry {
         id: "raymarch-brute",
         make: || Box::new(raymarch_brute::RaymarchBrute::default()),
+    },
+    Entry {
+        id: "dobashi-virtual-planes",
+        make: || Box::new(dobashi_virtual_planes::DobashiVirtualPlanes::default()),
+    },
+    Entry {
+        id: "wyman-hybrid",
+        make: || Box::new(wyman_hybrid::WymanHybrid::default()),
     },
     Entry {
         id: "no-scatter",
@@ -33,6 +43,15 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             "raymarch-brute/march",
             common::resolve::source(raymarch_brute::MARCH_WGSL),
         ),
+        ("wyman-hybrid/volumes", wyman_hybrid::volumes_source()),
+        (
+            "wyman-hybrid/hybrid",
+            common::resolve::source(wyman_hybrid::HYBRID_WGSL),
+        ),
+        ("dobashi-virtual-planes/planes", dobashi_virtual_planes::planes_source()),
+        ("dobashi-virtual-planes/far", dobashi_virtual_planes::far_source()),
+        ("dobashi-virtual-planes/resolve", dobashi_virtual_planes::resolve_source()),
+        ("dobashi-virtual-planes/probe", dobashi_virtual_planes::probe_source()),
         (
             "no-scatter/resolve",
             common::resolve::source(no_scatter::RESOLVE_WGSL),

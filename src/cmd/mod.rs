@@ -1,6 +1,8 @@
 pub mod list;
 pub mod reference;
+pub mod report;
 pub mod run;
+pub mod stress;
 pub mod validate;
 
 use anyhow::{Result, bail};

@@ -189,6 +189,12 @@ pub fn run(a: RunArgs) -> Result<()> {
         counts[Status::Failed as usize],
         out.join("results.json").display()
     );
+    // The report is a view of results.json, which is already written: a report problem
+    // must not turn a finished run into a failed one.
+    match report::generate(&out) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
+    }
     Ok(())
 }
 

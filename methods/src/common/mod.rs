@@ -6,5 +6,6 @@ pub mod patterns;
 pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;
+pub mod silhouette;
 pub mod uniforms;
 pub mod wgsl;

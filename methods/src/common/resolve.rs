@@ -1,6 +1,7 @@
 //! A full-screen pass that reads the ray-distance texture and the `surface` AOV (group 1,
-//! bindings 0 and 1, plus an optional uniform at binding 2) and writes `inscatter` and `total`.
-//! The last pass of every method built on [`SceneRenderer`].
+//! bindings 0 and 1, plus an optional uniform at binding 2 and `extra_textures` more unfilterable
+//! 2-D textures at bindings 3, 4, …) and writes `inscatter` and `total`. The last pass of every
+//! method built on [`SceneRenderer`].
 
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
@@ -10,9 +11,12 @@ use super::wgsl;
 
 pub struct ResolvePass {
     label: &'static str,
-    pipeline: wgpu::RenderPipeline,
+    /// One pipeline, or (per-light mode) one per light slot with the `LIGHT` override set.
+    pipelines: Vec<wgpu::RenderPipeline>,
+    per_light: bool,
     layout: wgpu::BindGroupLayout,
     pub uniform: Option<wgpu::Buffer>,
+    extra_textures: u32,
 }
 
 impl ResolvePass {
@@ -23,6 +27,46 @@ impl ResolvePass {
         label: &'static str,
         own: &str,
         uniform_size: Option<u64>,
+    ) -> ResolvePass {
+        Self::build(gpu, renderer, label, own, uniform_size, 0, false)
+    }
+
+    /// Per-light mode: the shader declares `override LIGHT: u32;` and handles that one light;
+    /// one pipeline per light slot, drawn in turn with additive blending (the pipeline for light 0
+    /// also adds the surface and ambient terms). For shaders whose loop over lights would be too
+    /// much for a driver's compiler, and to let the light index be a compile-time constant.
+    pub fn per_light(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        label: &'static str,
+        own: &str,
+        uniform_size: Option<u64>,
+        extra_textures: u32,
+    ) -> ResolvePass {
+        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, true)
+    }
+
+    /// Like [`ResolvePass::new`], with `extra_textures` more texture bindings (3, 4, …), bound
+    /// with [`ResolvePass::encode_with`].
+    pub fn with_textures(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        label: &'static str,
+        own: &str,
+        uniform_size: Option<u64>,
+        extra_textures: u32,
+    ) -> ResolvePass {
+        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, false)
+    }
+
+    fn build(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        label: &'static str,
+        own: &str,
+        uniform_size: Option<u64>,
+        extra_textures: u32,
+        per_light: bool,
     ) -> ResolvePass {
         let tex = |binding| wgpu::BindGroupLayoutEntry {
             binding,
@@ -47,6 +91,7 @@ impl ResolvePass {
                 count: None,
             });
         }
+        entries.extend((0..extra_textures).map(|k| tex(3 + k)));
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -69,34 +114,36 @@ impl ResolvePass {
                 bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
                 immediate_size: 0,
             });
-        let pipeline = gpu
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(AOV_FORMAT.into()), Some(AOV_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+        let additive = wgpu::BlendState {
+            color: wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add },
+            alpha: wgpu::BlendComponent::REPLACE,
+        };
+        let target = wgpu::ColorTargetState { format: AOV_FORMAT, blend: per_light.then_some(additive), write_mask: wgpu::ColorWrites::ALL };
+        let slots = if per_light { super::uniforms::MAX_LIGHTS } else { 1 };
+        let pipelines = (0..slots)
+            .map(|k| {
+                let constants = [("LIGHT", k as f64)];
+                let options = wgpu::PipelineCompilationOptions { constants: if per_light { &constants } else { &[] }, zero_initialize_workgroup_memory: true };
+                gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&pl),
+                    vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_fullscreen"), compilation_options: Default::default(), buffers: &[] },
+                    primitive: Default::default(),
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: options, targets: &[Some(target.clone()), Some(target.clone())] }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })
+            .collect();
         ResolvePass {
             label,
-            pipeline,
+            pipelines,
+            per_light,
             layout,
             uniform,
+            extra_textures,
         }
     }
 
@@ -107,6 +154,19 @@ impl ResolvePass {
         renderer: &SceneRenderer,
         targets: &Targets,
     ) {
+        self.encode_with(gpu, enc, renderer, targets, &[]);
+    }
+
+    /// Encodes the pass with `extra` bound at bindings 3, 4, … (as many as declared).
+    pub fn encode_with(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        targets: &Targets,
+        extra: &[&wgpu::TextureView],
+    ) {
+        assert_eq!(extra.len() as u32, self.extra_textures, "{}: texture count", self.label);
         // The harness owns the AOV textures, so the group that reads `surface` is built per frame.
         let mut entries = vec![
             wgpu::BindGroupEntry {
@@ -124,6 +184,10 @@ impl ResolvePass {
                 resource: u.as_entire_binding(),
             });
         }
+        entries.extend(extra.iter().enumerate().map(|(k, v)| wgpu::BindGroupEntry {
+            binding: 3 + k as u32,
+            resource: wgpu::BindingResource::TextureView(v),
+        }));
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.label),
             layout: &self.layout,
@@ -151,10 +215,13 @@ impl ResolvePass {
             ],
             ..Default::default()
         });
-        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &bind, &[]);
-        pass.draw(0..3, 0..1);
+        let count = if self.per_light { renderer.scene.desc.lights.len().min(self.pipelines.len()) } else { 1 };
+        for p in &self.pipelines[..count] {
+            pass.set_pipeline(p);
+            pass.draw(0..3, 0..1);
+        }
     }
 }
 

@@ -1,0 +1,212 @@
+// Wyman & Ramsey's hybrid resolve: per pixel and light, the airlight model where the ray meets
+// no shadow polygon, otherwise airlight before the first and after the last polygon and a march
+// between them that tests the shadow map per step and integrates each lit run analytically.
+// Spot lights (§3.2): restricted to the ray's interval inside the cone and integrated by
+// angle-uniform steps (their intensity varies across the beam). Needs PRELUDE and FULLSCREEN.
+
+struct Hybrid {
+    // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: flags
+    // (bit 0: analytic airlight for isotropic point lights)
+    config: vec4<u32>,
+    // x: u_max of the F table; yzw: unused
+    table: vec4<f32>,
+};
+@group(1) @binding(0) var ray_distance: texture_2d<f32>;
+@group(1) @binding(1) var surface: texture_2d<f32>;
+@group(1) @binding(2) var<uniform> hybrid: Hybrid;
+@group(1) @binding(3) var volume_front: texture_2d<f32>;
+@group(1) @binding(4) var volume_back: texture_2d<f32>;
+@group(1) @binding(5) var f_table: texture_2d<f32>;
+
+// The light this pipeline resolves (set per pipeline; see common::resolve::ResolvePass::per_light).
+override LIGHT: u32 = 0u;
+
+const HALF_PI: f32 = 1.5707963267948966;
+const QUARTER_PI: f32 = 0.7853981633974483;
+
+// F(u, v) = ∫_0^v exp(−u tan ξ) dξ, bilinear from the table (clamped).
+fn f_lookup(u: f32, v: f32) -> f32 {
+    let nu = f32(hybrid.config.y);
+    let nv = f32(hybrid.config.z);
+    let fu = clamp(u / hybrid.table.x, 0.0, 1.0) * (nu - 1.0);
+    let fv = clamp(v / HALF_PI, 0.0, 1.0) * (nv - 1.0);
+    let i0 = u32(fu);
+    let j0 = u32(fv);
+    let i1 = min(i0 + 1u, hybrid.config.y - 1u);
+    let j1 = min(j0 + 1u, hybrid.config.z - 1u);
+    let tu = fu - f32(i0);
+    let tv = fv - f32(j0);
+    let a = mix(textureLoad(f_table, vec2<u32>(i0, j0), 0).r, textureLoad(f_table, vec2<u32>(i1, j0), 0).r, tu);
+    let b = mix(textureLoad(f_table, vec2<u32>(i0, j1), 0).r, textureLoad(f_table, vec2<u32>(i1, j1), 0).r, tu);
+    return mix(a, b, tv);
+}
+
+// The ray's geometry relative to a local light: t0 (closest approach), h (distance there).
+struct Approach {
+    t0: f32,
+    h: f32,
+};
+
+fn approach(k: u32, dir: vec3<f32>) -> Approach {
+    let w0 = lights.lights[k].position.xyz - camera.position.xyz;
+    let t0 = dot(w0, dir);
+    let h = max(length(w0 - dir * t0), 1e-5 * (length(w0) + 1e-3));
+    return Approach(t0, h);
+}
+
+// Unshadowed in-scatter over [a, b] of isotropic point light k: Sun et al.'s airlight (airlight.rs).
+fn airlight(k: u32, ap: Approach, a: f32, b: f32) -> vec3<f32> {
+    if (b <= a) { return vec3<f32>(0.0); }
+    let xa = QUARTER_PI + 0.5 * atan((a - ap.t0) / ap.h);
+    let xb = QUARTER_PI + 0.5 * atan((b - ap.t0) / ap.h);
+    var f = vec3<f32>(0.0);
+    let st = medium.sigma_t.rgb;
+    let u = st * ap.h;
+    f = vec3<f32>(f_lookup(u.x, xb) - f_lookup(u.x, xa), f_lookup(u.y, xb) - f_lookup(u.y, xa), f_lookup(u.z, xb) - f_lookup(u.z, xa)) * exp(-st * ap.t0);
+    return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * (2.0 / (4.0 * PI * ap.h)) * max(f, vec3<f32>(0.0));
+}
+
+// Unshadowed in-scatter over [a, b] by n midpoint steps uniform in the angle φ (x = t0 + h tan φ,
+// dx/r² = dφ/h): any phase function, spot falloff and pattern.
+fn angular(k: u32, dir: vec3<f32>, ap: Approach, a: f32, b: f32, n: u32) -> vec3<f32> {
+    if (b <= a) { return vec3<f32>(0.0); }
+    let pa = atan((a - ap.t0) / ap.h);
+    let pb = atan((b - ap.t0) / ap.h);
+    let dphi = (pb - pa) / f32(n);
+    var sum = vec3<f32>(0.0);
+    for (var s = 0u; s < n; s++) {
+        let phi = pa + (f32(s) + 0.5) * dphi;
+        // sin/cos, not tan(): lavapipe (Mesa 22.3) crashes compiling tan() in this loop.
+        let t = ap.t0 + ap.h * sin(phi) / cos(phi);
+        let w = camera.position.xyz + dir * t - lights.lights[k].position.xyz;
+        let r = ap.h / cos(phi);
+        sum += light_intensity(k, w) * phase(medium, dot(w, -dir) / r) * transmittance(medium, t + r);
+    }
+    return medium.sigma_s.rgb * sum * (dphi / ap.h);
+}
+
+// Unshadowed in-scatter of directional light k over [a, b], in closed form.
+fn sunlight(k: u32, dir: vec3<f32>, a: f32, b: f32) -> vec3<f32> {
+    if (b <= a) { return vec3<f32>(0.0); }
+    let st = max(medium.sigma_t.rgb, vec3<f32>(1e-12));
+    let seg = (exp(-st * a) - exp(-st * b)) / st;
+    return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * phase(medium, dot(lights.lights[k].direction.xyz, -dir)) * seg;
+}
+
+// Lit in-scatter of light k over [a, b] (no shadow inside).
+fn lit(k: u32, dir: vec3<f32>, ap: Approach, a: f32, b: f32, n: u32) -> vec3<f32> {
+    let kind = light_kind(k);
+    if (kind == LIGHT_DIRECTIONAL) { return sunlight(k, dir, a, b); }
+    let analytic = (hybrid.config.w & 1u) != 0u && kind == LIGHT_POINT && u32(medium.sigma_s.w + 0.5) == 0u;
+    if (analytic) { return airlight(k, ap, a, b); }
+    return angular(k, dir, ap, a, b, n);
+}
+
+// The interval of the ray inside spot k's outer cone, intersected with [0, len] (empty: x ≥ y).
+// The cone is f(t) = (w·a)² − cos²·|w|² ≥ 0 with w·a > 0, w(t) = w0 + t·dir; a ray meets the
+// (convex) cone in one interval. Analytic, where the paper rasterised the light frustum.
+fn cone_interval(k: u32, dir: vec3<f32>, len: f32) -> vec2<f32> {
+    let axis = lights.lights[k].direction.xyz;
+    let c = lights.lights[k].intensity.w;
+    let w0 = camera.position.xyz - lights.lights[k].position.xyz;
+    let da = dot(dir, axis);
+    let wa = dot(w0, axis);
+    let qa = da * da - c * c;
+    let qb = 2.0 * (wa * da - c * c * dot(w0, dir));
+    let qc = wa * wa - c * c * dot(w0, w0);
+    let none = vec2<f32>(1.0, 0.0);
+    let disc = qb * qb - 4.0 * qa * qc;
+    if (abs(qa) < 1e-9 || disc < 0.0) {
+        // Grazing the cone's angle, or no crossing: inside everywhere or nowhere.
+        return select(none, vec2<f32>(0.0, len), wa > 0.0 && qc >= 0.0);
+    }
+    let sq = sqrt(disc);
+    let t_lo = min((-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa));
+    let t_hi = max((-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa));
+    var iv = none;
+    if (qa < 0.0) {
+        // Inside between the roots, if that stretch is on the front nappe.
+        if (dot(w0 + dir * (0.5 * (t_lo + t_hi)), axis) > 0.0) { iv = vec2<f32>(t_lo, t_hi); }
+    } else if (da > 0.0) {
+        // Heading along the axis: inside from the far root on.
+        iv = vec2<f32>(t_hi, 3.4e38);
+    } else {
+        iv = vec2<f32>(-3.4e38, t_lo);
+    }
+    return vec2<f32>(max(iv.x, 0.0), min(iv.y, len));
+}
+
+// Component k of v (lavapipe mishandles dynamically indexed vector components).
+fn channel(v: vec4<f32>, k: u32) -> f32 {
+    return dot(v, vec4<f32>(vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(k)));
+}
+
+struct Out {
+    @location(0) inscatter: vec4<f32>,
+    @location(1) total: vec4<f32>,
+};
+
+@fragment
+fn fs(@builtin(position) frag: vec4<f32>) -> Out {
+    let px = vec2<i32>(frag.xy);
+    let dir = camera_ray_dir(camera, frag.xy);
+    let len = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
+    let fronts = textureLoad(volume_front, px, 0);
+    let backs = textureLoad(volume_back, px, 0);
+    let n = max(hybrid.config.x, 1u);
+    var l_in = vec3<f32>(0.0);
+    // This pipeline handles light LIGHT (common::resolve per-light mode): with the light index a
+    // compile-time constant, lavapipe (Mesa 22.3) compiles the nested march; with a loop over
+    // lights around it, it crashes. Iteration 0 integrates [span.x, a], 1 integrates [b, span.y],
+    // then come the march steps between the shadow polygons and a last one closes a lit run.
+    let k = LIGHT;
+    var span = vec2<f32>(0.0, len);
+    if (light_kind(k) == LIGHT_SPOT) { span = cone_interval(k, dir, len); }
+    var ap = Approach(0.0, 1.0);
+    if (light_kind(k) != LIGHT_DIRECTIONAL) { ap = approach(k, dir); }
+    var a = span.y;
+    var b = span.y;
+    var steps = 0u;
+    let back = channel(backs, k);
+    if (back >= 0.0) {
+        // Shadow polygons on this ray: march between the first and the last.
+        a = clamp(channel(fronts, k), span.x, span.y);
+        b = clamp(back, span.x, span.y);
+        steps = n;
+    }
+    // No polygon is crossed before a or after b, so visibility is constant on each of those
+    // segments: one shadow-map test at its middle says whether it is lit. (The paper assumes both
+    // lit unless the eye is in shadow; a ray that ends inside a shadow volume — a room lit through
+    // a window — breaks that assumption.)
+    let lit_before = shadow_visibility(k, camera.position.xyz + dir * (0.5 * (span.x + a))) > 0.5;
+    let lit_after = shadow_visibility(k, camera.position.xyz + dir * (0.5 * (b + span.y))) > 0.5;
+    var lit_here = span.x < span.y;
+    let dt = (b - a) / f32(max(steps, 1u));
+    var run_start = -1.0;
+    for (var i = 0u; lit_here && i < steps + 3u; i++) {
+        var seg = vec2<f32>(0.0, 0.0);
+        var m = n;
+        if (i == 0u) {
+            seg = select(vec2<f32>(0.0), vec2<f32>(span.x, a), lit_before);
+        } else if (i == 1u) {
+            seg = select(vec2<f32>(0.0), vec2<f32>(b, span.y), lit_after);
+        } else {
+            let s = i - 2u;
+            let t0 = a + f32(s) * dt;
+            var vis = false;
+            if (s < steps) { vis = shadow_visibility(k, camera.position.xyz + dir * (t0 + 0.5 * dt)) > 0.5; }
+            if (vis && run_start < 0.0) { run_start = t0; }
+            if (!vis && run_start >= 0.0) {
+                seg = vec2<f32>(run_start, t0);
+                m = max(n / 8u, 2u);
+                run_start = -1.0;
+            }
+        }
+        if (seg.y > seg.x) { l_in += lit(k, dir, ap, seg.x, seg.y, m); }
+    }
+    var base = vec3<f32>(0.0);
+    if (LIGHT == 0u) {
+        base = textureLoad(surface, px, 0).rgb + medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, len));
+    }
+    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(base + l_in, 1.0));
+}
