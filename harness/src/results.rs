@@ -31,7 +31,14 @@ pub struct RunInfo {
     /// Frame whose images are scored against the reference.
     pub scored_frame: u32,
     pub note: String,
+    /// What wrote the run: [`STRESS_KIND`] for `scatterbench stress`, absent (`None`) for an
+    /// ordinary benchmark run. Optional so results files written before it still load.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
 }
+
+/// `RunInfo::kind` of a `scatterbench stress` run (DESIGN §6).
+pub const STRESS_KIND: &str = "stress";
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
 pub struct Machine {

@@ -116,6 +116,7 @@ pub fn run(
                 } else {
                     "timings compare as ratios within one run and machine".into()
                 },
+                kind: None,
             },
             records: Vec::new(),
         }

@@ -48,6 +48,10 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             "wyman-hybrid/hybrid",
             common::resolve::source(wyman_hybrid::HYBRID_WGSL),
         ),
+        (
+            "wyman-hybrid/upsample",
+            common::resolve::source(wyman_hybrid::UPSAMPLE_WGSL),
+        ),
         ("dobashi-virtual-planes/planes", dobashi_virtual_planes::planes_source()),
         ("dobashi-virtual-planes/far", dobashi_virtual_planes::far_source()),
         ("dobashi-virtual-planes/resolve", dobashi_virtual_planes::resolve_source()),

@@ -6,6 +6,8 @@
 //! with their colour bar, a table of times and errors, the time-vs-error Pareto plot (PNG
 //! and SVG, drawn with plotters) and the cheapest configuration under 1 %, 5 % and 10 %
 //! in-scatter relative RMSE; then a method × scene summary and the machine and run info.
+//! A `scatterbench stress` run gets the stability table (case × method verdicts,
+//! [`stability`]) first, above all of that.
 //!
 //! The HTML comes from a minijinja template (`templates/index.html`, compiled in) with
 //! auto-escaping; the page has no external resources and a few lines of vanilla JS to switch
@@ -15,6 +17,7 @@
 pub mod analysis;
 pub mod fixture;
 pub mod plot;
+pub mod stability;
 pub mod view;
 
 use std::path::{Path, PathBuf};
@@ -97,6 +100,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         title: format!("scatterbench report — {}", results.run.id),
         counts: view::counts(&results),
         summary: view::summary(&results),
+        stability: stability::is_stress(&results).then(|| stability::table(&results)),
         run: results.run.clone(),
         scenes,
         budgets: analysis::BUDGETS

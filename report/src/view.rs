@@ -26,6 +26,8 @@ pub struct Page {
     pub counts: Counts,
     pub scenes: Vec<SceneView>,
     pub summary: Summary,
+    /// The stability table, for a stress run only.
+    pub stability: Option<crate::stability::Stability>,
     pub budgets: Vec<String>,
     pub colorbar: String,
     pub generator: String,

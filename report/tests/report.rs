@@ -1,7 +1,9 @@
 //! The report built from a committed synthetic run (tests/fixtures/results.json + images the
 //! fixture generates): every record is on the page, every link resolves to a file, the page
 //! and the SVG plots are well-formed XML, nothing is loaded from the network, and the
-//! budget table agrees with answers worked out by hand from the fixture's numbers.
+//! budget table agrees with answers worked out by hand from the fixture's numbers. A second
+//! fixture (tests/fixtures/stress-results.json) is a stress run: its page opens with the
+//! stability table, whose verdicts are checked against the ones the fixture was written to have.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -9,6 +11,8 @@ use std::path::{Path, PathBuf};
 use harness::results::{Results, Status};
 
 const FIXTURE: &str = include_str!("fixtures/results.json");
+/// A synthetic `scatterbench stress` run: 4 cases × 3 methods with every verdict and fault.
+const STRESS_FIXTURE: &str = include_str!("fixtures/stress-results.json");
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("scatterbench-report-{name}-{}", std::process::id()));
@@ -17,8 +21,12 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn build(name: &str) -> (PathBuf, Results, String) {
+    build_from(name, FIXTURE)
+}
+
+fn build_from(name: &str, fixture: &str) -> (PathBuf, Results, String) {
     let dir = tmp(name);
-    let results = report::fixture::write(&dir, FIXTURE).expect("fixture");
+    let results = report::fixture::write(&dir, fixture).expect("fixture");
     let index = report::generate(&dir).expect("report");
     assert_eq!(index, dir.join("report").join("index.html"));
     let html = std::fs::read_to_string(&index).unwrap();
@@ -129,6 +137,9 @@ fn page_is_well_formed_and_has_every_record() {
     for row in body_rows {
         assert_eq!(row.children().filter(|c| c.has_tag_name("td")).count(), 2);
     }
+
+    // An ordinary run has no stability table.
+    assert!(!doc.descendants().any(|n| n.attribute("id") == Some("stability")));
 
     // Machine and run info.
     for s in [
@@ -353,5 +364,182 @@ fn bad_run_directories_are_clear_errors() {
     );
     let missing = Path::new("/nonexistent/scatterbench/run");
     assert!(report::generate(missing).is_err());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The stability table's body rows: (case, [(verdict, fault, cell text)] per method column).
+type StabilityRow = (String, Vec<(String, String, String)>);
+
+fn stability_rows(doc: &roxmltree::Document) -> (Vec<String>, Vec<StabilityRow>) {
+    let table = doc
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "stability"))
+        .expect("a stability table");
+    let header: Vec<String> = table
+        .descendants()
+        .find(|n| n.has_tag_name("tr"))
+        .unwrap()
+        .children()
+        .filter(|c| c.has_tag_name("th"))
+        .map(text)
+        .collect();
+    let rows = table
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && has_class(n, "case"))
+        .map(|row| {
+            let case = row
+                .children()
+                .find(|c| c.has_tag_name("th"))
+                .unwrap()
+                .children()
+                .next()
+                .and_then(|t| t.text())
+                .unwrap()
+                .to_string();
+            let cells = row
+                .children()
+                .filter(|c| c.has_tag_name("td"))
+                .map(|td| {
+                    let class = |k: &str| {
+                        td.descendants()
+                            .find(|n| has_class(n, k))
+                            .map(text)
+                            .unwrap_or_default()
+                    };
+                    (class("verdict"), class("fault"), text(td))
+                })
+                .collect();
+            (case, cells)
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Verdicts the stress fixture was written to have (see the comments in its generator's
+/// record list): rows in the suite's case order, columns in order of first appearance.
+#[test]
+fn stress_run_opens_with_a_stability_table_with_the_right_verdicts() {
+    let (dir, results, html) = build_from("stress", STRESS_FIXTURE);
+    let doc = parse(&html);
+
+    // The stability section comes before every other section.
+    let first = doc
+        .descendants()
+        .find(|n| n.has_tag_name("section"))
+        .unwrap();
+    assert_eq!(first.attribute("id"), Some("stability"));
+
+    let (header, rows) = stability_rows(&doc);
+    assert_eq!(header, ["case", "raymarch-brute", "no-scatter", "epipolar"]);
+    // One row per case in the run, each case once, in harness::stress::CASES order.
+    let cases: HashSet<&str> = results.records.iter().map(|r| r.scene.as_str()).collect();
+    assert_eq!(rows.len(), cases.len());
+    let names: Vec<&str> = rows.iter().map(|(c, _)| c.as_str()).collect();
+    assert_eq!(
+        names,
+        ["light-near-surface", "camera-at-light", "sigma-t-1e-6", "open-mesh"]
+    );
+
+    let expect: [(&str, [(&str, &str); 3]); 4] = [
+        (
+            "light-near-surface",
+            [("pass", ""), ("pass", ""), ("unsupported", "")],
+        ),
+        (
+            "camera-at-light",
+            [("fail", ""), ("fail", "wgpu error"), ("fail", "panic")],
+        ),
+        ("sigma-t-1e-6", [("pass", ""), ("fail", ""), ("fail", "")]),
+        ("open-mesh", [("pass", ""), ("fail", "device lost"), ("absent", "")]),
+    ];
+    for ((case, cells), (want_case, want)) in rows.iter().zip(expect) {
+        assert_eq!(case, want_case);
+        let got: Vec<(&str, &str)> = cells
+            .iter()
+            .map(|(v, f, _)| (v.as_str(), f.as_str()))
+            .collect();
+        assert_eq!(got, want, "verdicts of {case}");
+    }
+    let cell = |case: usize, m: usize| rows[case].1[m].2.clone();
+    // Error against the declared bound, or "(no bound)"; non-finite pixel counts.
+    assert!(cell(2, 0).contains("0.0200 ≤ 0.15"), "{}", cell(2, 0));
+    assert!(cell(2, 2).contains("0.250 > 0.1"), "{}", cell(2, 2));
+    assert!(cell(0, 1).contains("1.20 (no bound)"), "{}", cell(0, 1));
+    assert!(cell(1, 0).contains("non-finite px 12"), "{}", cell(1, 0));
+    assert!(cell(0, 0).contains("non-finite px 0"), "{}", cell(0, 0));
+    // Unscored failures show no numbers; the reason is in the cell (escaped: "<b> &" survives).
+    assert!(cell(1, 1).contains("total rel. RMSE —"), "{}", cell(1, 1));
+    assert!(cell(1, 1).contains("buffer <b> & binding too small"), "{}", cell(1, 1));
+    assert!(cell(0, 2).contains("needs closed shadow casters"));
+    assert!(cell(3, 2).contains("not run"));
+
+    // Every fail and unsupported cell is listed with its full reason below the table; the
+    // ok-but-over-bound record gets the stress suite's own wording.
+    let details: Vec<Vec<String>> = doc
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "stability-details"))
+        .unwrap()
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .map(|row| {
+            row.children()
+                .filter(|c| c.has_tag_name("td"))
+                .map(text)
+                .collect()
+        })
+        .collect();
+    assert_eq!(details.len(), 7);
+    assert!(details.iter().any(|d| d[0] == "sigma-t-1e-6"
+        && d[1] == "epipolar"
+        && d[4].contains("exceeds the bound 0.1")));
+    // The tallies at the top agree with the table: 4 pass, 1 unsupported, 6 fail, 1 absent.
+    assert!(text(doc.root()).contains("4 pass, 1 unsupported, 6 fail."));
+    // The per-scene sections are still there, after it.
+    assert!(
+        doc.descendants()
+            .any(|n| n.attribute("id") == Some(&report::view::anchor("camera-at-light")))
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A stress results.json written before `run.kind` existed: recognised by its scene names.
+#[test]
+fn stress_runs_without_the_marker_are_recognised_by_case_names() {
+    let mut v: serde_json::Value = serde_json::from_str(STRESS_FIXTURE).unwrap();
+    v["run"].as_object_mut().unwrap().remove("kind");
+    let (dir, _, html) = build_from("stress-nokind", &v.to_string());
+    let (_, rows) = stability_rows(&parse(&html));
+    assert_eq!(rows.len(), 4);
+    let _ = std::fs::remove_dir_all(dir);
+    // A scene that is not a stress case makes it an ordinary run again.
+    v["records"][0]["scene"] = "sphere-point".into();
+    let (dir, _, html) = build_from("stress-mixed", &v.to_string());
+    assert!(
+        !parse(&html)
+            .descendants()
+            .any(|n| n.attribute("id") == Some("stability"))
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn stress_page_links_resolve() {
+    let (dir, _, html) = build_from("stress-links", STRESS_FIXTURE);
+    let doc = parse(&html);
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        for attr in ["src", "href"] {
+            let Some(v) = n.attribute(attr) else { continue };
+            if let Some(id) = v.strip_prefix('#') {
+                assert!(
+                    doc.descendants().any(|m| m.attribute("id") == Some(id)),
+                    "dangling anchor {v}"
+                );
+            } else {
+                let target = dir.join("report").join(percent_decode(v));
+                assert!(target.is_file(), "{attr}={v} does not exist");
+            }
+        }
+    }
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -1,6 +1,6 @@
 //! `scatterbench stress`: the robustness suite (DESIGN §6) — every stress case × every method,
-//! records in results.json (scene = case name) and a stability table on stdout. Exit 1 when any
-//! case × method fails a criterion.
+//! records in results.json (scene = case name), a stability table on stdout and in the HTML
+//! report (`OUT/report/index.html`). Exit 1 when any case × method fails a criterion.
 
 use std::path::PathBuf;
 
@@ -111,6 +111,12 @@ pub fn run(a: StressArgs) -> Result<()> {
     }
     let (pass, unsupported, fail) = stress::tally(&results);
     println!("{pass} pass, {unsupported} unsupported, {fail} fail — {}", out.join("results.json").display());
+    // As in `run`: the report is a view of results.json, already written, so a report problem
+    // is a warning, and it is written before the exit status reports failures.
+    match report::generate(&out) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
+    }
     if fail > 0 {
         bail!("{fail} stress case × method pairs failed");
     }

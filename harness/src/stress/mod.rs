@@ -22,7 +22,7 @@ use crate::gpu::Gpu;
 use crate::method::{Entry, Params};
 use crate::reference::Settings;
 use crate::results::{
-    Machine, Record, Results, RunInfo, SCHEMA_VERSION, Status, git_commit, record_key,
+    Machine, Record, Results, RunInfo, SCHEMA_VERSION, STRESS_KIND, Status, git_commit, record_key,
 };
 use crate::runner::{self, Event, RunConfig};
 
@@ -110,6 +110,7 @@ fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
             machine: Machine::detect(&gpu.summary),
             scored_frame: 0,
             note: "stress run: one frame per case × method; timings are not meaningful".into(),
+            kind: Some(STRESS_KIND.into()),
         },
         records: Vec::new(),
     }

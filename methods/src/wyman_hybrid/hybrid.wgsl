@@ -8,7 +8,7 @@ struct Hybrid {
     // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: flags
     // (bit 0: analytic airlight for isotropic point lights)
     config: vec4<u32>,
-    // x: u_max of the F table; yzw: unused
+    // x: u_max of the F table; y: scattering resolution divisor (1, 2, 4); zw: unused
     table: vec4<f32>,
 };
 @group(1) @binding(0) var ray_distance: texture_2d<f32>;
@@ -148,8 +148,12 @@ struct Out {
 
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
-    let px = vec2<i32>(frag.xy);
-    let dir = camera_ray_dir(camera, frag.xy);
+    // At 1/scale resolution (§3.3) each fragment stands for the full-resolution pixel at the
+    // middle of its block; `upsample.wgsl` spreads it back with a depth-aware filter.
+    let scale = hybrid.table.y;
+    let full = floor(frag.xy - 0.5) * scale + floor(0.5 * scale) + 0.5;
+    let px = vec2<i32>(full);
+    let dir = camera_ray_dir(camera, full);
     let len = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
     let fronts = textureLoad(volume_front, px, 0);
     let backs = textureLoad(volume_back, px, 0);
@@ -208,5 +212,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     if (LIGHT == 0u) {
         base = textureLoad(surface, px, 0).rgb + medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, len));
     }
-    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(base + l_in, 1.0));
+    // Alpha carries the ray length for the bilateral upsample (the AOV's alpha is unused).
+    return Out(vec4<f32>(l_in, len), vec4<f32>(base + l_in, 1.0));
 }

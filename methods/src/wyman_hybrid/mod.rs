@@ -19,8 +19,10 @@
 //! before the analytic integral (one table lookup pair per run, not per step).
 //! Other phase functions than isotropic, and spot lights, use angle-uniform quadrature (the
 //! F table is isotropic-only; knob `airlight=false` forces it everywhere to measure the table's
-//! error). Not implemented yet: §3.3's low-resolution scattering with bilateral upsampling and
-//! §3.4's per-frame F'(cos γ, x) table.
+//! error). §3.3's low-resolution scattering (knob `scale`) with a 3×3 depth-aware (bilateral)
+//! upsample: the low-resolution pass stores each sample's ray length beside its radiance and the
+//! upsample weights neighbours by depth similarity. Not implemented: §3.4's per-frame
+//! F'(cos γ, x) table (an optimisation of the same airlight values).
 //! Limits: visibility between the polygons is a shadow-map test (bias, texels); a thin shadow
 //! between two steps is missed; the camera being inside a shadow volume is detected with one
 //! shadow-map test at the eye.
@@ -43,6 +45,7 @@ use airlight::FTable;
 
 pub const VOLUMES_WGSL: &str = include_str!("volumes.wgsl");
 pub const HYBRID_WGSL: &str = include_str!("hybrid.wgsl");
+pub const UPSAMPLE_WGSL: &str = include_str!("upsample.wgsl");
 
 pub fn volumes_source() -> String {
     wgsl::compose(wgsl::PRELUDE, VOLUMES_WGSL)
@@ -80,11 +83,21 @@ struct State {
     back_view: wgpu::TextureView,
     table_view: wgpu::TextureView,
     resolve: ResolvePass,
+    /// §3.3: the low-resolution scattering targets and the upsampling pass (scale > 1).
+    low: Option<LowRes>,
     uniform: HybridUniform,
     silhouette_edges: usize,
 }
 
 const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+struct LowRes {
+    inscatter: wgpu::TextureView,
+    total: wgpu::TextureView,
+    width: u32,
+    height: u32,
+    upsample: ResolvePass,
+}
 
 impl Method for WymanHybrid {
     fn info(&self) -> MethodInfo {
@@ -112,6 +125,20 @@ impl Method for WymanHybrid {
                 sweep: vec![ParamValue::Bool(false)],
                 choices: vec![],
                 meaning: "use the analytic airlight table for isotropic point lights (false: angle-uniform quadrature everywhere)",
+            },
+            ParamSpec {
+                name: "scale",
+                default: ParamValue::Int(1),
+                sweep: [2, 4].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "scattering computed at 1/scale of the resolution in each direction (§3.3; 4 = 256² of 1024²), then upsampled",
+            },
+            ParamSpec {
+                name: "bilateral",
+                default: ParamValue::Bool(true),
+                sweep: vec![ParamValue::Bool(false)],
+                choices: vec![],
+                meaning: "depth-aware 3×3 upsampling of low-resolution scattering (false: plain 3×3 Gaussian)",
             },
             ParamSpec { name: "pattern_res", default: ParamValue::Int(512), sweep: vec![], choices: vec![], meaning: "spot pattern texture resolution, texels" },
         ]
@@ -199,7 +226,30 @@ impl Method for WymanHybrid {
         };
         let volumes = mesh_pipeline_with(&gpu.device, "shadow volumes", &layout, &module, vertex_layout, None, &targets);
         let resolve = ResolvePass::per_light(gpu, &renderer, "hybrid", HYBRID_WGSL, Some(std::mem::size_of::<HybridUniform>() as u64), 3);
-        let uniform = HybridUniform { config: [samples, table.nu, table.nv, analytic as u32], table: [table.u_max, 0.0, 0.0, 0.0] };
+        let scale = get("scale").clamp(1, 16) as u32;
+        let low = (scale > 1).then(|| {
+            let (width, height) = (ctx.width.div_ceil(scale), ctx.height.div_ceil(scale));
+            let make = |label| {
+                gpu.texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: harness::method::AOV_FORMAT,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+            };
+            let bilateral = ctx.params.get("bilateral").and_then(ParamValue::as_bool).unwrap_or(true);
+            let upsample = ResolvePass::with_textures(gpu, &renderer, "upsample", UPSAMPLE_WGSL, Some(16), 1);
+            if let Some(u) = &upsample.uniform {
+                gpu.queue.write_buffer(u, 0, bytemuck::cast_slice(&[scale as f32, bilateral as u32 as f32, 0.0, 0.0]));
+            }
+            LowRes { inscatter: make("low-res inscatter"), total: make("low-res total (unused)"), width, height, upsample }
+        });
+        let uniform = HybridUniform { config: [samples, table.nu, table.nv, analytic as u32], table: [table.u_max, scale as f32, 0.0, 0.0] };
         self.state = Some(State {
             renderer,
             casters,
@@ -211,6 +261,7 @@ impl Method for WymanHybrid {
             back_view: back.create_view(&Default::default()),
             table_view: table_tex.create_view(&Default::default()),
             resolve,
+            low,
             uniform,
             silhouette_edges: 0,
         });
@@ -259,8 +310,18 @@ impl Method for WymanHybrid {
         } else {
             report.ran("shadow-volumes");
         }
-        st.resolve.encode_with(gpu, enc, &st.renderer, targets, &[&st.front_view, &st.back_view, &st.table_view]);
+        let extra = [&st.front_view, &st.back_view, &st.table_view];
+        match &st.low {
+            None => st.resolve.encode_with(gpu, enc, &st.renderer, targets, &extra),
+            Some(low) => {
+                let low_targets = Targets { inscatter: &low.inscatter, surface: targets.surface, total: &low.total, width: low.width, height: low.height };
+                st.resolve.encode_with(gpu, enc, &st.renderer, &low_targets, &extra);
+                low.upsample.encode_with(gpu, enc, &st.renderer, targets, &[&low.inscatter]);
+                report.ran("upsample");
+            }
+        }
         report.ran("hybrid");
+        report.count("scattering_pixels", st.low.as_ref().map_or(targets.width * targets.height, |l| l.width * l.height) as f64);
         Ok(report)
     }
 }
