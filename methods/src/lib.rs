@@ -46,7 +46,11 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("wyman-hybrid/volumes", wyman_hybrid::volumes_source()),
         (
             "wyman-hybrid/hybrid",
-            common::resolve::source(wyman_hybrid::HYBRID_WGSL),
+            common::resolve::source(&wyman_hybrid::hybrid_wgsl()),
+        ),
+        (
+            "wyman-hybrid/fprime",
+            common::resolve::source(&wyman_hybrid::fprime_wgsl()),
         ),
         (
             "wyman-hybrid/upsample",

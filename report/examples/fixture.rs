@@ -1,17 +1,26 @@
-//! Writes the report's synthetic test run (tests/fixtures/results.json plus generated images)
-//! to DIR and builds its report: `cargo run --release -p report --example fixture -- DIR`.
+//! Writes one of the report's synthetic test runs (tests/fixtures/results.json, or with
+//! `stress` the stress run tests/fixtures/stress-results.json, plus generated images) to DIR
+//! and builds its report: `cargo run --release -p report --example fixture -- DIR [stress]`.
 //! Used by scripts/report-screenshot.sh to look at the page without a GPU run.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let Some(dir) = std::env::args_os().nth(1).map(PathBuf::from) else {
-        eprintln!("usage: fixture DIR");
+    let mut args = std::env::args_os().skip(1);
+    let Some(dir) = args.next().map(PathBuf::from) else {
+        eprintln!("usage: fixture DIR [stress]");
         return ExitCode::from(2);
     };
-    let built = report::fixture::write(&dir, include_str!("../tests/fixtures/results.json"))
-        .and_then(|_| report::generate(&dir));
+    let json = match args.next().as_deref().map(|a| a.to_str()) {
+        None => include_str!("../tests/fixtures/results.json"),
+        Some(Some("stress")) => include_str!("../tests/fixtures/stress-results.json"),
+        Some(other) => {
+            eprintln!("unknown fixture {other:?}: use `stress` or nothing");
+            return ExitCode::from(2);
+        }
+    };
+    let built = report::fixture::write(&dir, json).and_then(|_| report::generate(&dir));
     match built {
         Ok(index) => {
             println!("{}", index.display());

@@ -4,66 +4,40 @@
 // Spot lights (§3.2): restricted to the ray's interval inside the cone and integrated by
 // angle-uniform steps (their intensity varies across the beam). Needs PRELUDE and FULLSCREEN.
 
-struct Hybrid {
-    // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: flags
-    // (bit 0: analytic airlight for isotropic point lights)
-    config: vec4<u32>,
-    // x: u_max of the F table; y: scattering resolution divisor (1, 2, 4); zw: unused
-    table: vec4<f32>,
-};
 @group(1) @binding(0) var ray_distance: texture_2d<f32>;
 @group(1) @binding(1) var surface: texture_2d<f32>;
-@group(1) @binding(2) var<uniform> hybrid: Hybrid;
 @group(1) @binding(3) var volume_front: texture_2d<f32>;
 @group(1) @binding(4) var volume_back: texture_2d<f32>;
-@group(1) @binding(5) var f_table: texture_2d<f32>;
+@group(1) @binding(6) var f_prime: texture_2d<f32>;
 
-// The light this pipeline resolves (set per pipeline; see common::resolve::ResolvePass::per_light).
-override LIGHT: u32 = 0u;
-
-const HALF_PI: f32 = 1.5707963267948966;
-const QUARTER_PI: f32 = 0.7853981633974483;
-
-// F(u, v) = ∫_0^v exp(−u tan ξ) dξ, bilinear from the table (clamped).
-fn f_lookup(u: f32, v: f32) -> f32 {
-    let nu = f32(hybrid.config.y);
-    let nv = f32(hybrid.config.z);
-    let fu = clamp(u / hybrid.table.x, 0.0, 1.0) * (nu - 1.0);
-    let fv = clamp(v / HALF_PI, 0.0, 1.0) * (nv - 1.0);
-    let i0 = u32(fu);
-    let j0 = u32(fv);
-    let i1 = min(i0 + 1u, hybrid.config.y - 1u);
-    let j1 = min(j0 + 1u, hybrid.config.z - 1u);
-    let tu = fu - f32(i0);
-    let tv = fv - f32(j0);
-    let a = mix(textureLoad(f_table, vec2<u32>(i0, j0), 0).r, textureLoad(f_table, vec2<u32>(i1, j0), 0).r, tu);
-    let b = mix(textureLoad(f_table, vec2<u32>(i0, j1), 0).r, textureLoad(f_table, vec2<u32>(i1, j1), 0).r, tu);
-    return mix(a, b, tv);
+// §3.4: F'(γ, x) from this frame's table (light k's band of columns), at table position fi in γ.
+fn fprime_lookup(k: u32, fi: f32, x: f32) -> vec3<f32> {
+    let ng = hybrid.fprime.y;
+    let nx = hybrid.fprime.z;
+    let fj = clamp(x / hybrid.fprime.x, 0.0, 1.0) * (nx - 1.0);
+    let i0 = u32(fi);
+    let j0 = u32(fj);
+    let i1 = min(i0 + 1u, u32(ng) - 1u);
+    let j1 = min(j0 + 1u, u32(nx) - 1u);
+    let band = k * u32(ng);
+    let ti = fi - f32(i0);
+    let tj = fj - f32(j0);
+    let a = mix(textureLoad(f_prime, vec2<u32>(band + i0, j0), 0).rgb, textureLoad(f_prime, vec2<u32>(band + i1, j0), 0).rgb, ti);
+    let b = mix(textureLoad(f_prime, vec2<u32>(band + i0, j1), 0).rgb, textureLoad(f_prime, vec2<u32>(band + i1, j1), 0).rgb, ti);
+    return mix(a, b, tj);
 }
 
-// The ray's geometry relative to a local light: t0 (closest approach), h (distance there).
-struct Approach {
-    t0: f32,
-    h: f32,
-};
+// The table is indexed by γ itself (not cos γ as in the paper: near γ = 0, where F' ∝ 1/sin γ,
+// cos γ samples are degrees apart). Within FPRIME_EXACT samples of the light's direction F' is
+// too curved to interpolate, and the F(u,v) formula is used instead.
+const FPRIME_EXACT: f32 = 8.0;
 
-fn approach(k: u32, dir: vec3<f32>) -> Approach {
-    let w0 = lights.lights[k].position.xyz - camera.position.xyz;
-    let t0 = dot(w0, dir);
-    let h = max(length(w0 - dir * t0), 1e-5 * (length(w0) + 1e-3));
-    return Approach(t0, h);
-}
-
-// Unshadowed in-scatter over [a, b] of isotropic point light k: Sun et al.'s airlight (airlight.rs).
-fn airlight(k: u32, ap: Approach, a: f32, b: f32) -> vec3<f32> {
+fn airlight_fprime(k: u32, dir: vec3<f32>, ap: Approach, a: f32, b: f32) -> vec3<f32> {
     if (b <= a) { return vec3<f32>(0.0); }
-    let xa = QUARTER_PI + 0.5 * atan((a - ap.t0) / ap.h);
-    let xb = QUARTER_PI + 0.5 * atan((b - ap.t0) / ap.h);
-    var f = vec3<f32>(0.0);
-    let st = medium.sigma_t.rgb;
-    let u = st * ap.h;
-    f = vec3<f32>(f_lookup(u.x, xb) - f_lookup(u.x, xa), f_lookup(u.y, xb) - f_lookup(u.y, xa), f_lookup(u.z, xb) - f_lookup(u.z, xa)) * exp(-st * ap.t0);
-    return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * (2.0 / (4.0 * PI * ap.h)) * max(f, vec3<f32>(0.0));
+    let cg = dot(dir, normalize(lights.lights[k].position.xyz - camera.position.xyz));
+    let fi = acos(clamp(cg, -1.0, 1.0)) / PI * (hybrid.fprime.y - 1.0);
+    if (fi < FPRIME_EXACT) { return airlight(k, ap, a, b); }
+    return max(fprime_lookup(k, fi, b) - fprime_lookup(k, fi, a), vec3<f32>(0.0));
 }
 
 // Unshadowed in-scatter over [a, b] by n midpoint steps uniform in the angle φ (x = t0 + h tan φ,
@@ -98,6 +72,7 @@ fn lit(k: u32, dir: vec3<f32>, ap: Approach, a: f32, b: f32, n: u32) -> vec3<f32
     let kind = light_kind(k);
     if (kind == LIGHT_DIRECTIONAL) { return sunlight(k, dir, a, b); }
     let analytic = (hybrid.config.w & 1u) != 0u && kind == LIGHT_POINT && u32(medium.sigma_s.w + 0.5) == 0u;
+    if (analytic && hybrid.fprime.w > 0.5) { return airlight_fprime(k, dir, ap, a, b); }
     if (analytic) { return airlight(k, ap, a, b); }
     return angular(k, dir, ap, a, b, n);
 }

@@ -21,8 +21,9 @@
 //! F table is isotropic-only; knob `airlight=false` forces it everywhere to measure the table's
 //! error). §3.3's low-resolution scattering (knob `scale`) with a 3×3 depth-aware (bilateral)
 //! upsample: the low-resolution pass stores each sample's ray length beside its radiance and the
-//! upsample weights neighbours by depth similarity. Not implemented: §3.4's per-frame
-//! F'(cos γ, x) table (an optimisation of the same airlight values).
+//! upsample weights neighbours by depth similarity. §3.4's per-frame F'(cos γ, x) table (knob
+//! `fprime`, `fprime.wgsl`): airlight values from the eye to x along the direction at angle γ
+//! from the light, so an interval costs two lookups; isotropic point lights only.
 //! Limits: visibility between the polygons is a shadow-map test (bias, texels); a thin shadow
 //! between two steps is missed; the camera being inside a shadow volume is detected with one
 //! shadow-map test at the eye.
@@ -44,7 +45,22 @@ use crate::common::wgsl;
 use airlight::FTable;
 
 pub const VOLUMES_WGSL: &str = include_str!("volumes.wgsl");
+pub const AIRLIGHT_WGSL: &str = include_str!("airlight.wgsl");
 pub const HYBRID_WGSL: &str = include_str!("hybrid.wgsl");
+pub const FPRIME_WGSL: &str = include_str!("fprime.wgsl");
+
+/// The hybrid resolve's own WGSL: the shared airlight module, then the pass.
+pub fn hybrid_wgsl() -> String {
+    format!("{AIRLIGHT_WGSL}\n{HYBRID_WGSL}")
+}
+
+/// The F' table pass's own WGSL.
+pub fn fprime_wgsl() -> String {
+    format!("{AIRLIGHT_WGSL}\n{FPRIME_WGSL}")
+}
+
+/// F' table samples in cos γ (per light) and in x.
+const FPRIME_SIZE: u32 = 256;
 pub const UPSAMPLE_WGSL: &str = include_str!("upsample.wgsl");
 
 pub fn volumes_source() -> String {
@@ -63,6 +79,7 @@ struct VolumeVertex {
 struct HybridUniform {
     config: [u32; 4],
     table: [f32; 4],
+    fprime: [f32; 4],
 }
 
 #[derive(Default)]
@@ -85,11 +102,20 @@ struct State {
     resolve: ResolvePass,
     /// §3.3: the low-resolution scattering targets and the upsampling pass (scale > 1).
     low: Option<LowRes>,
+    /// §3.4: the per-frame F' table and the pass that fills it (knob `fprime`).
+    fprime: Option<FPrime>,
+    fprime_view: wgpu::TextureView,
     uniform: HybridUniform,
     silhouette_edges: usize,
 }
 
 const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+struct FPrime {
+    pass: ResolvePass,
+    table: wgpu::TextureView,
+    unused: wgpu::TextureView,
+}
 
 struct LowRes {
     inscatter: wgpu::TextureView,
@@ -139,6 +165,13 @@ impl Method for WymanHybrid {
                 sweep: vec![ParamValue::Bool(false)],
                 choices: vec![],
                 meaning: "depth-aware 3×3 upsampling of low-resolution scattering (false: plain 3×3 Gaussian)",
+            },
+            ParamSpec {
+                name: "fprime",
+                default: ParamValue::Bool(false),
+                sweep: vec![ParamValue::Bool(true)],
+                choices: vec![],
+                meaning: "§3.4: airlight from a per-frame F'(cos γ, x) table (two lookups per interval) instead of the F(u,v) formula",
             },
             ParamSpec { name: "pattern_res", default: ParamValue::Int(512), sweep: vec![], choices: vec![], meaning: "spot pattern texture resolution, texels" },
         ]
@@ -225,7 +258,29 @@ impl Method for WymanHybrid {
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Uint32],
         };
         let volumes = mesh_pipeline_with(&gpu.device, "shadow volumes", &layout, &module, vertex_layout, None, &targets);
-        let resolve = ResolvePass::per_light(gpu, &renderer, "hybrid", HYBRID_WGSL, Some(std::mem::size_of::<HybridUniform>() as u64), 3);
+        let resolve = ResolvePass::per_light(gpu, &renderer, "hybrid", &hybrid_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 4);
+        let use_fprime = ctx.params.get("fprime").and_then(ParamValue::as_bool).unwrap_or(false);
+        let table_target = |label, w, h| {
+            gpu.texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: harness::method::AOV_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default())
+        };
+        let (fprime, fprime_view) = if use_fprime {
+            let (w, h) = (FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32, FPRIME_SIZE);
+            let pass = ResolvePass::per_light(gpu, &renderer, "F' table", &fprime_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 3);
+            let table = table_target("F' table", w, h);
+            (Some(FPrime { pass, table: table.clone(), unused: table_target("F' table (unused)", w, h) }), table)
+        } else {
+            (None, table_target("F' table (off)", 1, 1))
+        };
         let scale = get("scale").clamp(1, 16) as u32;
         let low = (scale > 1).then(|| {
             let (width, height) = (ctx.width.div_ceil(scale), ctx.height.div_ceil(scale));
@@ -249,7 +304,11 @@ impl Method for WymanHybrid {
             }
             LowRes { inscatter: make("low-res inscatter"), total: make("low-res total (unused)"), width, height, upsample }
         });
-        let uniform = HybridUniform { config: [samples, table.nu, table.nv, analytic as u32], table: [table.u_max, scale as f32, 0.0, 0.0] };
+        let uniform = HybridUniform {
+            config: [samples, table.nu, table.nv, analytic as u32],
+            table: [table.u_max, scale as f32, 0.0, 0.0],
+            fprime: [1.0, FPRIME_SIZE as f32, FPRIME_SIZE as f32, use_fprime as u32 as f32],
+        };
         self.state = Some(State {
             renderer,
             casters,
@@ -262,6 +321,8 @@ impl Method for WymanHybrid {
             table_view: table_tex.create_view(&Default::default()),
             resolve,
             low,
+            fprime,
+            fprime_view,
             uniform,
             silhouette_edges: 0,
         });
@@ -272,7 +333,11 @@ impl Method for WymanHybrid {
         let st = self.state.as_mut().ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
         let mut report = FrameReport::default();
         st.renderer.update(gpu, frame);
-        if let Some(u) = &st.resolve.uniform {
+        // F' spans x up to the longest camera ray (a corner ray to the far plane).
+        let rays = frame.camera.rays(targets.width, targets.height);
+        let corner = rays.direction(0, 0);
+        st.uniform.fprime[0] = (rays.far_distance(corner) * 1.001) as f32;
+        for u in st.resolve.uniform.iter().chain(st.fprime.as_ref().and_then(|f| f.pass.uniform.as_ref())) {
             gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&st.uniform));
         }
         st.renderer.encode_shadows(enc, &mut report);
@@ -310,7 +375,12 @@ impl Method for WymanHybrid {
         } else {
             report.ran("shadow-volumes");
         }
-        let extra = [&st.front_view, &st.back_view, &st.table_view];
+        if let Some(fp) = &st.fprime {
+            let t = Targets { inscatter: &fp.table, surface: targets.surface, total: &fp.unused, width: FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32, height: FPRIME_SIZE };
+            fp.pass.encode_with(gpu, enc, &st.renderer, &t, &[&st.front_view, &st.back_view, &st.table_view]);
+            report.ran("fprime-table");
+        }
+        let extra = [&st.front_view, &st.back_view, &st.table_view, &st.fprime_view];
         match &st.low {
             None => st.resolve.encode_with(gpu, enc, &st.renderer, targets, &extra),
             Some(low) => {

@@ -1,0 +1,62 @@
+// Sun et al.'s airlight (see airlight.rs for F(u,v) and the constant in the project's
+// convention), shared by the hybrid resolve and the per-frame F' table. Group 1 bindings 2 and 5.
+struct Hybrid {
+    // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: flags
+    // (bit 0: analytic airlight for isotropic point lights)
+    config: vec4<u32>,
+    // x: u_max of the F table; y: scattering resolution divisor (1, 2, 4); zw: unused
+    table: vec4<f32>,
+    // §3.4's F'(cos γ, x) table: x: x_max (m); y: cos γ samples; z: x samples; w: 1 if in use
+    fprime: vec4<f32>,
+};
+@group(1) @binding(2) var<uniform> hybrid: Hybrid;
+@group(1) @binding(5) var f_table: texture_2d<f32>;
+
+// The light this pipeline handles (set per pipeline; see common::resolve::ResolvePass::per_light).
+override LIGHT: u32 = 0u;
+
+const HALF_PI: f32 = 1.5707963267948966;
+const QUARTER_PI: f32 = 0.7853981633974483;
+
+// F(u, v) = ∫_0^v exp(−u tan ξ) dξ, bilinear from the table (clamped).
+fn f_lookup(u: f32, v: f32) -> f32 {
+    let nu = f32(hybrid.config.y);
+    let nv = f32(hybrid.config.z);
+    let fu = clamp(u / hybrid.table.x, 0.0, 1.0) * (nu - 1.0);
+    let fv = clamp(v / HALF_PI, 0.0, 1.0) * (nv - 1.0);
+    let i0 = u32(fu);
+    let j0 = u32(fv);
+    let i1 = min(i0 + 1u, hybrid.config.y - 1u);
+    let j1 = min(j0 + 1u, hybrid.config.z - 1u);
+    let tu = fu - f32(i0);
+    let tv = fv - f32(j0);
+    let a = mix(textureLoad(f_table, vec2<u32>(i0, j0), 0).r, textureLoad(f_table, vec2<u32>(i1, j0), 0).r, tu);
+    let b = mix(textureLoad(f_table, vec2<u32>(i0, j1), 0).r, textureLoad(f_table, vec2<u32>(i1, j1), 0).r, tu);
+    return mix(a, b, tv);
+}
+
+// The ray's geometry relative to a local light: t0 (closest approach), h (distance there).
+struct Approach {
+    t0: f32,
+    h: f32,
+};
+
+fn approach(k: u32, dir: vec3<f32>) -> Approach {
+    let w0 = lights.lights[k].position.xyz - camera.position.xyz;
+    let t0 = dot(w0, dir);
+    let h = max(length(w0 - dir * t0), 1e-5 * (length(w0) + 1e-3));
+    return Approach(t0, h);
+}
+
+// Unshadowed in-scatter over [a, b] of isotropic point light k: Sun et al.'s airlight (airlight.rs).
+fn airlight(k: u32, ap: Approach, a: f32, b: f32) -> vec3<f32> {
+    if (b <= a) { return vec3<f32>(0.0); }
+    let xa = QUARTER_PI + 0.5 * atan((a - ap.t0) / ap.h);
+    let xb = QUARTER_PI + 0.5 * atan((b - ap.t0) / ap.h);
+    var f = vec3<f32>(0.0);
+    let st = medium.sigma_t.rgb;
+    let u = st * ap.h;
+    f = vec3<f32>(f_lookup(u.x, xb) - f_lookup(u.x, xa), f_lookup(u.y, xb) - f_lookup(u.y, xa), f_lookup(u.z, xb) - f_lookup(u.z, xa)) * exp(-st * ap.t0);
+    return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * (2.0 / (4.0 * PI * ap.h)) * max(f, vec3<f32>(0.0));
+}
+

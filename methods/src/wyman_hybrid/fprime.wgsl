@@ -1,0 +1,24 @@
+// §3.4: this frame's F'(γ, x) = A₀ F(A₁, A₂(x)) for light LIGHT, so the hybrid's airlight is
+// two texture lookups: L = F'(γ, b) − F'(γ, a). The table is (γ samples × lights) wide and
+// x samples high; this pipeline writes its light's band and adds zero elsewhere.
+// Needs PRELUDE, FULLSCREEN and airlight.wgsl.
+
+struct Out {
+    @location(0) value: vec4<f32>,
+    @location(1) unused: vec4<f32>,
+};
+
+@fragment
+fn fs(@builtin(position) frag: vec4<f32>) -> Out {
+    let ng = hybrid.fprime.y;
+    let band = u32(frag.x / ng);
+    if (band != LIGHT || light_kind(LIGHT) != LIGHT_POINT) { return Out(vec4<f32>(0.0), vec4<f32>(0.0)); }
+    let i = frag.x - 0.5 - f32(band) * ng;
+    let cg = cos(PI * i / (ng - 1.0));
+    let x = (frag.y - 0.5) / (hybrid.fprime.z - 1.0) * hybrid.fprime.x;
+    let dl = length(lights.lights[LIGHT].position.xyz - camera.position.xyz);
+    let sg = sqrt(max(1.0 - cg * cg, 0.0));
+    let ap = Approach(dl * cg, max(dl * sg, 1e-5 * (dl + 1e-3)));
+    // F' up to a constant: airlight from 0 to x.
+    return Out(vec4<f32>(airlight(LIGHT, ap, 0.0, x), 1.0), vec4<f32>(0.0));
+}
