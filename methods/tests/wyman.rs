@@ -55,7 +55,9 @@ fn config(out: PathBuf, res: u32, frames: u32) -> RunConfig {
 }
 
 fn knobs(list: &[(&str, ParamValue)]) -> Params {
-    list.iter().map(|(k, v)| (k.to_string(), v.clone())).collect()
+    list.iter()
+        .map(|(k, v)| (k.to_string(), v.clone()))
+        .collect()
 }
 
 fn scene(name: &str) -> Scene {
@@ -63,14 +65,28 @@ fn scene(name: &str) -> Scene {
 }
 
 /// One record of wyman-hybrid on `scene` through the runner (scored against the reference),
-/// and the run directory its images live in.
-fn record(gpu: &Gpu, scene: &Scene, res: u32, list: &[(&str, ParamValue)], no_skip: bool) -> (Record, PathBuf) {
-    let out = tmp(&format!("{}-{}", scene.name, if no_skip { "noskip" } else { "skip" }));
+/// and the run directory its images live in (`tag` keeps concurrent tests' directories apart).
+fn record(
+    gpu: &Gpu,
+    tag: &str,
+    scene: &Scene,
+    res: u32,
+    list: &[(&str, ParamValue)],
+    no_skip: bool,
+) -> (Record, PathBuf) {
+    let out = tmp(&format!("{tag}-{}", scene.name));
     let mut cfg = config(out.clone(), res, 1);
     cfg.no_skip = no_skip;
     cfg.overrides.insert("wyman-hybrid".into(), knobs(list));
     let entry = methods::find("wyman-hybrid").expect("registered");
-    let r = run(gpu, std::slice::from_ref(scene), &[entry], &cfg, &mut |_| {}).unwrap();
+    let r = run(
+        gpu,
+        std::slice::from_ref(scene),
+        &[entry],
+        &cfg,
+        &mut |_| {},
+    )
+    .unwrap();
     let rec = r.records[0].clone();
     assert_eq!(rec.status, Status::Ok, "{:?}", rec.reason);
     (rec, out)
@@ -80,28 +96,50 @@ fn record(gpu: &Gpu, scene: &Scene, res: u32, list: &[(&str, ParamValue)], no_sk
 fn prepared(gpu: &Gpu, scene: &Scene, res: u32, list: &[(&str, ParamValue)]) -> WymanHybrid {
     let mut m = WymanHybrid::default();
     let params = resolve_params(&m.params(), &knobs(list)).unwrap();
-    m.prepare(&PrepareContext { gpu, scene, params: &params, width: res, height: res, no_skip: false }).unwrap();
+    m.prepare(&PrepareContext {
+        gpu,
+        scene,
+        params: &params,
+        width: res,
+        height: res,
+        no_skip: false,
+    })
+    .unwrap();
     m
 }
 
-/// In-scatter and total AOVs of frame `index`, rendered by `m` (which keeps its state).
-fn render(gpu: &Gpu, m: &mut WymanHybrid, scene: &Scene, index: u32, aovs: &AovTargets) -> (Image, Image, FrameReport) {
+/// The in-scatter AOV of frame `index` rendered by `m` (which keeps its state), and its report.
+fn render(
+    gpu: &Gpu,
+    m: &mut WymanHybrid,
+    scene: &Scene,
+    index: u32,
+    aovs: &AovTargets,
+) -> (Image, FrameReport) {
     let t = render_frame(gpu, m, scene, index, aovs, None).unwrap();
-    let [ins, total, _] = aovs.read(gpu).unwrap();
-    (ins, total, t.report)
+    let [ins, _, _] = aovs.read(gpu).unwrap();
+    (ins, t.report)
 }
 
 fn rel_rmse(test: &Image, reference: &Image) -> f64 {
-    compare(test, reference, &ToneMap { exposure: 0.0 }).unwrap().rel_rmse
+    compare(test, reference, &ToneMap { exposure: 0.0 })
+        .unwrap()
+        .rel_rmse
 }
 
 /// In-scatter rel RMSE of wyman-hybrid against `refimg` for each knob set, one method per set.
-fn errors(gpu: &Gpu, scene: &Scene, res: u32, refimg: &Image, sets: &[Vec<(&str, ParamValue)>]) -> Vec<f64> {
+fn errors(
+    gpu: &Gpu,
+    scene: &Scene,
+    res: u32,
+    refimg: &Image,
+    sets: &[Vec<(&str, ParamValue)>],
+) -> Vec<f64> {
     let aovs = AovTargets::new(gpu, res, res);
     sets.iter()
         .map(|list| {
             let mut m = prepared(gpu, scene, res, list);
-            let (ins, _, _) = render(gpu, &mut m, scene, 0, &aovs);
+            let (ins, _) = render(gpu, &mut m, scene, 0, &aovs);
             rel_rmse(&ins, refimg)
         })
         .collect()
@@ -113,8 +151,17 @@ fn samples(n: i64) -> Vec<(&'static str, ParamValue)> {
 
 /// The largest per-pixel, per-channel difference relative to the image's largest value.
 fn max_rel_diff(a: &Image, b: &Image) -> f64 {
-    let scale = b.pixels.iter().flat_map(|p| p.iter()).fold(0.0f32, |m, v| m.max(v.abs())) as f64;
-    let diff = a.pixels.iter().zip(&b.pixels).flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs())).fold(0.0f32, f32::max);
+    let scale = b
+        .pixels
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f32, |m, v| m.max(v.abs())) as f64;
+    let diff = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0f32, f32::max);
     diff as f64 / scale.max(1e-30)
 }
 
@@ -126,7 +173,7 @@ fn max_rel_diff(a: &Image, b: &Image) -> f64 {
 #[test]
 fn airlight_table_matches_reference_on_clear_fog() {
     let Some(gpu) = gpu() else { return };
-    let (rec, _) = record(&gpu, &scene("clear-fog"), 96, &[], false);
+    let (rec, _) = record(&gpu, "airlight", &scene("clear-fog"), 96, &[], false);
     let e = rec.errors["inscatter"].rel_rmse;
     eprintln!("clear-fog airlight in-scatter rel RMSE at 96²: {e}");
     assert!(e < 0.005, "airlight in-scatter rel RMSE: {e}");
@@ -164,7 +211,10 @@ fn error_falls_as_samples_rise_on_fence_spot() {
     let sets: Vec<_> = ns.iter().map(|n| samples(*n)).collect();
     let e = errors(&gpu, &s, 96, &refimg.inscatter, &sets);
     eprintln!("fence-spot 96², samples {ns:?}: in-scatter rel RMSE {e:?}");
-    assert!(e.windows(2).all(|p| p[1] < 0.75 * p[0]), "error does not fall with samples: {e:?}");
+    assert!(
+        e.windows(2).all(|p| p[1] < 0.75 * p[0]),
+        "error does not fall with samples: {e:?}"
+    );
     assert!(e[3] < 0.025, "in-scatter rel RMSE at 100 samples: {}", e[3]);
 }
 
@@ -184,13 +234,29 @@ fn airlight_table_agrees_with_quadrature_on_sphere_point() {
     let aovs = AovTargets::new(&gpu, 128, 128);
     let mut images = Vec::new();
     for analytic in [true, false] {
-        let mut m = prepared(&gpu, &s, 128, &[("samples", ParamValue::Int(200)), ("airlight", ParamValue::Bool(analytic))]);
+        let mut m = prepared(
+            &gpu,
+            &s,
+            128,
+            &[
+                ("samples", ParamValue::Int(200)),
+                ("airlight", ParamValue::Bool(analytic)),
+            ],
+        );
         images.push(render(&gpu, &mut m, &s, 0, &aovs).0);
     }
-    let (table, quad) = (rel_rmse(&images[0], &refimg.inscatter), rel_rmse(&images[1], &refimg.inscatter));
+    let (table, quad) = (
+        rel_rmse(&images[0], &refimg.inscatter),
+        rel_rmse(&images[1], &refimg.inscatter),
+    );
     let between = rel_rmse(&images[0], &images[1]);
-    eprintln!("sphere-point 128², 200 samples: table {table}, quadrature {quad}, table vs quadrature {between}");
-    assert!(table < 1e-3 && quad < 1e-3, "table {table}, quadrature {quad}");
+    eprintln!(
+        "sphere-point 128², 200 samples: table {table}, quadrature {quad}, table vs quadrature {between}"
+    );
+    assert!(
+        table < 1e-3 && quad < 1e-3,
+        "table {table}, quadrature {quad}"
+    );
     assert!(between < 1e-4, "table vs quadrature: {between}");
 }
 
@@ -201,12 +267,32 @@ fn airlight_table_agrees_with_quadrature_on_sphere_point() {
 fn skipping_shadow_passes_on_clear_fog_does_not_change_the_image() {
     let Some(gpu) = gpu() else { return };
     let s = scene("clear-fog");
-    let (skip, skip_dir) = record(&gpu, &s, 64, &[], false);
-    let (full, full_dir) = record(&gpu, &s, 64, &[], true);
-    let skipped: Vec<&str> = skip.passes.as_ref().unwrap().skipped.iter().map(|p| p.pass.as_str()).collect();
-    assert!(skipped.contains(&"shadow-maps") && skipped.contains(&"shadow-volumes"), "skipped: {skipped:?}");
-    let full_skipped: Vec<&str> = full.passes.as_ref().unwrap().skipped.iter().map(|p| p.pass.as_str()).collect();
-    assert!(!full_skipped.contains(&"shadow-maps"), "--no-skip still skips: {full_skipped:?}");
+    let (skip, skip_dir) = record(&gpu, "skip", &s, 64, &[], false);
+    let (full, full_dir) = record(&gpu, "noskip", &s, 64, &[], true);
+    let skipped: Vec<&str> = skip
+        .passes
+        .as_ref()
+        .unwrap()
+        .skipped
+        .iter()
+        .map(|p| p.pass.as_str())
+        .collect();
+    assert!(
+        skipped.contains(&"shadow-maps") && skipped.contains(&"shadow-volumes"),
+        "skipped: {skipped:?}"
+    );
+    let full_skipped: Vec<&str> = full
+        .passes
+        .as_ref()
+        .unwrap()
+        .skipped
+        .iter()
+        .map(|p| p.pass.as_str())
+        .collect();
+    assert!(
+        !full_skipped.contains(&"shadow-maps"),
+        "--no-skip still skips: {full_skipped:?}"
+    );
     for aov in ["inscatter", "total"] {
         let a = harness::image::io::read_exr(&skip_dir.join(&skip.images[aov])).unwrap();
         let b = harness::image::io::read_exr(&full_dir.join(&full.images[aov])).unwrap();
@@ -230,19 +316,30 @@ fn silhouettes_are_rebuilt_only_when_something_moved() {
 
     let pen = scene("pen-orbit");
     let mut m = prepared(&gpu, &pen, res, &[]);
-    let (_, _, r0) = render(&gpu, &mut m, &pen, 0, &aovs);
-    let (after, _, r1) = render(&gpu, &mut m, &pen, 1, &aovs);
-    assert!(ran(&r0) && ran(&r1) && !skipped(&r1), "pen-orbit frames: {r0:?} / {r1:?}");
+    let (frame0, r0) = render(&gpu, &mut m, &pen, 0, &aovs);
+    let (after, r1) = render(&gpu, &mut m, &pen, 1, &aovs);
+    assert!(
+        ran(&r0) && ran(&r1) && !skipped(&r1),
+        "pen-orbit frames: {r0:?} / {r1:?}"
+    );
     let mut fresh = prepared(&gpu, &pen, res, &[]);
-    let (direct, _, _) = render(&gpu, &mut fresh, &pen, 1, &aovs);
+    let (direct, _) = render(&gpu, &mut fresh, &pen, 1, &aovs);
+    let moved = max_rel_diff(&frame0, &direct);
+    assert!(moved > 1e-3, "frames 0 and 1 differ by only {moved}");
     let d = max_rel_diff(&after, &direct);
-    assert!(d < 1e-6, "frame 1 after frame 0 differs from a fresh frame 1 by {d}");
+    assert!(
+        d < 1e-6,
+        "frame 1 after frame 0 differs from a fresh frame 1 by {d}"
+    );
 
     let sphere = scene("sphere-point");
     let mut m = prepared(&gpu, &sphere, res, &[]);
-    let (first, _, r0) = render(&gpu, &mut m, &sphere, 0, &aovs);
-    let (second, _, r1) = render(&gpu, &mut m, &sphere, 1, &aovs);
+    let (first, r0) = render(&gpu, &mut m, &sphere, 0, &aovs);
+    let (second, r1) = render(&gpu, &mut m, &sphere, 1, &aovs);
     assert!(ran(&r0), "sphere-point frame 0: {r0:?}");
     assert!(skipped(&r1) && !ran(&r1), "sphere-point frame 1: {r1:?}");
-    assert_eq!(first.pixels, second.pixels, "reused silhouettes change the image");
+    assert_eq!(
+        first.pixels, second.pixels,
+        "reused silhouettes change the image"
+    );
 }

@@ -1,6 +1,7 @@
 //! What several methods share: WGSL modules (composed, never pasted), uniform mirrors, the
 //! scene's GPU buffers, shadow maps, light-pattern textures and the forward surface pass.
 
+pub mod counters;
 pub mod gpu_scene;
 pub mod patterns;
 pub mod renderer;

@@ -17,6 +17,9 @@ pub struct ResolvePass {
     layout: wgpu::BindGroupLayout,
     pub uniform: Option<wgpu::Buffer>,
     extra_textures: u32,
+    /// Per-light mode only: `counter_slots` u32 atomics at binding 15 (`counters` in WGSL),
+    /// which the pass's shader may count into (read back with `common::counters`).
+    pub counters: Option<wgpu::Buffer>,
 }
 
 impl ResolvePass {
@@ -28,13 +31,14 @@ impl ResolvePass {
         own: &str,
         uniform_size: Option<u64>,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, 0, false)
+        Self::build(gpu, renderer, label, own, uniform_size, 0, false, 0)
     }
 
     /// Per-light mode: the shader declares `override LIGHT: u32;` and handles that one light;
     /// one pipeline per light slot, drawn in turn with additive blending (the pipeline for light 0
     /// also adds the surface and ambient terms). For shaders whose loop over lights would be too
     /// much for a driver's compiler, and to let the light index be a compile-time constant.
+    #[allow(clippy::too_many_arguments)]
     pub fn per_light(
         gpu: &Gpu,
         renderer: &SceneRenderer,
@@ -42,8 +46,9 @@ impl ResolvePass {
         own: &str,
         uniform_size: Option<u64>,
         extra_textures: u32,
+        counter_slots: u32,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, true)
+        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, true, counter_slots)
     }
 
     /// Like [`ResolvePass::new`], with `extra_textures` more texture bindings (3, 4, …), bound
@@ -56,7 +61,7 @@ impl ResolvePass {
         uniform_size: Option<u64>,
         extra_textures: u32,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, false)
+        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, false, 0)
     }
 
     fn build(
@@ -67,6 +72,7 @@ impl ResolvePass {
         uniform_size: Option<u64>,
         extra_textures: u32,
         per_light: bool,
+        counter_slots: u32,
     ) -> ResolvePass {
         let tex = |binding| wgpu::BindGroupLayoutEntry {
             binding,
@@ -92,6 +98,22 @@ impl ResolvePass {
             });
         }
         entries.extend((0..extra_textures).map(|k| tex(3 + k)));
+        if counter_slots > 0 {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 15,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
+                count: None,
+            });
+        }
+        let counters = (counter_slots > 0).then(|| {
+            gpu.buffer(&wgpu::BufferDescriptor {
+                label: Some("pass counters"),
+                size: 4 * counter_slots as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        });
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -144,6 +166,7 @@ impl ResolvePass {
             layout,
             uniform,
             extra_textures,
+            counters,
         }
     }
 
@@ -188,6 +211,9 @@ impl ResolvePass {
             binding: 3 + k as u32,
             resource: wgpu::BindingResource::TextureView(v),
         }));
+        if let Some(c) = &self.counters {
+            entries.push(wgpu::BindGroupEntry { binding: 15, resource: c.as_entire_binding() });
+        }
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.label),
             layout: &self.layout,

@@ -9,6 +9,8 @@
 @group(1) @binding(3) var volume_front: texture_2d<f32>;
 @group(1) @binding(4) var volume_back: texture_2d<f32>;
 @group(1) @binding(6) var f_prime: texture_2d<f32>;
+// [0]: pixels (and lights) marched; [1]: march steps taken (common::counters).
+@group(1) @binding(15) var<storage, read_write> counters: array<atomic<u32>, 2>;
 
 // §3.4: F'(γ, x) from this frame's table (light k's band of columns), at table position fi in γ.
 fn fprime_lookup(k: u32, fi: f32, x: f32) -> vec3<f32> {
@@ -151,7 +153,8 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
         // Shadow polygons on this ray: march between the first and the last.
         a = clamp(channel(fronts, k), span.x, span.y);
         b = clamp(back, span.x, span.y);
-        steps = n;
+        // No march when every polygon lies behind the surface or outside the spot's cone.
+        steps = select(0u, n, b > a);
     }
     // No polygon is crossed before a or after b, so visibility is constant on each of those
     // segments: one shadow-map test at its middle says whether it is lit. (The paper assumes both
@@ -161,6 +164,10 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let lit_after = shadow_visibility(k, camera.position.xyz + dir * (0.5 * (b + span.y))) > 0.5;
     var lit_here = span.x < span.y;
     let dt = (b - a) / f32(max(steps, 1u));
+    if (steps > 0u) {
+        atomicAdd(&counters[0], 1u);
+        atomicAdd(&counters[1], steps);
+    }
     var run_start = -1.0;
     for (var i = 0u; lit_here && i < steps + 3u; i++) {
         var seg = vec2<f32>(0.0, 0.0);

@@ -37,6 +37,7 @@ use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
 use scenes::{FrameState, LightState, SceneFeatures};
 
+use crate::common::counters::CounterReadback;
 use crate::common::gpu_scene::mesh_pipeline_with;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::ResolvePass;
@@ -94,8 +95,11 @@ struct State {
     volumes: wgpu::RenderPipeline,
     vertex_buffer: Option<wgpu::Buffer>,
     vertex_count: u32,
-    /// Lights and transforms the current quads were built for.
-    built_for: Option<(Vec<LightState>, Vec<glam::Mat4>)>,
+    /// Lights, transforms and eye position the current quads were built for (the extrusion
+    /// length depends on the eye).
+    built_for: Option<(Vec<LightState>, Vec<glam::Mat4>, Vec3)>,
+    /// `--no-skip`: rebuild silhouettes every frame.
+    no_skip: bool,
     front_view: wgpu::TextureView,
     back_view: wgpu::TextureView,
     table_view: wgpu::TextureView,
@@ -105,6 +109,8 @@ struct State {
     /// §3.4: the per-frame F' table and the pass that fills it (knob `fprime`).
     fprime: Option<FPrime>,
     fprime_view: wgpu::TextureView,
+    /// Pixels marched and steps taken, counted by the hybrid pass (one frame late).
+    counters: CounterReadback,
     uniform: HybridUniform,
     silhouette_edges: usize,
 }
@@ -201,7 +207,7 @@ impl Method for WymanHybrid {
         let casters = scene.desc.objects.iter().enumerate().filter(|(_, o)| o.casts_volumetric_shadow).map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k]))).collect();
 
         // F's u = σ_t h never exceeds σ_t times the light's distance to the eye (h ≤ that).
-        let sigma_t = scene.medium().sigma_t.max_element();
+        let sigma_t = scene.medium().background().sigma_t.max_element();
         let mut reach = 0.0f32;
         for f in 0..scene.frame_count() {
             let fs = scene.frame(f);
@@ -258,7 +264,8 @@ impl Method for WymanHybrid {
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Uint32],
         };
         let volumes = mesh_pipeline_with(&gpu.device, "shadow volumes", &layout, &module, vertex_layout, None, &targets);
-        let resolve = ResolvePass::per_light(gpu, &renderer, "hybrid", &hybrid_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 4);
+        let resolve = ResolvePass::per_light(gpu, &renderer, "hybrid", &hybrid_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 4, 2);
+        let counters = CounterReadback::new(gpu, 2);
         let use_fprime = ctx.params.get("fprime").and_then(ParamValue::as_bool).unwrap_or(false);
         let table_target = |label, w, h| {
             gpu.texture(&wgpu::TextureDescriptor {
@@ -275,7 +282,7 @@ impl Method for WymanHybrid {
         };
         let (fprime, fprime_view) = if use_fprime {
             let (w, h) = (FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32, FPRIME_SIZE);
-            let pass = ResolvePass::per_light(gpu, &renderer, "F' table", &fprime_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 3);
+            let pass = ResolvePass::per_light(gpu, &renderer, "F' table", &fprime_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 3, 0);
             let table = table_target("F' table", w, h);
             (Some(FPrime { pass, table: table.clone(), unused: table_target("F' table (unused)", w, h) }), table)
         } else {
@@ -319,10 +326,12 @@ impl Method for WymanHybrid {
             front_view: front.create_view(&Default::default()),
             back_view: back.create_view(&Default::default()),
             table_view: table_tex.create_view(&Default::default()),
+            no_skip: ctx.no_skip,
             resolve,
             low,
             fprime,
             fprime_view,
+            counters,
             uniform,
             silhouette_edges: 0,
         });
@@ -340,11 +349,17 @@ impl Method for WymanHybrid {
         for u in st.resolve.uniform.iter().chain(st.fprime.as_ref().and_then(|f| f.pass.uniform.as_ref())) {
             gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&st.uniform));
         }
+        let counter_buf = st.resolve.counters.clone().expect("hybrid pass counts");
+        st.counters.begin_frame(gpu, &counter_buf);
+        if let Some(c) = st.counters.latest() {
+            report.count("pixels_marched", c[0] as f64);
+            report.count("steps", c[1] as f64);
+        }
         st.renderer.encode_shadows(enc, &mut report);
         st.renderer.encode_surface(enc, targets, &mut report);
 
-        let key = (frame.lights.clone(), frame.world_from_local.clone());
-        if st.built_for.as_ref() == Some(&key) {
+        let key = (frame.lights.clone(), frame.world_from_local.clone(), frame.camera.position);
+        if !st.no_skip && st.built_for.as_ref() == Some(&key) {
             report.skip("silhouettes", "lights and occluders unchanged since the last frame");
         } else if !st.casters.is_empty() {
             build_volumes(gpu, st, frame);
@@ -370,7 +385,7 @@ impl Method for WymanHybrid {
                 pass.draw(0..st.vertex_count, 0..1);
             }
         }
-        if st.casters.is_empty() {
+        if st.casters.is_empty() && !st.no_skip {
             report.skip("shadow-volumes", "no object casts a volumetric shadow: airlight only");
         } else {
             report.ran("shadow-volumes");
@@ -390,6 +405,7 @@ impl Method for WymanHybrid {
                 report.ran("upsample");
             }
         }
+        st.counters.end_frame(enc, &counter_buf);
         report.ran("hybrid");
         report.count("scattering_pixels", st.low.as_ref().map_or(targets.width * targets.height, |l| l.width * l.height) as f64);
         Ok(report)
