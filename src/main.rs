@@ -59,6 +59,11 @@ enum Command {
     /// Robustness suite: extreme but valid scenes × every method (no panic, no wgpu error, no
     /// non-finite pixel, error within the method's declared bound, or a clean "unsupported").
     Stress(cmd::stress::StressArgs),
+    /// Merge run directories (e.g. the shards of `run --shard i/n`) into one run with its report.
+    Merge(cmd::merge::MergeArgs),
+    /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
+    /// measured ratio) and the equal-error table.
+    Reproduce(cmd::reproduce::ReproduceArgs),
 }
 
 fn main() -> ExitCode {
@@ -76,6 +81,8 @@ fn main() -> ExitCode {
         Command::Report { run_dir } => cmd::report::run(&run_dir),
         Command::Bench(b) => cmd::run::dispatch(b),
         Command::Stress(a) => cmd::stress::run(a),
+        Command::Merge(a) => cmd::merge::run(a),
+        Command::Reproduce(a) => cmd::reproduce::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

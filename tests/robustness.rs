@@ -6,11 +6,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use harness::method::{Entry, FrameReport, Method, MethodInfo, ParamSpec, PrepareContext, Support, Targets};
+use harness::Gpu;
+use harness::method::{
+    Entry, FrameReport, Method, MethodInfo, ParamSpec, PrepareContext, Support, Targets,
+};
 use harness::reference::{self, Settings, cache};
 use harness::results::{Results, Status};
 use harness::stress::{self, StressConfig};
-use harness::Gpu;
 use scenes::{FrameState, SceneFeatures};
 
 const BIN: &str = env!("CARGO_BIN_EXE_scatterbench");
@@ -24,7 +26,9 @@ fn tmp(name: &str) -> PathBuf {
 fn have_gpu() -> Option<Gpu> {
     match Gpu::new() {
         Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => panic!("CI is set and there is no GPU adapter: {e}"),
+        Err(e) if std::env::var_os("CI").is_some() => {
+            panic!("CI is set and there is no GPU adapter: {e}")
+        }
         Err(e) => {
             eprintln!("skipping GPU test: {e}");
             None
@@ -33,8 +37,15 @@ fn have_gpu() -> Option<Gpu> {
 }
 
 fn cli(args: &[&str]) -> (i32, String) {
-    let o = Command::new(BIN).args(args).env("NODEVICE_SELECT", "1").output().unwrap();
-    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stderr).into_owned())
+    let o = Command::new(BIN)
+        .args(args)
+        .env("NODEVICE_SELECT", "1")
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
 }
 
 /// Kills `scatterbench run` with SIGKILL once results.json holds a finished record: the file
@@ -49,9 +60,21 @@ fn sigkill_mid_run_leaves_valid_results_and_resume_completes_them() {
     let cache = tmp("kill-cache");
     let args = |resume: bool| {
         let mut a = vec![
-            "run", "--scenes", "clear-fog,sphere-point,fence-spot", "--methods", "no-scatter,raymarch-brute",
-            "--res", "32", "--frames", "2", "--warmup", "0",
-            "--out", out.to_str().unwrap(), "--cache", cache.to_str().unwrap(),
+            "run",
+            "--scenes",
+            "clear-fog,sphere-point,fence-spot",
+            "--methods",
+            "no-scatter,raymarch-brute",
+            "--res",
+            "32",
+            "--frames",
+            "2",
+            "--warmup",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
         ]
         .into_iter()
         .map(String::from)
@@ -80,23 +103,37 @@ fn sigkill_mid_run_leaves_valid_results_and_resume_completes_them() {
         if let Some(st) = child.try_wait().unwrap() {
             panic!("the run ended ({st}) before it could be killed");
         }
-        assert!(start.elapsed() < Duration::from_secs(300), "no record after 300 s");
+        assert!(
+            start.elapsed() < Duration::from_secs(300),
+            "no record after 300 s"
+        );
         std::thread::sleep(Duration::from_millis(20));
     };
     child.wait().unwrap();
     let after_kill = Results::load(&path).expect("results.json is valid after SIGKILL");
     assert!(after_kill.records.len() >= killed_at);
-    assert!(after_kill.records.len() < 6, "the kill came too late to test resume");
+    assert!(
+        after_kill.records.len() < 6,
+        "the kill came too late to test resume"
+    );
     let (code, err) = cli(&args(true).iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(code, 0, "{err}");
     let done = Results::load(&path).unwrap();
     assert_eq!(done.records.len(), 6, "3 scenes × 2 methods");
-    assert_eq!(&done.records[..after_kill.records.len()], &after_kill.records[..], "finished records kept");
+    assert_eq!(
+        &done.records[..after_kill.records.len()],
+        &after_kill.records[..],
+        "finished records kept"
+    );
     let mut keys: Vec<String> = done.records.iter().map(|r| r.key()).collect();
     keys.sort();
     keys.dedup();
     assert_eq!(keys.len(), 6, "no record twice");
-    assert!(done.records.iter().all(|r| r.status == Status::Ok), "{:?}", done.records);
+    assert!(
+        done.records.iter().all(|r| r.status == Status::Ok),
+        "{:?}",
+        done.records
+    );
 }
 
 #[test]
@@ -111,7 +148,15 @@ fn an_unwritable_output_directory_is_a_clear_error() {
     std::fs::write(&file, "x").unwrap();
     let out = file.join("out");
     for cmd in ["run", "stress"] {
-        let mut args = vec![cmd, "--methods", "no-scatter", "--res", "16", "--out", out.to_str().unwrap()];
+        let mut args = vec![
+            cmd,
+            "--methods",
+            "no-scatter",
+            "--res",
+            "16",
+            "--out",
+            out.to_str().unwrap(),
+        ];
         if cmd == "run" {
             args.extend(["--scenes", "clear-fog", "--frames", "1", "--warmup", "0"]);
         } else {
@@ -119,19 +164,31 @@ fn an_unwritable_output_directory_is_a_clear_error() {
         }
         let (code, err) = cli(&args);
         assert_eq!(code, 1, "{cmd}: {err}");
-        assert!(err.contains("cannot create the output directory"), "{cmd}: {err}");
+        assert!(
+            err.contains("cannot create the output directory"),
+            "{cmd}: {err}"
+        );
         assert!(!err.contains("panicked"), "{cmd}: {err}");
     }
 }
 
 #[test]
 fn unknown_names_are_refused_with_the_valid_ones() {
-    let (code, err) = cli(&["run", "--scenes", "no-such-scene", "--methods", "no-scatter"]);
+    let (code, err) = cli(&[
+        "run",
+        "--scenes",
+        "no-such-scene",
+        "--methods",
+        "no-scatter",
+    ]);
     assert_eq!(code, 1);
     for name in scenes::library::names() {
         assert!(err.contains(name), "{err}");
     }
-    for (cmd, extra) in [("run", ["--scenes", "clear-fog"]), ("stress", ["--cases", "all"])] {
+    for (cmd, extra) in [
+        ("run", ["--scenes", "clear-fog"]),
+        ("stress", ["--cases", "all"]),
+    ] {
         let (code, err) = cli(&[cmd, "--methods", "no-such-method", extra[0], extra[1]]);
         assert_eq!(code, 1, "{cmd}");
         for e in methods::REGISTRY {
@@ -167,15 +224,26 @@ fn a_corrupt_cache_entry_is_recomputed_not_trusted() {
     let key = cache::key(&scene, 0, w, h, &s);
     for file in ["inscatter.exr", "total.exr", "distance.exr"] {
         truncate(&dir.join(&key).join(file));
-        assert!(cache::load(&dir, &key).is_none(), "{file} truncated but the entry loads");
-        let (again, cached) = cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
+        assert!(
+            cache::load(&dir, &key).is_none(),
+            "{file} truncated but the entry loads"
+        );
+        let (again, cached) =
+            cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
         assert!(!cached, "{file} truncated but the entry was trusted");
         let fresh = reference::render(&scene, 0, w, h, s, &|_| {}).unwrap();
-        for (a, b) in [(&again.inscatter, &fresh.inscatter), (&again.total, &fresh.total), (&again.surface, &fresh.surface)] {
+        for (a, b) in [
+            (&again.inscatter, &fresh.inscatter),
+            (&again.total, &fresh.total),
+            (&again.surface, &fresh.surface),
+        ] {
             assert_eq!(a.pixels, b.pixels);
         }
         assert_eq!(again.total.pixels, first.total.pixels);
-        assert!(cache::load(&dir, &key).is_some(), "the entry is rewritten whole");
+        assert!(
+            cache::load(&dir, &key).is_some(),
+            "the entry is rewritten whole"
+        );
     }
     // Garbage in stats.json: not trusted either.
     std::fs::write(dir.join(&key).join("stats.json"), "{not json").unwrap();
@@ -191,7 +259,11 @@ struct Faulty {
 impl Method for Faulty {
     fn info(&self) -> MethodInfo {
         MethodInfo {
-            id: if self.lose_device { "test-device-lost" } else { "test-validation" },
+            id: if self.lose_device {
+                "test-device-lost"
+            } else {
+                "test-validation"
+            },
             paper: "test",
             summary: "fails on purpose",
         }
@@ -205,14 +277,24 @@ impl Method for Faulty {
     fn prepare(&mut self, _: &PrepareContext) -> anyhow::Result<()> {
         Ok(())
     }
-    fn render(&mut self, gpu: &Gpu, _: &FrameState, t: &Targets, enc: &mut wgpu::CommandEncoder) -> anyhow::Result<FrameReport> {
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        _: &FrameState,
+        t: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> anyhow::Result<FrameReport> {
         if self.lose_device {
             gpu.device.destroy();
             return Ok(FrameReport::default());
         }
         let small = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("mismatched"),
-            size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -226,7 +308,10 @@ impl Method for Faulty {
                 view: v,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
             })
         };
         let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -238,8 +323,14 @@ impl Method for Faulty {
     }
 }
 
-const VALIDATION: Entry = Entry { id: "test-validation", make: || Box::new(Faulty { lose_device: false }) };
-const DEVICE_LOST: Entry = Entry { id: "test-device-lost", make: || Box::new(Faulty { lose_device: true }) };
+const VALIDATION: Entry = Entry {
+    id: "test-validation",
+    make: || Box::new(Faulty { lose_device: false }),
+};
+const DEVICE_LOST: Entry = Entry {
+    id: "test-device-lost",
+    make: || Box::new(Faulty { lose_device: true }),
+};
 
 /// A wgpu validation error and a lost device are each recorded as failed with the message, and
 /// the run goes on: the next method's record (on a fresh device after the loss) is ok.
@@ -259,18 +350,46 @@ fn validation_errors_and_device_loss_are_recorded_as_failed() {
         run_id: "test".into(),
     };
     let no_scatter = methods::find("no-scatter").unwrap();
-    let r = stress::run(&mut gpu, &[&VALIDATION, no_scatter, &DEVICE_LOST, no_scatter], &cfg, &mut |_| {}).unwrap();
+    let r = stress::run(
+        &mut gpu,
+        &[&VALIDATION, no_scatter, &DEVICE_LOST, no_scatter],
+        &cfg,
+        &mut |_| {},
+    )
+    .unwrap();
     // no-scatter twice is one record (the second is the resumed first): 3 records.
     let by = |id: &str| r.records.iter().find(|x| x.method == id).unwrap();
     let v = by("test-validation");
     assert_eq!(v.status, Status::Failed);
-    assert!(v.reason.as_deref().unwrap().contains("Validation"), "{:?}", v.reason);
+    assert!(
+        v.reason.as_deref().unwrap().contains("Validation"),
+        "{:?}",
+        v.reason
+    );
     let l = by("test-device-lost");
     assert_eq!(l.status, Status::Failed);
-    assert!(l.reason.as_deref().unwrap().to_lowercase().contains("lost"), "{:?}", l.reason);
+    assert!(
+        l.reason.as_deref().unwrap().to_lowercase().contains("lost"),
+        "{:?}",
+        l.reason
+    );
     assert_eq!(by("no-scatter").status, Status::Ok);
     // The run goes on after the loss, on a working device.
-    let again = stress::run(&mut gpu, &[no_scatter], &StressConfig { out_dir: tmp("faulty2"), ..cfg }, &mut |_| {}).unwrap();
-    assert_eq!(again.records[0].status, Status::Ok, "{:?}", again.records[0].reason);
+    let again = stress::run(
+        &mut gpu,
+        &[no_scatter],
+        &StressConfig {
+            out_dir: tmp("faulty2"),
+            ..cfg
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(
+        again.records[0].status,
+        Status::Ok,
+        "{:?}",
+        again.records[0].reason
+    );
     assert_eq!(Results::load(&out.join("results.json")).unwrap(), r);
 }

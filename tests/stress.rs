@@ -30,7 +30,12 @@ fn tmp(name: &str) -> std::path::PathBuf {
 #[test]
 fn every_case_builds_a_valid_scene() {
     let dir = tmp("build");
-    let ctx = stress::BuildContext { width: 64, height: 64, mesh_dir: &dir, triangles: 100_000 };
+    let ctx = stress::BuildContext {
+        width: 64,
+        height: 64,
+        mesh_dir: &dir,
+        triangles: 100_000,
+    };
     for c in CASES {
         let s = c.scene(&ctx).unwrap_or_else(|e| panic!("{}: {e}", c.name));
         assert_eq!(s.name, c.name);
@@ -39,13 +44,21 @@ fn every_case_builds_a_valid_scene() {
     let s = stress::find("many-triangles").unwrap().scene(&ctx).unwrap();
     assert!(s.triangle_count() >= 100_000, "{}", s.triangle_count());
     // The view-through-light case puts the light on the exact ray of the centre pixel.
-    let s = stress::find("view-through-light").unwrap().scene(&ctx).unwrap();
+    let s = stress::find("view-through-light")
+        .unwrap()
+        .scene(&ctx)
+        .unwrap();
     let f = s.frame(0);
     let rays = f.camera.rays(64, 64);
-    let scenes::LightState::Point { position, .. } = f.lights[0] else { panic!("not a point light") };
+    let scenes::LightState::Point { position, .. } = f.lights[0] else {
+        panic!("not a point light")
+    };
     let to_light = (position.as_dvec3() - rays.origin).normalize();
     let h = to_light.cross(rays.direction(32, 32)).length() * 4.0;
-    assert!(h < 1e-5, "distance of the light from the pixel's ray: {h} m");
+    assert!(
+        h < 1e-5,
+        "distance of the light from the pixel's ray: {h} m"
+    );
 }
 
 #[test]
@@ -70,13 +83,27 @@ fn stress_suite_passes_on_every_method_at_64() {
         .records
         .iter()
         .filter(|rec| rec.status == Status::Failed)
-        .map(|rec| format!("{} × {}: {}", rec.scene, rec.method, rec.reason.as_deref().unwrap_or("")))
+        .map(|rec| {
+            format!(
+                "{} × {}: {}",
+                rec.scene,
+                rec.method,
+                rec.reason.as_deref().unwrap_or("")
+            )
+        })
         .collect();
-    assert!(failures.is_empty(), "stress failures:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "stress failures:\n{}",
+        failures.join("\n")
+    );
     // Every ok record is finite everywhere and within its declared bound (re-judged here).
     for rec in &r.records {
         let m = methods::find(&rec.method).unwrap();
         let bound = (m.make)().stress_bound(&rec.scene);
-        assert!(matches!(judge(rec, bound), Verdict::Pass | Verdict::Unsupported(_)), "{rec:?}");
+        assert!(
+            matches!(judge(rec, bound), Verdict::Pass | Verdict::Unsupported(_)),
+            "{rec:?}"
+        );
     }
 }

@@ -4,10 +4,12 @@
 pub mod fsutil;
 pub mod gpu;
 pub mod image;
+pub mod merge;
 pub mod method;
 pub mod reference;
 pub mod results;
 pub mod runner;
+pub mod shard;
 pub mod stress;
 
 pub use gpu::Gpu;

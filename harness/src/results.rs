@@ -35,6 +35,9 @@ pub struct RunInfo {
     /// ordinary benchmark run. Optional so results files written before it still load.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kind: Option<String>,
+    /// `run --shard i/n`: which slice of the work list this run holds (absent when whole).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<crate::shard::Shard>,
 }
 
 /// `RunInfo::kind` of a `scatterbench stress` run (DESIGN §6).

@@ -7,6 +7,10 @@
 //! each timed frame records the `render` call (CPU), encode+submit+wait (wall) and timestamp
 //! queries (GPU). Afterwards frame 0 is rendered once more, read back and scored against the
 //! reference of frame 0.
+//!
+//! The work list (scenes × methods × parameter sets, [`work_list`]) can be cut into shards
+//! ([`run_shard`], `crate::shard`) or replaced by an explicit list ([`run_items`], used by
+//! `scatterbench reproduce`).
 
 use std::collections::BTreeSet;
 use std::panic::AssertUnwindSafe;
@@ -28,6 +32,7 @@ use crate::results::{
     Machine, Passes, Record, Results, RunInfo, SCHEMA_VERSION, Stat, Status, Timing, git_commit,
     record_key,
 };
+use crate::shard::Shard;
 
 pub struct RunConfig {
     pub out_dir: PathBuf,
@@ -91,6 +96,90 @@ pub fn run(
     cfg: &RunConfig,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<Results, String> {
+    run_shard(gpu, scenes, methods, cfg, Shard::WHOLE, on_event)
+}
+
+/// One item of a run's work list: a scene (index into the caller's list), a method and a
+/// full parameter set.
+pub struct WorkItem<'a> {
+    pub scene: usize,
+    pub entry: &'a Entry,
+    pub params: Params,
+}
+
+/// The run's work list in the order records are written: scenes, then methods, then
+/// parameter sets. Sharding slices this list (see [`crate::shard`]).
+pub fn work_list<'a>(
+    scenes: &[Scene],
+    methods: &[&'a Entry],
+    cfg: &RunConfig,
+) -> Result<Vec<WorkItem<'a>>, String> {
+    // Parameter sets depend only on the method, so they are resolved once per method.
+    let mut sets = Vec::with_capacity(methods.len());
+    for entry in methods {
+        let probe = (entry.make)();
+        let overrides = cfg.overrides.get(entry.id).cloned().unwrap_or_default();
+        sets.push(
+            param_sets(probe.as_ref(), &overrides, cfg.sweep)
+                .map_err(|e| format!("--param {}: {e}", entry.id))?,
+        );
+    }
+    let mut out = Vec::new();
+    for scene in 0..scenes.len() {
+        for (entry, sets) in methods.iter().zip(&sets) {
+            for params in sets {
+                out.push(WorkItem {
+                    scene,
+                    entry,
+                    params: params.clone(),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Like [`run`], restricted to one shard of the work list; the shard is recorded in
+/// `run.shard` so `merge` can reassemble the shards in order.
+pub fn run_shard(
+    gpu: &Gpu,
+    scenes: &[Scene],
+    methods: &[&Entry],
+    cfg: &RunConfig,
+    shard: Shard,
+    on_event: &mut dyn FnMut(Event),
+) -> Result<Results, String> {
+    let work = work_list(scenes, methods, cfg)?;
+    let shard_info = (!shard.is_whole()).then_some(shard);
+    run_items(
+        gpu,
+        scenes,
+        &work[shard.range(work.len())],
+        cfg,
+        shard_info,
+        on_event,
+    )
+}
+
+/// Runs an explicit work list (e.g. a paper's table: chosen parameter sets per method),
+/// recording `shard` in the run info. `cfg.sweep` and `cfg.overrides` are not consulted:
+/// the items carry their full parameter sets.
+pub fn run_items(
+    gpu: &Gpu,
+    scenes: &[Scene],
+    work: &[WorkItem],
+    cfg: &RunConfig,
+    shard_info: Option<Shard>,
+    on_event: &mut dyn FnMut(Event),
+) -> Result<Results, String> {
+    if let Some(item) = work.iter().find(|i| i.scene >= scenes.len()) {
+        return Err(format!(
+            "work item {} refers to scene {} of {}",
+            item.entry.id,
+            item.scene,
+            scenes.len()
+        ));
+    }
     std::fs::create_dir_all(&cfg.out_dir).map_err(|e| {
         format!(
             "{}: cannot create the output directory: {e}",
@@ -99,7 +188,18 @@ pub fn run(
     })?;
     let results_path = cfg.out_dir.join("results.json");
     let mut results = if cfg.resume && results_path.exists() {
-        Results::load(&results_path)?
+        let r = Results::load(&results_path)?;
+        if r.run.shard != shard_info {
+            let show =
+                |s: Option<Shard>| s.map_or("the whole run".to_string(), |s| format!("shard {s}"));
+            return Err(format!(
+                "--resume: {} holds {}, not {}",
+                results_path.display(),
+                show(r.run.shard),
+                show(shard_info)
+            ));
+        }
+        r
     } else {
         Results {
             schema_version: SCHEMA_VERSION,
@@ -117,72 +217,68 @@ pub fn run(
                     "timings compare as ratios within one run and machine".into()
                 },
                 kind: None,
+                shard: shard_info,
             },
             records: Vec::new(),
         }
     };
     let done: BTreeSet<String> = results.records.iter().map(Record::key).collect();
     results.save(&results_path)?;
-    for scene in scenes {
-        let mut reference: Option<(ReferenceImages, ToneMap)> = None;
-        for entry in methods {
-            let probe = (entry.make)();
-            let overrides = cfg.overrides.get(entry.id).cloned().unwrap_or_default();
-            let sets = param_sets(probe.as_ref(), &overrides, cfg.sweep)
-                .map_err(|e| format!("--param {}: {e}", entry.id))?;
-            for params in sets {
-                let key = record_key(&scene.name, entry.id, &params);
-                if done.contains(&key) {
-                    on_event(Event::Resumed(&key));
-                    continue;
-                }
-                let support = probe.support(&scene.features(), gpu.features());
-                let record = match support {
-                    Support::No(why) => skipped(scene, entry.id, &params, why),
-                    support => {
-                        if reference.is_none() {
-                            let start = Instant::now();
-                            let (r, cached) = reference::cache::render_cached(
-                                cfg.cache_dir.as_deref(),
-                                scene,
-                                0,
-                                cfg.width,
-                                cfg.height,
-                                cfg.reference,
-                                &|_| {},
-                            )?;
-                            on_event(Event::Reference {
-                                scene: &scene.name,
-                                cached,
-                                seconds: start.elapsed().as_secs_f64(),
-                            });
-                            let tone = ToneMap::auto(&r.total);
-                            write_aovs(
-                                &cfg.out_dir,
-                                &format!("{}/reference", scene.name),
-                                &r.inscatter,
-                                &r.surface,
-                                &r.total,
-                                &tone,
-                            )?;
-                            reference = Some((r, tone));
-                        }
-                        let (r, tone) = reference.as_ref().expect("set above");
-                        let ignored = if let Support::Partial(v) = support {
-                            v
-                        } else {
-                            Vec::new()
-                        };
-                        let mut rec = run_one(gpu, scene, entry, &params, cfg, r, tone);
-                        rec.ignored = ignored;
-                        rec
-                    }
-                };
-                on_event(Event::Record(&record));
-                results.records.push(record);
-                results.save(&results_path)?;
-            }
+    // The reference of the scene being worked on (the list is grouped by scene).
+    let mut reference: Option<(usize, ReferenceImages, ToneMap)> = None;
+    for item in work {
+        let (scene, entry, params) = (&scenes[item.scene], item.entry, &item.params);
+        let key = record_key(&scene.name, entry.id, params);
+        if done.contains(&key) {
+            on_event(Event::Resumed(&key));
+            continue;
         }
+        let probe = (entry.make)();
+        let support = probe.support(&scene.features(), gpu.features());
+        let record = match support {
+            Support::No(why) => skipped(scene, entry.id, params, why),
+            support => {
+                if reference.as_ref().is_none_or(|r| r.0 != item.scene) {
+                    let start = Instant::now();
+                    let (r, cached) = reference::cache::render_cached(
+                        cfg.cache_dir.as_deref(),
+                        scene,
+                        0,
+                        cfg.width,
+                        cfg.height,
+                        cfg.reference,
+                        &|_| {},
+                    )?;
+                    on_event(Event::Reference {
+                        scene: &scene.name,
+                        cached,
+                        seconds: start.elapsed().as_secs_f64(),
+                    });
+                    let tone = ToneMap::auto(&r.total);
+                    write_aovs(
+                        &cfg.out_dir,
+                        &format!("{}/reference", scene.name),
+                        &r.inscatter,
+                        &r.surface,
+                        &r.total,
+                        &tone,
+                    )?;
+                    reference = Some((item.scene, r, tone));
+                }
+                let (_, r, tone) = reference.as_ref().expect("set above");
+                let ignored = if let Support::Partial(v) = support {
+                    v
+                } else {
+                    Vec::new()
+                };
+                let mut rec = run_one(gpu, scene, entry, params, cfg, r, tone);
+                rec.ignored = ignored;
+                rec
+            }
+        };
+        on_event(Event::Record(&record));
+        results.records.push(record);
+        results.save(&results_path)?;
     }
     Ok(results)
 }

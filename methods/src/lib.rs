@@ -1,6 +1,8 @@
 //! scatterbench methods: one folder per technique (`mod.rs`, its WGSL, a README), the shared
 //! pieces in `common/`, and the registry — an explicit list in a stable order.
 
+pub mod biri_polynomial;
+pub mod biri_shadow_volumes;
 pub mod common;
 pub mod dobashi_virtual_planes;
 pub mod no_scatter;
@@ -22,6 +24,14 @@ pub const REGISTRY: &[Entry] = &[
     Entry {
         id: "wyman-hybrid",
         make: || Box::new(wyman_hybrid::WymanHybrid::default()),
+    },
+    Entry {
+        id: "biri-shadow-volumes",
+        make: || Box::new(biri_shadow_volumes::BiriShadowVolumes::default()),
+    },
+    Entry {
+        id: "biri-polynomial",
+        make: || Box::new(biri_polynomial::BiriPolynomial::default()),
     },
     Entry {
         id: "no-scatter",
@@ -56,13 +66,37 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             "wyman-hybrid/upsample",
             common::resolve::source(wyman_hybrid::UPSAMPLE_WGSL),
         ),
-        ("dobashi-virtual-planes/planes", dobashi_virtual_planes::planes_source()),
-        ("dobashi-virtual-planes/far", dobashi_virtual_planes::far_source()),
-        ("dobashi-virtual-planes/resolve", dobashi_virtual_planes::resolve_source()),
-        ("dobashi-virtual-planes/probe", dobashi_virtual_planes::probe_source()),
+        (
+            "dobashi-virtual-planes/planes",
+            dobashi_virtual_planes::planes_source(),
+        ),
+        (
+            "dobashi-virtual-planes/far",
+            dobashi_virtual_planes::far_source(),
+        ),
+        (
+            "dobashi-virtual-planes/resolve",
+            dobashi_virtual_planes::resolve_source(),
+        ),
+        (
+            "dobashi-virtual-planes/probe",
+            dobashi_virtual_planes::probe_source(),
+        ),
         (
             "no-scatter/resolve",
             common::resolve::source(no_scatter::RESOLVE_WGSL),
+        ),
+        (
+            "biri-shadow-volumes/ldss",
+            biri_shadow_volumes::resolve_source(),
+        ),
+        (
+            "biri-shadow-volumes/planes",
+            biri_shadow_volumes::planes_source(),
+        ),
+        (
+            "biri-polynomial/fragment",
+            common::resolve::source(&biri_polynomial::fragment_wgsl()),
         ),
     ]
 }

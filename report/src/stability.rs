@@ -249,7 +249,10 @@ mod tests {
             "panic"
         );
         assert_eq!(fault("wgpu error: Validation Error"), "wgpu error");
-        assert_eq!(fault("prepare failed: x; wgpu: Validation Error"), "wgpu error");
+        assert_eq!(
+            fault("prepare failed: x; wgpu: Validation Error"),
+            "wgpu error"
+        );
         assert_eq!(fault("device lost (Unknown): gone"), "device lost");
         assert_eq!(fault("12 non-finite pixels in the output"), "");
         assert_eq!(fault(""), "");

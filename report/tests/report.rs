@@ -139,7 +139,10 @@ fn page_is_well_formed_and_has_every_record() {
     }
 
     // An ordinary run has no stability table.
-    assert!(!doc.descendants().any(|n| n.attribute("id") == Some("stability")));
+    assert!(
+        !doc.descendants()
+            .any(|n| n.attribute("id") == Some("stability"))
+    );
 
     // Machine and run info.
     for s in [
@@ -437,7 +440,12 @@ fn stress_run_opens_with_a_stability_table_with_the_right_verdicts() {
     let names: Vec<&str> = rows.iter().map(|(c, _)| c.as_str()).collect();
     assert_eq!(
         names,
-        ["light-near-surface", "camera-at-light", "sigma-t-1e-6", "open-mesh"]
+        [
+            "light-near-surface",
+            "camera-at-light",
+            "sigma-t-1e-6",
+            "open-mesh"
+        ]
     );
 
     let expect: [(&str, [(&str, &str); 3]); 4] = [
@@ -450,7 +458,10 @@ fn stress_run_opens_with_a_stability_table_with_the_right_verdicts() {
             [("fail", ""), ("fail", "wgpu error"), ("fail", "panic")],
         ),
         ("sigma-t-1e-6", [("pass", ""), ("fail", ""), ("fail", "")]),
-        ("open-mesh", [("pass", ""), ("fail", "device lost"), ("absent", "")]),
+        (
+            "open-mesh",
+            [("pass", ""), ("fail", "device lost"), ("absent", "")],
+        ),
     ];
     for ((case, cells), (want_case, want)) in rows.iter().zip(expect) {
         assert_eq!(case, want_case);
@@ -469,7 +480,11 @@ fn stress_run_opens_with_a_stability_table_with_the_right_verdicts() {
     assert!(cell(0, 0).contains("non-finite px 0"), "{}", cell(0, 0));
     // Unscored failures show no numbers; the reason is in the cell (escaped: "<b> &" survives).
     assert!(cell(1, 1).contains("total rel. RMSE —"), "{}", cell(1, 1));
-    assert!(cell(1, 1).contains("buffer <b> & binding too small"), "{}", cell(1, 1));
+    assert!(
+        cell(1, 1).contains("buffer <b> & binding too small"),
+        "{}",
+        cell(1, 1)
+    );
     assert!(cell(0, 2).contains("needs closed shadow casters"));
     assert!(cell(3, 2).contains("not run"));
 

@@ -90,11 +90,8 @@ pub struct CameraKey {
     pub look_at: Vec3,
 }
 
-/// The participating medium. Homogeneous media fill all space.
-///
-/// Particle media (spheres of constant extinction, DESIGN §1) will be a second variant,
-/// `{"kind": "particles", ...}`; every consumer matches on this enum, so adding it is a
-/// compile error wherever it needs handling.
+/// The participating medium: homogeneous (fills all space) or particles (spheres of constant
+/// extinction, DESIGN §1). Consumers get it in integrator form from [`crate::Scene::medium`].
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum MediumDesc {
@@ -109,6 +106,103 @@ pub enum MediumDesc {
         /// Ambient radiance L_a of the term L_a (1 - e^(-σt d)), W/(m² sr), RGB. Default: 0.
         #[serde(default)]
         ambient: Vec3,
+    },
+    /// A particle cloud: explicit spheres plus seeded generators (both optional, at least one
+    /// particle in all). Extinction inside a sphere is its `density`, overlaps add.
+    Particles {
+        /// Explicit particles. Default: none.
+        #[serde(default)]
+        particles: Vec<ParticleDesc>,
+        /// Seeded, reproducible particle generators. Default: none.
+        #[serde(default)]
+        generators: Vec<GeneratorDesc>,
+        /// Phase function of every particle (and of the background medium). Default: isotropic.
+        #[serde(default)]
+        phase: Phase,
+        /// A homogeneous medium filling all space around and inside the particles. Default:
+        /// none. Like the homogeneous medium, it does not attenuate directional light on the
+        /// light leg; the particles do (that is the cloud's self-shadowing).
+        #[serde(default)]
+        background: Option<BackgroundDesc>,
+        /// Radiance of the sky behind the cloud (rays that hit nothing), W/(m² sr), RGB,
+        /// attenuated along the whole ray to the far plane. Default: 0.
+        #[serde(default)]
+        sky: Vec3,
+    },
+}
+
+fn white() -> Vec3 {
+    Vec3::ONE
+}
+
+/// One sphere particle.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleDesc {
+    /// m.
+    pub center: Vec3,
+    /// m, > 0.
+    pub radius: f32,
+    /// Extinction coefficient τ inside the sphere, 1/m, ≥ 0 (grey).
+    pub density: f32,
+    /// Single-scattering albedo a (σ_s = a τ), RGB in [0,1]. Default: 1.
+    #[serde(default = "white")]
+    pub albedo: Vec3,
+}
+
+/// The background medium of a particle scene (its phase is the particles' phase).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BackgroundDesc {
+    /// Absorption coefficient, 1/m, RGB.
+    pub sigma_a: Vec3,
+    /// Scattering coefficient, 1/m, RGB.
+    pub sigma_s: Vec3,
+}
+
+/// A seeded particle generator: the same fields always give the same particles (its own
+/// SplitMix64 stream, no platform randomness). See `scenes::particles`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum GeneratorDesc {
+    /// Particle centres uniform in an ellipsoid (a cumulus-like puff), radii uniform in a range.
+    Cloud {
+        /// Number of particles, ≥ 1.
+        count: u32,
+        #[serde(default)]
+        seed: u64,
+        /// Ellipsoid centre, m.
+        center: Vec3,
+        /// Ellipsoid semi-axes, m, > 0.
+        radii: Vec3,
+        /// Particle radius range [min, max], m, 0 < min ≤ max; uniform in between.
+        particle_radius: [f32; 2],
+        /// Extinction τ of each particle, 1/m.
+        density: f32,
+        /// Albedo of each particle, RGB in [0,1]. Default: 1.
+        #[serde(default = "white")]
+        albedo: Vec3,
+    },
+    /// A rising smoke column: centres at uniform heights over [0, height] above `base`, spread
+    /// over a disc whose radius grows linearly from `radius_bottom` to `radius_top`, the column
+    /// swaying sideways; particles grow from particle_radius[0] at the base to [1] at the top.
+    SmokeColumn {
+        count: u32,
+        #[serde(default)]
+        seed: u64,
+        /// Centre of the column's base, m.
+        base: Vec3,
+        /// Column height along +Y, m, > 0.
+        height: f32,
+        /// Spread radius at the base and at the top, m, ≥ 0.
+        radius_bottom: f32,
+        radius_top: f32,
+        /// Particle radius at the base and at the top, m, > 0.
+        particle_radius: [f32; 2],
+        /// Extinction τ of each particle, 1/m.
+        density: f32,
+        #[serde(default = "white")]
+        albedo: Vec3,
     },
 }
 

@@ -7,9 +7,10 @@ use glam::{EulerRot, Mat4, Quat, Vec3};
 use serde::Serialize;
 
 use crate::camera::CameraPose;
-use crate::desc::{LightDesc, MediumDesc, SceneDesc, Transform};
+use crate::desc::{GeneratorDesc, LightDesc, MediumDesc, SceneDesc, Transform};
 use crate::light::LightState;
 use crate::mesh::TriMesh;
+use crate::particles::{Particle, expand, generated_count};
 use crate::phase::Phase;
 
 /// A validated scene ready to render. Build it with [`crate::load_scene`] or
@@ -35,6 +36,52 @@ pub struct Homogeneous {
     pub ambient: Vec3,
 }
 
+/// A particle medium in integrator form (DESIGN §1, "particles").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Particles {
+    /// Explicit particles first, then each generator's, in file order.
+    pub particles: Vec<Particle>,
+    /// Phase function of the particles and of the background.
+    pub phase: Phase,
+    /// The background medium (all zero when the file gives none; its phase is `phase`).
+    pub background: Homogeneous,
+    /// Sky radiance behind the cloud, W/(m² sr), RGB.
+    pub sky: Vec3,
+}
+
+/// The scene's medium, whichever kind it is. Methods that handle only homogeneous media use
+/// [`Medium::homogeneous`] (None for particles) — or [`Medium::background`] where a uniform is
+/// filled regardless and the method has already refused particle scenes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Medium {
+    Homogeneous(Homogeneous),
+    Particles(Particles),
+}
+
+impl Medium {
+    pub fn homogeneous(&self) -> Option<Homogeneous> {
+        match self {
+            Medium::Homogeneous(h) => Some(*h),
+            Medium::Particles(_) => None,
+        }
+    }
+
+    pub fn particles(&self) -> Option<&Particles> {
+        match self {
+            Medium::Homogeneous(_) => None,
+            Medium::Particles(p) => Some(p),
+        }
+    }
+
+    /// The homogeneous part: the whole medium, or a particle scene's background (zero if none).
+    pub fn background(&self) -> Homogeneous {
+        match self {
+            Medium::Homogeneous(h) => *h,
+            Medium::Particles(p) => p.background,
+        }
+    }
+}
+
 /// Everything that can change between frames, evaluated at one frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameState {
@@ -46,20 +93,45 @@ pub struct FrameState {
 }
 
 impl Scene {
-    pub fn medium(&self) -> Homogeneous {
+    /// The medium in integrator form. For particle media this expands the generators (cheap:
+    /// ~50 ns a particle), so call it once per use, not per pixel.
+    pub fn medium(&self) -> Medium {
         match &self.desc.medium {
             MediumDesc::Homogeneous {
                 sigma_a,
                 sigma_s,
                 phase,
                 ambient,
-            } => Homogeneous {
+            } => Medium::Homogeneous(Homogeneous {
                 sigma_a: *sigma_a,
                 sigma_s: *sigma_s,
                 sigma_t: *sigma_a + *sigma_s,
                 phase: *phase,
                 ambient: *ambient,
-            },
+            }),
+            MediumDesc::Particles {
+                particles,
+                generators,
+                phase,
+                background,
+                sky,
+            } => {
+                let (sigma_a, sigma_s) = background
+                    .as_ref()
+                    .map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.sigma_a, b.sigma_s));
+                Medium::Particles(Particles {
+                    particles: expand(particles, generators),
+                    phase: *phase,
+                    background: Homogeneous {
+                        sigma_a,
+                        sigma_s,
+                        sigma_t: sigma_a + sigma_s,
+                        phase: *phase,
+                        ambient: Vec3::ZERO,
+                    },
+                    sky: *sky,
+                })
+            }
         }
     }
 
@@ -122,7 +194,51 @@ impl Scene {
     /// What the scene contains, for method support decisions and `list --json`.
     pub fn features(&self) -> SceneFeatures {
         let d = &self.desc;
-        let m = self.medium();
+        // From the description alone: features() must not expand thousands of particles.
+        let (medium, phase, scattering, ambient, particles) = match &d.medium {
+            MediumDesc::Homogeneous {
+                sigma_s,
+                phase,
+                ambient,
+                ..
+            } => (
+                "homogeneous",
+                *phase,
+                sigma_s.max_element() > 0.0,
+                ambient.max_element() > 0.0,
+                0,
+            ),
+            MediumDesc::Particles {
+                particles,
+                generators,
+                phase,
+                background,
+                ..
+            } => {
+                let scatters = |albedo: Vec3, density: f32| albedo.max_element() * density > 0.0;
+                let scattering = particles.iter().any(|p| scatters(p.albedo, p.density))
+                    || generators.iter().any(|g| match g {
+                        GeneratorDesc::Cloud {
+                            count,
+                            density,
+                            albedo,
+                            ..
+                        }
+                        | GeneratorDesc::SmokeColumn {
+                            count,
+                            density,
+                            albedo,
+                            ..
+                        } => *count > 0 && scatters(*albedo, *density),
+                    })
+                    || background
+                        .as_ref()
+                        .is_some_and(|b| b.sigma_s.max_element() > 0.0);
+                let n =
+                    particles.len() as u64 + generators.iter().map(generated_count).sum::<u64>();
+                ("particles", *phase, scattering, false, n as usize)
+            }
+        };
         let mut light_kinds: Vec<&'static str> = d
             .lights
             .iter()
@@ -144,11 +260,12 @@ impl Scene {
         let animated_objects = many && d.objects.iter().any(|o| !o.keyframes.is_empty());
         let animated_camera = many && !d.camera.keyframes.is_empty();
         SceneFeatures {
-            medium: "homogeneous",
-            phase: m.phase.name(),
-            anisotropic_phase: m.phase.is_anisotropic(),
-            scattering: m.sigma_s.max_element() > 0.0,
-            ambient: m.ambient.max_element() > 0.0,
+            medium,
+            phase: phase.name(),
+            anisotropic_phase: phase.is_anisotropic(),
+            scattering,
+            ambient,
+            particles,
             lights: d.lights.len(),
             light_kinds,
             textured_light: d.lights.iter().any(|l| {
@@ -177,8 +294,10 @@ impl Scene {
 /// What a scene needs from a method. Methods decide their support from this alone.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SceneFeatures {
-    /// "homogeneous" (particle media will add "particles").
+    /// "homogeneous" or "particles".
     pub medium: &'static str,
+    /// Number of particles (0 for homogeneous media).
+    pub particles: usize,
     pub phase: &'static str,
     pub anisotropic_phase: bool,
     /// σ_s > 0 in some channel: there is in-scattering to compute.

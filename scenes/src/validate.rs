@@ -5,7 +5,10 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::desc::{LightDesc, LightKey, MediumDesc, Pattern, SceneDesc, Shape, Transform};
+use crate::desc::{
+    GeneratorDesc, LightDesc, LightKey, MediumDesc, Pattern, SceneDesc, Shape, Transform,
+};
+use crate::particles::generated_count;
 use crate::phase::Phase;
 
 /// One thing wrong with a scene: the field path (`objects[2].shape.radius`) and what is wrong.
@@ -38,16 +41,21 @@ fn triangle_estimate(s: &Shape) -> Option<u64> {
     Some(match s {
         Shape::Plane { .. } => 2,
         Shape::Box { .. } => 12,
-        Shape::Sphere { segments, rings, .. } => 2 * n(*segments) * n(*rings),
+        Shape::Sphere {
+            segments, rings, ..
+        } => 2 * n(*segments) * n(*rings),
         Shape::Cylinder { segments, .. } => 4 * n(*segments),
-        Shape::Torus { segments, sides, .. } => 2 * n(*segments) * n(*sides),
+        Shape::Torus {
+            segments, sides, ..
+        } => 2 * n(*segments) * n(*sides),
         Shape::Spring {
             turns,
             segments_per_turn,
             sides,
             ..
         } => {
-            let rows = (turns.max(0.0).min(1e6) as f64 * *segments_per_turn as f64).ceil() as u64 + 1;
+            let rows =
+                (turns.max(0.0).min(1e6) as f64 * *segments_per_turn as f64).ceil() as u64 + 1;
             2 * rows * n(*sides) + 2 * n(*sides)
         }
         Shape::Pencil { .. } => 64,
@@ -192,22 +200,127 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
     }
 }
 
+/// The most particles a medium may have (explicit + generated): a typo guard (1e6 spheres
+/// is ~40 MB in the reference's BVH), not a limit of the format.
+pub const MAX_PARTICLES: u64 = 1_000_000;
+
+fn phase(c: &mut Checker, ph: &Phase) {
+    if let Phase::HenyeyGreenstein { g } = ph
+        && !(g.is_finite() && g.abs() < 1.0)
+    {
+        c.push("medium.phase.g", format!("must be in (-1, 1), got {g}"));
+    }
+}
+
 fn medium(c: &mut Checker, m: &MediumDesc) {
     match m {
         MediumDesc::Homogeneous {
             sigma_a,
             sigma_s,
-            phase,
+            phase: ph,
             ambient,
         } => {
             c.non_negative3("medium.sigma_a", *sigma_a);
             c.non_negative3("medium.sigma_s", *sigma_s);
             c.non_negative3("medium.ambient", *ambient);
-            if let Phase::HenyeyGreenstein { g } = phase
-                && !(g.is_finite() && g.abs() < 1.0)
-            {
-                c.push("medium.phase.g", format!("must be in (-1, 1), got {g}"));
+            phase(c, ph);
+        }
+        MediumDesc::Particles {
+            particles,
+            generators,
+            phase: ph,
+            background,
+            sky,
+        } => {
+            phase(c, ph);
+            c.non_negative3("medium.sky", *sky);
+            if let Some(b) = background {
+                c.non_negative3("medium.background.sigma_a", b.sigma_a);
+                c.non_negative3("medium.background.sigma_s", b.sigma_s);
             }
+            for (i, p) in particles.iter().enumerate() {
+                let at = format!("medium.particles[{i}]");
+                c.finite3(&format!("{at}.center"), p.center);
+                c.positive(&format!("{at}.radius"), p.radius);
+                non_negative(c, &format!("{at}.density"), p.density);
+                c.unit_interval3(&format!("{at}.albedo"), p.albedo);
+            }
+            for (i, g) in generators.iter().enumerate() {
+                generator(c, &format!("medium.generators[{i}]"), g);
+            }
+            let total =
+                particles.len() as u64 + generators.iter().map(generated_count).sum::<u64>();
+            if total == 0 {
+                c.push(
+                    "medium",
+                    "a particle medium needs at least one particle (`particles` or `generators`)",
+                );
+            } else if total > MAX_PARTICLES {
+                c.push(
+                    "medium",
+                    format!("{total} particles; at most {MAX_PARTICLES} are allowed"),
+                );
+            }
+        }
+    }
+}
+
+fn non_negative(c: &mut Checker, path: &str, x: f32) {
+    if !(x.is_finite() && x >= 0.0) {
+        c.push(path, format!("must be a finite number ≥ 0, got {x}"));
+    }
+}
+
+fn radius_range(c: &mut Checker, path: &str, r: [f32; 2], ordered: bool) {
+    c.positive(&format!("{path}[0]"), r[0]);
+    c.positive(&format!("{path}[1]"), r[1]);
+    if ordered && r[0].is_finite() && r[1].is_finite() && r[0] > r[1] {
+        c.push(path, format!("min must be ≤ max, got [{}, {}]", r[0], r[1]));
+    }
+}
+
+fn generator(c: &mut Checker, at: &str, g: &GeneratorDesc) {
+    match g {
+        GeneratorDesc::Cloud {
+            count,
+            center,
+            radii,
+            particle_radius,
+            density,
+            albedo,
+            ..
+        } => {
+            c.count(&format!("{at}.count"), *count, 1, MAX_PARTICLES as u32);
+            c.finite3(&format!("{at}.center"), *center);
+            if c.finite3(&format!("{at}.radii"), *radii) && radii.min_element() <= 0.0 {
+                c.push(
+                    &format!("{at}.radii"),
+                    format!("must be > 0 in every axis, got {radii}"),
+                );
+            }
+            radius_range(c, &format!("{at}.particle_radius"), *particle_radius, true);
+            non_negative(c, &format!("{at}.density"), *density);
+            c.unit_interval3(&format!("{at}.albedo"), *albedo);
+        }
+        GeneratorDesc::SmokeColumn {
+            count,
+            base,
+            height,
+            radius_bottom,
+            radius_top,
+            particle_radius,
+            density,
+            albedo,
+            ..
+        } => {
+            c.count(&format!("{at}.count"), *count, 1, MAX_PARTICLES as u32);
+            c.finite3(&format!("{at}.base"), *base);
+            c.positive(&format!("{at}.height"), *height);
+            non_negative(c, &format!("{at}.radius_bottom"), *radius_bottom);
+            non_negative(c, &format!("{at}.radius_top"), *radius_top);
+            radius_range(c, &format!("{at}.particle_radius"), *particle_radius, false);
+            non_negative(c, &format!("{at}.density"), *density);
+            c.unit_interval3(&format!("{at}.albedo"), *albedo);
         }
     }
 }

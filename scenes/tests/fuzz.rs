@@ -25,15 +25,81 @@ fn cases() -> u32 {
 
 /// Field names and enum tags of the format, so arbitrary objects often get past the first key.
 const WORDS: &[&str] = &[
-    "camera", "medium", "lights", "objects", "frames", "description", "position", "look_at", "up",
-    "fov_y_deg", "near", "far", "keyframes", "frame", "kind", "homogeneous", "sigma_a", "sigma_s",
-    "phase", "ambient", "point", "spot", "directional", "direction", "intensity", "irradiance",
-    "inner_deg", "outer_deg", "pattern", "checker", "cells", "dark", "stained-glass", "panes",
-    "lead", "seed", "shape", "plane", "box", "sphere", "cylinder", "torus", "spring", "pencil",
-    "fence", "obj", "size", "radius", "segments", "rings", "height", "transform", "translation",
-    "rotation_deg", "scale", "material", "albedo", "two_sided", "phong", "ks", "shininess",
-    "henyey-greenstein", "g", "isotropic", "rayleigh", "path", "name", "casts_volumetric_shadow",
-    "indirect_single_scattering", "turns", "wire_radius", "coil_radius", "posts", "rails", "bar",
+    "camera",
+    "medium",
+    "lights",
+    "objects",
+    "frames",
+    "description",
+    "position",
+    "look_at",
+    "up",
+    "fov_y_deg",
+    "near",
+    "far",
+    "keyframes",
+    "frame",
+    "kind",
+    "homogeneous",
+    "sigma_a",
+    "sigma_s",
+    "phase",
+    "ambient",
+    "point",
+    "spot",
+    "directional",
+    "direction",
+    "intensity",
+    "irradiance",
+    "inner_deg",
+    "outer_deg",
+    "pattern",
+    "checker",
+    "cells",
+    "dark",
+    "stained-glass",
+    "panes",
+    "lead",
+    "seed",
+    "shape",
+    "plane",
+    "box",
+    "sphere",
+    "cylinder",
+    "torus",
+    "spring",
+    "pencil",
+    "fence",
+    "obj",
+    "size",
+    "radius",
+    "segments",
+    "rings",
+    "height",
+    "transform",
+    "translation",
+    "rotation_deg",
+    "scale",
+    "material",
+    "albedo",
+    "two_sided",
+    "phong",
+    "ks",
+    "shininess",
+    "henyey-greenstein",
+    "g",
+    "isotropic",
+    "rayleigh",
+    "path",
+    "name",
+    "casts_volumetric_shadow",
+    "indirect_single_scattering",
+    "turns",
+    "wire_radius",
+    "coil_radius",
+    "posts",
+    "rails",
+    "bar",
 ];
 
 /// Numbers at the edges: zero, negatives, f32 overflow (1e39 → inf), denormals, huge counts.
@@ -56,9 +122,16 @@ fn number() -> impl Strategy<Value = Value> {
     .prop_map(|x| serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number))
     .boxed()
     .prop_union(
-        prop_oneof![Just(0i64), Just(-1), Just(3), Just(4096), Just(i64::MAX), any::<i32>().prop_map(i64::from)]
-            .prop_map(|i| Value::Number(i.into()))
-            .boxed(),
+        prop_oneof![
+            Just(0i64),
+            Just(-1),
+            Just(3),
+            Just(4096),
+            Just(i64::MAX),
+            any::<i32>().prop_map(i64::from)
+        ]
+        .prop_map(|i| Value::Number(i.into()))
+        .boxed(),
     )
 }
 
@@ -177,7 +250,10 @@ fn check(text: &str) -> Result<(), TestCaseError> {
     match res {
         Err(e) => {
             let msg = e.to_string();
-            prop_assert!(msg.starts_with(FILE), "refusal does not name the file: {msg}");
+            prop_assert!(
+                msg.starts_with(FILE),
+                "refusal does not name the file: {msg}"
+            );
             prop_assert!(msg.len() > FILE.len() + 4, "refusal says nothing: {msg}");
         }
         Ok(scene) => {
@@ -206,16 +282,12 @@ fn runner() -> TestRunner {
 
 #[test]
 fn arbitrary_json_never_panics_and_refusals_name_the_file() {
-    runner()
-        .run(&json(), |v| check(&v.to_string()))
-        .unwrap();
+    runner().run(&json(), |v| check(&v.to_string())).unwrap();
 }
 
 #[test]
 fn arbitrary_text_never_panics() {
-    runner()
-        .run(&".{0,200}", |t: String| check(&t))
-        .unwrap();
+    runner().run(&".{0,200}", |t: String| check(&t)).unwrap();
 }
 
 #[test]
@@ -224,10 +296,7 @@ fn mutated_library_scenes_never_panic_and_refusals_name_the_file() {
         .iter()
         .map(|(_, t)| serde_json::from_str(t).unwrap())
         .collect();
-    let strategy = (
-        0..scenes.len(),
-        prop::collection::vec(mutation(), 1..4),
-    );
+    let strategy = (0..scenes.len(), prop::collection::vec(mutation(), 1..4));
     runner()
         .run(&strategy, |(k, ms)| {
             let mut v = scenes[k].clone();
@@ -259,6 +328,11 @@ fn a_procedural_mesh_too_large_to_build_is_refused() {
     }
     v["objects"][1]["shape"] = Value::Object(spring);
     let text = v.to_string();
-    let err = parse_scene(&text, FILE, "fuzz", Path::new(".")).unwrap_err().to_string();
-    assert!(err.contains("objects[1].shape") && err.contains("triangles"), "{err}");
+    let err = parse_scene(&text, FILE, "fuzz", Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("objects[1].shape") && err.contains("triangles"),
+        "{err}"
+    );
 }

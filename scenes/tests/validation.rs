@@ -34,7 +34,7 @@ fn lib(name: &str) -> Scene {
 #[test]
 fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     let names = library::names();
-    assert_eq!(names.len(), 8, "{names:?}");
+    assert_eq!(names.len(), 11, "{names:?}");
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);
@@ -121,6 +121,9 @@ fn library_features_match_what_the_files_say() {
         frames: u32,
         animated_lights: bool,
         animated_objects: bool,
+        /// "homogeneous", or "particles" with this many particles.
+        medium: &'static str,
+        particles: usize,
     }
     let table = [
         Want {
@@ -134,6 +137,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "desk-pencils",
@@ -146,6 +151,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "spring-point",
@@ -158,6 +165,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "fence-spot",
@@ -170,6 +179,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "window-sun",
@@ -182,6 +193,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "stained-glass-spot",
@@ -194,6 +207,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "clear-fog",
@@ -206,6 +221,8 @@ fn library_features_match_what_the_files_say() {
             frames: 1,
             animated_lights: false,
             animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
         },
         Want {
             name: "pen-orbit",
@@ -218,6 +235,50 @@ fn library_features_match_what_the_files_say() {
             frames: 8,
             animated_lights: true,
             animated_objects: true,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
+            name: "cloud-8000",
+            kinds: &["directional"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "particles",
+            particles: 8000,
+        },
+        Want {
+            name: "cloud-plane",
+            kinds: &["directional"],
+            lights: 1,
+            phase: "isotropic",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "particles",
+            particles: 3000,
+        },
+        Want {
+            name: "smoke-point",
+            kinds: &["point"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "particles",
+            particles: 3000,
         },
     ];
     assert_eq!(
@@ -229,7 +290,13 @@ fn library_features_match_what_the_files_say() {
         let s = lib(w.name);
         let f = s.features();
         let n = w.name;
-        assert_eq!(f.medium, "homogeneous", "{n}");
+        assert_eq!(f.medium, w.medium, "{n}");
+        assert_eq!(f.particles, w.particles, "{n}");
+        // The expanded medium agrees with the feature count.
+        match s.medium() {
+            scenes::Medium::Homogeneous(_) => assert_eq!(w.medium, "homogeneous", "{n}"),
+            scenes::Medium::Particles(p) => assert_eq!(p.particles.len(), w.particles, "{n}"),
+        }
         assert_eq!(f.light_kinds, w.kinds, "{n}");
         assert_eq!(f.lights, w.lights, "{n}");
         assert_eq!(f.phase, w.phase, "{n}");
@@ -740,4 +807,48 @@ fn collect_keys(v: &serde_json::Value, out: &mut BTreeSet<String>) {
         serde_json::Value::Array(a) => a.iter().for_each(|x| collect_keys(x, out)),
         _ => {}
     }
+}
+
+/// A particle medium with a problem in every field is refused with each field's path, at once.
+#[test]
+fn particle_media_problems_are_listed_with_their_paths() {
+    let text = r#"{"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+        "medium": {"kind": "particles",
+            "particles": [{"center": [0, 0, 0], "radius": -1, "density": -2, "albedo": [1.5, 0, 0]}],
+            "generators": [{"shape": "cloud", "count": 0, "center": [0, 0, 0], "radii": [1, 0, 1],
+                            "particle_radius": [0.3, 0.1], "density": 1}],
+            "background": {"sigma_a": [-1, 0, 0], "sigma_s": [0, 0, 0]},
+            "sky": [0, -1, 0]},
+        "lights": [{"kind": "point", "position": [0, 3, 0], "intensity": [1, 1, 1]}]}"#;
+    let err = parse_scene(text, "p.json", "p", Path::new("."))
+        .err()
+        .expect("refused")
+        .to_string();
+    for path in [
+        "medium.particles[0].radius",
+        "medium.particles[0].density",
+        "medium.particles[0].albedo",
+        "medium.generators[0].count",
+        "medium.generators[0].radii",
+        "medium.generators[0].particle_radius",
+        "medium.background.sigma_a",
+        "medium.sky",
+    ] {
+        assert!(err.contains(path), "{path} missing from:\n{err}");
+    }
+    // No particles at all is refused too; a misspelt generator field is a parse error.
+    let empty = text.replace(
+        r#""particles": [{"center": [0, 0, 0], "radius": -1, "density": -2, "albedo": [1.5, 0, 0]}],
+            "generators": [{"shape": "cloud", "count": 0, "center": [0, 0, 0], "radii": [1, 0, 1],
+                            "particle_radius": [0.3, 0.1], "density": 1}],"#,
+        "",
+    );
+    assert_ne!(empty, text);
+    let err = parse_scene(&empty, "p.json", "p", Path::new("."))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("at least one particle"), "{err}");
+    let typo = text.replace("\"radii\"", "\"radius\"");
+    assert!(parse_scene(&typo, "p.json", "p", Path::new(".")).is_err());
 }

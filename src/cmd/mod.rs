@@ -1,6 +1,9 @@
 pub mod list;
+pub mod merge;
+pub mod papers;
 pub mod reference;
 pub mod report;
+pub mod reproduce;
 pub mod run;
 pub mod stress;
 pub mod validate;

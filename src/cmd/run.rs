@@ -51,6 +51,14 @@ pub struct RunArgs {
     /// Reference cache directory.
     #[arg(long, default_value = "results/cache")]
     pub cache: PathBuf,
+    /// Run only the I-th of N contiguous slices (1-based) of the scene × method × params
+    /// work list, for batch schedulers; reassemble with `scatterbench merge`.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    pub shard: Option<harness::shard::Shard>,
+}
+
+fn parse_shard(s: &str) -> std::result::Result<harness::shard::Shard, String> {
+    harness::shard::Shard::parse(s)
 }
 
 pub fn dispatch(c: BenchCommand) -> Result<()> {
@@ -130,10 +138,14 @@ pub fn run(a: RunArgs) -> Result<()> {
     let scenes = pick_scenes(&a.scenes)?;
     let overrides = parse_overrides(&a.params, &chosen)?;
     let run_id = harness::results::run_id_now();
-    let out = a
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(&run_id));
+    let shard = a.shard.unwrap_or(harness::shard::Shard::WHOLE);
+    let out = a.out.clone().unwrap_or_else(|| {
+        PathBuf::from("results").join(if shard.is_whole() {
+            run_id.clone()
+        } else {
+            format!("{run_id}-shard-{}-of-{}", shard.index, shard.count)
+        })
+    });
     if a.resume && !out.join("results.json").exists() {
         bail!(
             "--resume: {} has no results.json to continue",
@@ -163,7 +175,7 @@ pub fn run(a: RunArgs) -> Result<()> {
         run_id,
     };
     let mut counts = [0usize; 3];
-    let results = harness::runner::run(&gpu, &scenes, &chosen, &cfg, &mut |ev| match ev {
+    let results = harness::runner::run_shard(&gpu, &scenes, &chosen, &cfg, shard, &mut |ev| match ev {
         Event::Reference { scene, cached, seconds } => eprintln!("reference {scene}: {}", if cached { "cached".to_string() } else { format!("{seconds:.1} s") }),
         Event::Resumed(key) => eprintln!("resume: kept {key}"),
         Event::Record(r) => {

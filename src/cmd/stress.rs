@@ -46,7 +46,11 @@ fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
             methods::find(id.trim()).ok_or_else(|| {
                 anyhow!(
                     "unknown method '{id}': valid methods are {}",
-                    methods::REGISTRY.iter().map(|e| e.id).collect::<Vec<_>>().join(", ")
+                    methods::REGISTRY
+                        .iter()
+                        .map(|e| e.id)
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )
             })
         })
@@ -79,7 +83,10 @@ pub fn run(a: StressArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("results").join(format!("stress-{run_id}")));
     if a.resume && !out.join("results.json").exists() {
-        bail!("--resume: {} has no results.json to continue", out.display());
+        bail!(
+            "--resume: {} has no results.json to continue",
+            out.display()
+        );
     }
     let mut gpu = harness::Gpu::new().map_err(|e| anyhow!(e))?;
     eprintln!("adapter: {} ({})", gpu.summary.adapter, gpu.summary.backend);
@@ -95,22 +102,58 @@ pub fn run(a: StressArgs) -> Result<()> {
         run_id,
     };
     let results = stress::run(&mut gpu, &chosen, &cfg, &mut |ev| match ev {
-        Event::Reference { scene, cached, seconds } => eprintln!(
+        Event::Reference {
+            scene,
+            cached,
+            seconds,
+        } => eprintln!(
             "reference {scene}: {}",
-            if cached { "cached".to_string() } else { format!("{seconds:.1} s") }
+            if cached {
+                "cached".to_string()
+            } else {
+                format!("{seconds:.1} s")
+            }
         ),
         Event::Resumed(key) => eprintln!("resume: kept {key}"),
-        Event::Record(r) => eprintln!("  {:<8} {:<22} {:<16} {}", verdict(r.status), r.scene, r.method, line(r)),
+        Event::Record(r) => eprintln!(
+            "  {:<8} {:<22} {:<16} {}",
+            verdict(r.status),
+            r.scene,
+            r.method,
+            line(r)
+        ),
     })
     .map_err(|e| anyhow!(e))?;
-    println!("{:<24} {:<18} {:<12} {:>12} {:>10}  reason", "case", "method", "verdict", "total rRMSE", "bound");
+    println!(
+        "{:<24} {:<18} {:<12} {:>12} {:>10}  reason",
+        "case", "method", "verdict", "total rRMSE", "bound"
+    );
     for r in &results.records {
-        let bound = r.counters.get(stress::BOUND_COUNTER).map(|b| format!("{b}")).unwrap_or_else(|| "-".into());
-        let e = r.errors.get("total").map(|m| format!("{:.3e}", m.rel_rmse)).unwrap_or_else(|| "-".into());
-        println!("{:<24} {:<18} {:<12} {:>12} {:>10}  {}", r.scene, r.method, verdict(r.status), e, bound, r.reason.as_deref().unwrap_or(""));
+        let bound = r
+            .counters
+            .get(stress::BOUND_COUNTER)
+            .map(|b| format!("{b}"))
+            .unwrap_or_else(|| "-".into());
+        let e = r
+            .errors
+            .get("total")
+            .map(|m| format!("{:.3e}", m.rel_rmse))
+            .unwrap_or_else(|| "-".into());
+        println!(
+            "{:<24} {:<18} {:<12} {:>12} {:>10}  {}",
+            r.scene,
+            r.method,
+            verdict(r.status),
+            e,
+            bound,
+            r.reason.as_deref().unwrap_or("")
+        );
     }
     let (pass, unsupported, fail) = stress::tally(&results);
-    println!("{pass} pass, {unsupported} unsupported, {fail} fail — {}", out.join("results.json").display());
+    println!(
+        "{pass} pass, {unsupported} unsupported, {fail} fail — {}",
+        out.join("results.json").display()
+    );
     // As in `run`: the report is a view of results.json, already written, so a report problem
     // is a warning, and it is written before the exit status reports failures.
     match report::generate(&out) {

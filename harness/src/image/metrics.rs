@@ -400,6 +400,10 @@ fn ssim_luma(a: &[f64], b: &[f64], w: usize, h: usize) -> f64 {
             ((2.0 * ma * mb + SSIM_C1) * (2.0 * cov + SSIM_C2))
                 / ((ma * ma + mb * mb + SSIM_C1) * (var_a + var_b + SSIM_C2))
         })
+        .collect::<Vec<f64>>()
+        // Summed in order: a parallel f64 sum depends on how work was split, and the same
+        // images must always score the same (resumed and merged runs are compared exactly).
+        .iter()
         .sum();
     sum / (w * h) as f64
 }

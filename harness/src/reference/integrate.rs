@@ -17,6 +17,7 @@ use glam::DVec3;
 use scenes::light::{pattern_breaks, spot_frame};
 use scenes::{Homogeneous, LightState};
 
+use super::particles::{ParticleField, Piece};
 use super::shadow::{Source, shadowed};
 use super::world::World;
 
@@ -74,11 +75,16 @@ pub struct Tracer<'a> {
     pub eps: f64,
     /// Length of shadow rays toward a directional light (beyond every triangle), m.
     pub sun_distance: f64,
+    /// A particle medium's spheres (then `medium` is its background). None: homogeneous.
+    pub particles: Option<&'a ParticleField>,
 }
 
 impl Tracer<'_> {
     /// Radiance along the ray `o + t d` (d unit), clipped to [near, far] like the rasteriser.
     pub fn trace(&self, o: DVec3, d: DVec3, near: f64, far: f64) -> RayRadiance {
+        if let Some(field) = self.particles {
+            return self.trace_particles(field, o, d, near, far);
+        }
         let sigma_t = self.medium.sigma_t.as_dvec3();
         let hit = self.world.bvh.intersect(o, d, near, far);
         let distance = hit.map_or(far, |h| h.t);
@@ -164,6 +170,11 @@ impl Tracer<'_> {
             if self.world.bvh.occluded(origin, l, 0.0, r) {
                 continue;
             }
+            // Particles shadow the surface (directional light too: r = ∞ reaches the sun).
+            let incident = match self.particles {
+                Some(f) => incident * (-f.optical_depth(origin, l, 0.0, r)).exp(),
+                None => incident,
+            };
             let mut brdf = albedo;
             if let Some(ph) = &mat.phong {
                 let refl = n * (2.0 * cos) - l;
@@ -178,6 +189,70 @@ impl Tracer<'_> {
 
     /// In-scatter of a point or spot light over [0, len].
     fn local(&self, o: DVec3, d: DVec3, len: f64, light: &LightState) -> DVec3 {
+        let lp = light.position().unwrap().as_dvec3();
+        let sigma_s = self.medium.sigma_s.as_dvec3();
+        let sigma_t = self.medium.sigma_t.as_dvec3();
+        let phase = self.medium.phase;
+        let w0 = o - lp;
+        let integrand_t = |t: f64| -> DVec3 {
+            let w = w0 + d * t;
+            let r = w.length();
+            if r <= 0.0 {
+                return DVec3::ZERO;
+            }
+            let cos_theta = -w.dot(d) / r;
+            sigma_s
+                * (phase.eval(cos_theta) / (r * r))
+                * light.intensity_toward(lp + w)
+                * exp(-sigma_t * (t + r))
+        };
+        let mut sum = DVec3::ZERO;
+        for (a, b) in self.lit_intervals(o, d, len, light) {
+            sum += self.integrate_local(o, d, len, lp, a, b, &integrand_t);
+        }
+        sum
+    }
+
+    /// ∫_a^b f(t) dt for a point or spot light at `lp`, in Biri's angle variable when the ray
+    /// does not pass through the light (dt/r² = dφ/h: integrate r²·f(t)/h over φ).
+    #[allow(clippy::too_many_arguments)]
+    fn integrate_local(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        len: f64,
+        lp: DVec3,
+        a: f64,
+        b: f64,
+        f: &impl Fn(f64) -> DVec3,
+    ) -> DVec3 {
+        let w0 = o - lp;
+        let t0 = -w0.dot(d);
+        let h = (w0 + d * t0).length();
+        if h > 1e-12 * (w0.length() + len) {
+            let g = |phi: f64| {
+                let t = t0 + h * phi.tan();
+                let r = h / phi.cos();
+                f(t) * (r * r / h)
+            };
+            adaptive(
+                &g,
+                ((a - t0) / h).atan(),
+                ((b - t0) / h).atan(),
+                self.settings.rel_tol,
+            )
+        } else {
+            adaptive(f, a, b, self.settings.rel_tol)
+        }
+    }
+
+    /// The sub-intervals of [0, len] where `light` reaches the ray unblocked by triangles and
+    /// with non-zero intensity, split at every place the integrand is not smooth: shadow
+    /// boundaries, the spot's cone edges, the pattern's edges.
+    fn lit_intervals(&self, o: DVec3, d: DVec3, len: f64, light: &LightState) -> Vec<(f64, f64)> {
+        if let LightState::Directional { direction, .. } = light {
+            return self.lit_intervals_directional(o, d, len, direction.as_dvec3());
+        }
         let lp = light.position().unwrap().as_dvec3();
         let w0 = o - lp;
         let t0 = -w0.dot(d);
@@ -238,54 +313,36 @@ impl Tracer<'_> {
         cuts.retain(|t| t.is_finite());
         cuts.sort_by(f64::total_cmp);
         cuts.dedup();
-
-        let sigma_s = self.medium.sigma_s.as_dvec3();
-        let sigma_t = self.medium.sigma_t.as_dvec3();
-        let phase = self.medium.phase;
-        let integrand_t = |t: f64| -> DVec3 {
-            let w = w0 + d * t;
-            let r = w.length();
-            if r <= 0.0 {
-                return DVec3::ZERO;
-            }
-            let cos_theta = -w.dot(d) / r;
-            sigma_s
-                * (phase.eval(cos_theta) / (r * r))
-                * light.intensity_toward(lp + w)
-                * exp(-sigma_t * (t + r))
-        };
-        let mut sum = DVec3::ZERO;
-        for pair in cuts.windows(2) {
-            let (a, b) = (pair[0], pair[1]);
-            if b - a <= 0.0 {
-                continue;
-            }
-            let mid = 0.5 * (a + b);
-            if light.intensity_toward(o + d * mid).max_element() <= 0.0 || !lit(mid) {
-                continue;
-            }
-            sum += if angular {
-                // dt/r² = dφ/h: integrate r²·f(t)/h over φ.
-                let g = |phi: f64| {
-                    let t = t0 + h * phi.tan();
-                    let r = h / phi.cos();
-                    integrand_t(t) * (r * r / h)
-                };
-                adaptive(
-                    &g,
-                    ((a - t0) / h).atan(),
-                    ((b - t0) / h).atan(),
-                    self.settings.rel_tol,
-                )
-            } else {
-                adaptive(&integrand_t, a, b, self.settings.rel_tol)
-            };
-        }
-        sum
+        cuts.windows(2)
+            .map(|p| (p[0], p[1]))
+            .filter(|&(a, b)| {
+                let mid = 0.5 * (a + b);
+                b - a > 0.0 && light.intensity_toward(o + d * mid).max_element() > 0.0 && lit(mid)
+            })
+            .collect()
     }
 
     /// In-scatter of a directional light over [0, len]: lit intervals, each in closed form.
     fn directional(&self, o: DVec3, d: DVec3, len: f64, dir: DVec3, e: DVec3) -> DVec3 {
+        let sigma_s = self.medium.sigma_s.as_dvec3();
+        let sigma_t = self.medium.sigma_t.as_dvec3();
+        let p = self.medium.phase.eval(dir.dot(-d));
+        let mut sum = DVec3::ZERO;
+        for (a, b) in self.lit_intervals_directional(o, d, len, dir) {
+            // ∫_a^b e^(−σt x) dx = e^(−σt a) (1 − e^(−σt (b−a))) / σt, stable as σt → 0.
+            let seg = DVec3::from_array([0, 1, 2].map(|c| exp_integral(sigma_t[c], a, b)));
+            sum += sigma_s * p * e * seg;
+        }
+        sum
+    }
+
+    fn lit_intervals_directional(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        len: f64,
+        dir: DVec3,
+    ) -> Vec<(f64, f64)> {
         let visible = |t: f64| {
             !self
                 .world
@@ -310,19 +367,88 @@ impl Tracer<'_> {
         };
         cuts.sort_by(f64::total_cmp);
         cuts.dedup();
-        let sigma_s = self.medium.sigma_s.as_dvec3();
-        let sigma_t = self.medium.sigma_t.as_dvec3();
-        let p = self.medium.phase.eval(dir.dot(-d));
-        let mut sum = DVec3::ZERO;
-        for pair in cuts.windows(2) {
-            let (a, b) = (pair[0], pair[1]);
-            if b > a && lit(0.5 * (a + b)) {
-                // ∫_a^b e^(−σt x) dx = e^(−σt a) (1 − e^(−σt (b−a))) / σt, stable as σt → 0.
-                let seg = DVec3::from_array([0, 1, 2].map(|c| exp_integral(sigma_t[c], a, b)));
-                sum += sigma_s * p * e * seg;
+        cuts.windows(2)
+            .map(|p| (p[0], p[1]))
+            .filter(|&(a, b)| b > a && lit(0.5 * (a + b)))
+            .collect()
+    }
+
+    /// A particle medium's ray (DESIGN §1): the camera ray is cut into pieces of constant
+    /// density (every sphere entry and exit), each piece intersected with each light's lit
+    /// intervals and integrated adaptively; at every quadrature node the light leg's optical
+    /// depth is the exact sum of chords toward the light (self-shadowing). The background
+    /// medium adds its σ everywhere but, like the homogeneous medium, does not attenuate
+    /// directional light on the light leg. Rays that hit nothing see the sky, attenuated along
+    /// the whole ray; it lands in the `surface` AOV (the background's radiance).
+    fn trace_particles(
+        &self,
+        field: &ParticleField,
+        o: DVec3,
+        d: DVec3,
+        near: f64,
+        far: f64,
+    ) -> RayRadiance {
+        let bg_t = field.background_sigma_t;
+        let bg_s = field.background_sigma_s;
+        let hit = self.world.bvh.intersect(o, d, near, far);
+        let distance = hit.map_or(far, |h| h.t);
+        let pieces = field.pieces(o, d, distance);
+        let depth_end = pieces
+            .last()
+            .map_or(0.0, |p| p.depth0 + p.tau * (p.t1 - p.t0));
+        // Every (light, lit piece) integral, first as one G7K15 panel each; then the panels
+        // are refined against one absolute budget, rel_tol × the whole ray's estimate, so a
+        // piece contributing little is not integrated to a relative accuracy it cannot affect.
+        let mut jobs = Vec::new();
+        for light in self.lights {
+            let lit = self.lit_intervals(o, d, distance, light);
+            let mut k = 0;
+            for &(a, b) in &lit {
+                while k < pieces.len() && pieces[k].t1 <= a {
+                    k += 1;
+                }
+                let mut j = k;
+                while j < pieces.len() && pieces[j].t0 < b {
+                    let pc = pieces[j];
+                    j += 1;
+                    let sigma_s = bg_s + pc.sigma_s;
+                    let (lo, hi) = (pc.t0.max(a), pc.t1.min(b));
+                    if hi > lo && sigma_s.max_element() > 0.0 {
+                        let (f, x0, x1) = piece_integrand(
+                            self, field, o, d, distance, light, lo, hi, sigma_s, pc,
+                        );
+                        let (est, err) = gk15(&f, x0, x1);
+                        jobs.push((f, x0, x1, est, err));
+                    }
+                }
             }
         }
-        sum
+        let total_est: DVec3 = jobs.iter().map(|j| j.3).sum();
+        let target = self.settings.rel_tol * total_est.abs().max_element().max(1e-300);
+        let weight: f64 = jobs
+            .iter()
+            .map(|j| j.3.abs().max_element())
+            .sum::<f64>()
+            .max(1e-300);
+        let n = jobs.len().max(1) as f64;
+        let mut inscatter = DVec3::ZERO;
+        for (f, x0, x1, est, err) in &jobs {
+            // Each piece's share of the budget: half by its contribution, half evenly.
+            let share = 0.5 * (est.abs().max_element() / weight + 1.0 / n);
+            inscatter += refine(f, *x0, *x1, *est, *err, target * share);
+        }
+        let atten = exp(-(bg_t * distance + DVec3::splat(depth_end)));
+        let surface = match hit {
+            Some(h) => self.surface(o + d * h.t, d, h) * atten,
+            None => field.sky * atten,
+        };
+        RayRadiance {
+            inscatter,
+            surface,
+            total: inscatter + surface,
+            distance,
+            hit: hit.is_some(),
+        }
     }
 
     /// Samples visibility at `visibility_samples + 1` points t_of(k/N) and bisects every change.
@@ -353,6 +479,75 @@ impl Tracer<'_> {
             }
             prev_t = t;
             prev_v = v;
+        }
+    }
+}
+
+/// The in-scatter integrand σ_s p(θ) I(ω) e^(−τ_eye(t) − τ_light(t)) / r² of one
+/// constant-density piece [lo, hi], in its integration variable with its bounds: t for
+/// directional light; Biri's angle φ for local lights (dt/r² = dφ/h) unless the ray passes
+/// through the light.
+#[allow(clippy::too_many_arguments)]
+fn piece_integrand<'a>(
+    tr: &'a Tracer,
+    field: &'a ParticleField,
+    o: DVec3,
+    d: DVec3,
+    len: f64,
+    light: &'a LightState,
+    lo: f64,
+    hi: f64,
+    sigma_s: DVec3,
+    pc: Piece,
+) -> (Box<dyn Fn(f64) -> DVec3 + 'a>, f64, f64) {
+    let bg_t = field.background_sigma_t;
+    // Eye-leg optical depth at t (RGB: background + grey particles).
+    let eye = move |t: f64| bg_t * t + DVec3::splat(pc.depth0 + pc.tau * (t - pc.t0));
+    match light {
+        LightState::Directional {
+            direction,
+            irradiance,
+        } => {
+            let l = -direction.as_dvec3();
+            let e = irradiance.as_dvec3() * field.phase.eval(direction.as_dvec3().dot(-d));
+            let f = move |t: f64| {
+                let x = o + d * t;
+                let leg = field.optical_depth(x, l, 0.0, f64::INFINITY);
+                sigma_s * e * exp(-(eye(t) + DVec3::splat(leg)))
+            };
+            (Box::new(f), lo, hi)
+        }
+        _ => {
+            let lp = light.position().unwrap().as_dvec3();
+            let f = move |t: f64| {
+                let x = o + d * t;
+                let w = x - lp;
+                let r = w.length();
+                if r <= 0.0 {
+                    return DVec3::ZERO;
+                }
+                // θ between the light's propagation (w/r) and the direction toward the eye (−d).
+                let cos_theta = -w.dot(d) / r;
+                let leg = field.optical_depth(x, -w / r, 0.0, r);
+                sigma_s
+                    * (field.phase.eval(cos_theta) / (r * r))
+                    * light.intensity_toward(x)
+                    * exp(-(eye(t) + bg_t * r + DVec3::splat(leg)))
+            };
+            let w0 = o - lp;
+            let t0 = -w0.dot(d);
+            let h = (w0 + d * t0).length();
+            let _ = tr;
+            if h > 1e-12 * (w0.length() + len) {
+                let g = move |phi: f64| {
+                    let t = t0 + h * phi.tan();
+                    let r = h / phi.cos();
+                    f(t) * (r * r / h)
+                };
+                (Box::new(g), ((lo - t0) / h).atan(), ((hi - t0) / h).atan())
+            } else {
+                (Box::new(f), lo, hi)
+            }
         }
     }
 }
@@ -440,7 +635,7 @@ const WG: [f64; 4] = [
 ];
 
 /// One G7K15 panel: (Kronrod estimate, |Kronrod − Gauss| per channel).
-fn gk15(f: &impl Fn(f64) -> DVec3, a: f64, b: f64) -> (DVec3, DVec3) {
+pub fn gk15(f: &impl Fn(f64) -> DVec3, a: f64, b: f64) -> (DVec3, DVec3) {
     let c = 0.5 * (a + b);
     let hl = 0.5 * (b - a);
     let fc = f(c);
@@ -465,7 +660,22 @@ pub fn adaptive(f: &impl Fn(f64) -> DVec3, a: f64, b: f64, rel_tol: f64) -> DVec
     }
     let (whole, err) = gk15(f, a, b);
     let scale = whole.abs().max_element();
-    let target = rel_tol * scale.max(1e-300);
+    refine(f, a, b, whole, err, rel_tol * scale.max(1e-300))
+}
+
+/// Adaptive G7K15 on [a, b] from its first panel (whole, err) until the summed panel errors
+/// are below the absolute `target` (per channel maximum), or panels are 2⁻³⁰ of the interval.
+pub fn refine(
+    f: &impl Fn(f64) -> DVec3,
+    a: f64,
+    b: f64,
+    whole: DVec3,
+    err: DVec3,
+    target: f64,
+) -> DVec3 {
+    if b <= a {
+        return DVec3::ZERO;
+    }
     let min_width = (b - a) * 2f64.powi(-30);
     let mut stack = vec![(a, b, whole, err)];
     let mut sum = DVec3::ZERO;

@@ -77,7 +77,11 @@ pub fn shadowed(bvh: &Bvh, o: DVec3, d: DVec3, len: f64, src: Source) -> Option<
         // projection's denominator zero or negative and flip a shadow reaching to +∞ into one
         // covering the whole ray (the black floor speckles the stress suite found). What the
         // hair excludes projects beyond 1e12·ly along the ray.
-        let y_max = if is_point { ly * (1.0 - 1e-12) } else { f64::INFINITY };
+        let y_max = if is_point {
+            ly * (1.0 - 1e-12)
+        } else {
+            f64::INFINITY
+        };
         let Some((a, b)) = clip_y(a, b, 0.0, y_max) else {
             return;
         };
@@ -259,16 +263,27 @@ mod tests {
         let rays = frame.camera.rays(96, 96);
         let light = frame.lights[0].position().unwrap().as_dvec3();
         let d = rays.direction(33, 85);
-        let len = world.bvh.intersect(rays.origin, d, rays.near_distance(d), rays.far_distance(d)).unwrap().t;
+        let len = world
+            .bvh
+            .intersect(rays.origin, d, rays.near_distance(d), rays.far_distance(d))
+            .unwrap()
+            .t;
         let sh = shadowed(&world.bvh, rays.origin, d, len, Source::Point(light)).unwrap();
         for k in 1..200 {
             let t = len * k as f64 / 200.0;
             let x = rays.origin + d * t;
             let to = light - x;
-            let blocked = world.bvh.occluded(x, to.normalize(), 1e-9, to.length() - 1e-9);
+            let blocked = world
+                .bvh
+                .occluded(x, to.normalize(), 1e-9, to.length() - 1e-9);
             let inside = sh.iter().any(|&(a, b)| t > a + 1e-6 && t < b - 1e-6);
-            let near_end = sh.iter().any(|&(a, b)| (t - a).abs() < 1e-6 || (t - b).abs() < 1e-6);
-            assert!(near_end || inside == blocked, "t = {t}: intervals {sh:?}, ray cast says blocked = {blocked}");
+            let near_end = sh
+                .iter()
+                .any(|&(a, b)| (t - a).abs() < 1e-6 || (t - b).abs() < 1e-6);
+            assert!(
+                near_end || inside == blocked,
+                "t = {t}: intervals {sh:?}, ray cast says blocked = {blocked}"
+            );
         }
     }
 }

@@ -163,7 +163,8 @@ fn base(intensity: f64) -> Value {
 fn light_near_surface(_: &BuildContext) -> Result<Value, String> {
     let mut v = base(20.0);
     v["lights"] = json!([point([0.0, 1e-4, 1.0], 20.0)]);
-    v["camera"] = json!({"position": [0.0, 1.5, 5.0], "look_at": [0.0, 0.3, 0.5], "near": 0.1, "far": 40});
+    v["camera"] =
+        json!({"position": [0.0, 1.5, 5.0], "look_at": [0.0, 0.3, 0.5], "near": 0.1, "far": 40});
     Ok(v)
 }
 
@@ -182,7 +183,8 @@ fn camera_in_shadow(_: &BuildContext) -> Result<Value, String> {
          "transform": {"translation": [0.0, 3.5, 0.0]}},
         sphere([2.5, 0.6, -2.0], 0.6),
     ]);
-    v["camera"] = json!({"position": [0.0, 1.5, 0.2], "look_at": [2.0, 1.0, -3.0], "near": 0.05, "far": 40});
+    v["camera"] =
+        json!({"position": [0.0, 1.5, 0.2], "look_at": [2.0, 1.0, -3.0], "near": 0.05, "far": 40});
     Ok(v)
 }
 
@@ -190,7 +192,8 @@ fn view_through_light(ctx: &BuildContext) -> Result<Value, String> {
     let mut v = base(60.0);
     // Aim the light at the centre of the pixel nearest the image centre: build the scene once to
     // get the exact f64 ray of that pixel, then put the light 4 m along it.
-    let probe = parse_scene(&v.to_string(), "probe", "probe", ctx.mesh_dir).map_err(|e| e.to_string())?;
+    let probe =
+        parse_scene(&v.to_string(), "probe", "probe", ctx.mesh_dir).map_err(|e| e.to_string())?;
     let rays = probe.frame(0).camera.rays(ctx.width, ctx.height);
     let dir = rays.direction(ctx.width / 2, ctx.height / 2);
     let at = rays.origin + dir * 4.0;
@@ -222,7 +225,8 @@ fn grazing_shadow_planes(_: &BuildContext) -> Result<Value, String> {
          "transform": {"translation": [-2.0, 1.0, -1.0]}},
     ]);
     // The eye in that plane too: the middle row of rays runs along it.
-    v["camera"] = json!({"position": [0.5, 2.0, 7.0], "look_at": [0.5, 2.0, 0.0], "near": 0.1, "far": 40});
+    v["camera"] =
+        json!({"position": [0.5, 2.0, 7.0], "look_at": [0.5, 2.0, 0.0], "near": 0.1, "far": 40});
     Ok(v)
 }
 
@@ -296,6 +300,7 @@ fn many_triangles(ctx: &BuildContext) -> Result<Value, String> {
     // 4·rings·(rings − 1) ≥ `triangles` for the smallest rings ≥ (1 + √(1 + triangles)) / 2.
     let rings = (((1.0 + (1.0 + ctx.triangles as f64).sqrt()) / 2.0).ceil() as u64).clamp(2, 2048);
     let mut v = base(60.0);
-    v["objects"][1]["shape"] = json!({"kind": "sphere", "radius": 0.9, "segments": 2 * rings, "rings": rings});
+    v["objects"][1]["shape"] =
+        json!({"kind": "sphere", "radius": 0.9, "segments": 2 * rings, "rings": rings});
     Ok(v)
 }

@@ -111,6 +111,7 @@ fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
             scored_frame: 0,
             note: "stress run: one frame per case × method; timings are not meaningful".into(),
             kind: Some(STRESS_KIND.into()),
+            shard: None,
         },
         records: Vec::new(),
     }
@@ -230,7 +231,8 @@ pub fn run(
             }
             results.save(&path)?;
             if gpu.is_lost() {
-                *gpu = Gpu::new().map_err(|e| format!("the device was lost and cannot be reopened: {e}"))?;
+                *gpu = Gpu::new()
+                    .map_err(|e| format!("the device was lost and cannot be reopened: {e}"))?;
             }
         }
     }

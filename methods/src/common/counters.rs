@@ -31,7 +31,15 @@ impl CounterReadback {
                 mapped_at_creation: false,
             })
         };
-        CounterReadback { slots, staging: [make(), make()], next: 0, filled: [false; 2], pending: [false; 2], ready: Default::default(), latest: Default::default() }
+        CounterReadback {
+            slots,
+            staging: [make(), make()],
+            next: 0,
+            filled: [false; 2],
+            pending: [false; 2],
+            ready: Default::default(),
+            latest: Default::default(),
+        }
     }
 
     /// The most recent counts that have arrived (None before the first).
@@ -46,7 +54,10 @@ impl CounterReadback {
             if self.ready[k].swap(false, Ordering::AcqRel) {
                 let slice = self.staging[k].slice(..);
                 if let Ok(view) = slice.get_mapped_range() {
-                    let v: Vec<u32> = view.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+                    let v: Vec<u32> = view
+                        .chunks_exact(4)
+                        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                        .collect();
                     if let Ok(mut l) = self.latest.lock() {
                         *l = Some(v);
                     }
@@ -60,13 +71,16 @@ impl CounterReadback {
             self.filled[prev] = false;
             self.pending[prev] = true;
             let flag = self.ready[prev].clone();
-            self.staging[prev].slice(..).map_async(wgpu::MapMode::Read, move |r| {
-                if r.is_ok() {
-                    flag.store(true, Ordering::Release);
-                }
-            });
+            self.staging[prev]
+                .slice(..)
+                .map_async(wgpu::MapMode::Read, move |r| {
+                    if r.is_ok() {
+                        flag.store(true, Ordering::Release);
+                    }
+                });
         }
-        gpu.queue.write_buffer(counters, 0, &vec![0u8; 4 * self.slots as usize]);
+        gpu.queue
+            .write_buffer(counters, 0, &vec![0u8; 4 * self.slots as usize]);
     }
 
     /// Call after the passes that count: copies the counters for a later frame to read.

@@ -142,7 +142,13 @@ impl GpuScene {
 
 /// A depth-tested (Depth32Float, less), uncull'd pipeline drawing the scene's vertex buffer with
 /// `vs`/`fs` of `module`: what the shadow-map and surface passes share.
-pub fn mesh_pipeline(device: &wgpu::Device, label: &str, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, targets: &[Option<wgpu::ColorTargetState>]) -> wgpu::RenderPipeline {
+pub fn mesh_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
     let depth = wgpu::DepthStencilState {
         format: wgpu::TextureFormat::Depth32Float,
         depth_write_enabled: Some(true),
@@ -150,7 +156,15 @@ pub fn mesh_pipeline(device: &wgpu::Device, label: &str, layout: &wgpu::Pipeline
         stencil: Default::default(),
         bias: Default::default(),
     };
-    mesh_pipeline_with(device, label, layout, module, Vertex::LAYOUT, Some(depth), targets)
+    mesh_pipeline_with(
+        device,
+        label,
+        layout,
+        module,
+        Vertex::LAYOUT,
+        Some(depth),
+        targets,
+    )
 }
 
 /// An uncull'd triangle-list pipeline with `vs`/`fs` of `module`, any vertex layout and depth state.
@@ -166,11 +180,24 @@ pub fn mesh_pipeline_with(
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
-        vertex: wgpu::VertexState { module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertices)] },
-        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(vertices)],
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
         depth_stencil: depth,
         multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState { module, entry_point: Some("fs"), compilation_options: Default::default(), targets }),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets,
+        }),
         multiview_mask: None,
         cache: None,
     })

@@ -38,8 +38,21 @@ pub struct SceneRenderer {
     pub height: u32,
 }
 
-/// Why a scene cannot use the shared renderer, if it cannot.
+/// Why a homogeneous-medium method built on the shared renderer cannot render a scene, if it
+/// cannot: too many lights for the uniforms, or a particle medium (which these methods do not
+/// model). Every such method's `support` calls this, so particle scenes are refused by all.
 pub fn unsupported(features: &scenes::SceneFeatures) -> Option<String> {
+    if features.medium == "particles" {
+        return Some(
+            "particle media are not supported (this method models a homogeneous medium only)"
+                .into(),
+        );
+    }
+    renderer_limits(features)
+}
+
+/// What the shared renderer itself cannot handle (any medium): more lights than the uniforms hold.
+pub fn renderer_limits(features: &scenes::SceneFeatures) -> Option<String> {
     (features.lights > MAX_LIGHTS).then(|| {
         format!(
             "{} lights; the shared renderer handles at most {MAX_LIGHTS}",
@@ -56,7 +69,7 @@ impl SceneRenderer {
     ) -> anyhow::Result<SceneRenderer> {
         let gpu = ctx.gpu;
         let scene = ctx.scene.clone();
-        if let Some(why) = unsupported(&scene.features()) {
+        if let Some(why) = renderer_limits(&scene.features()) {
             anyhow::bail!(why);
         }
         let gpu_scene = GpuScene::new(gpu, &scene);
@@ -206,7 +219,8 @@ impl SceneRenderer {
         gpu.queue.write_buffer(
             &medium,
             0,
-            bytemuck::bytes_of(&MediumUniform::new(&scene.medium())),
+            // Particle scenes: the background medium (the particles are the method's own business).
+            bytemuck::bytes_of(&MediumUniform::new(&scene.medium().background())),
         );
         Ok(SceneRenderer {
             scene,

@@ -48,7 +48,16 @@ impl ResolvePass {
         extra_textures: u32,
         counter_slots: u32,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, true, counter_slots)
+        Self::build(
+            gpu,
+            renderer,
+            label,
+            own,
+            uniform_size,
+            extra_textures,
+            true,
+            counter_slots,
+        )
     }
 
     /// Like [`ResolvePass::new`], with `extra_textures` more texture bindings (3, 4, …), bound
@@ -61,7 +70,16 @@ impl ResolvePass {
         uniform_size: Option<u64>,
         extra_textures: u32,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, extra_textures, false, 0)
+        Self::build(
+            gpu,
+            renderer,
+            label,
+            own,
+            uniform_size,
+            extra_textures,
+            false,
+            0,
+        )
     }
 
     fn build(
@@ -102,7 +120,11 @@ impl ResolvePass {
             entries.push(wgpu::BindGroupLayoutEntry {
                 binding: 15,
                 visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
                 count: None,
             });
         }
@@ -110,7 +132,9 @@ impl ResolvePass {
             gpu.buffer(&wgpu::BufferDescriptor {
                 label: Some("pass counters"),
                 size: 4 * counter_slots as u64,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             })
         });
@@ -137,26 +161,52 @@ impl ResolvePass {
                 immediate_size: 0,
             });
         let additive = wgpu::BlendState {
-            color: wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add },
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
             alpha: wgpu::BlendComponent::REPLACE,
         };
-        let target = wgpu::ColorTargetState { format: AOV_FORMAT, blend: per_light.then_some(additive), write_mask: wgpu::ColorWrites::ALL };
-        let slots = if per_light { super::uniforms::MAX_LIGHTS } else { 1 };
+        let target = wgpu::ColorTargetState {
+            format: AOV_FORMAT,
+            blend: per_light.then_some(additive),
+            write_mask: wgpu::ColorWrites::ALL,
+        };
+        let slots = if per_light {
+            super::uniforms::MAX_LIGHTS
+        } else {
+            1
+        };
         let pipelines = (0..slots)
             .map(|k| {
                 let constants = [("LIGHT", k as f64)];
-                let options = wgpu::PipelineCompilationOptions { constants: if per_light { &constants } else { &[] }, zero_initialize_workgroup_memory: true };
-                gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(&pl),
-                    vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_fullscreen"), compilation_options: Default::default(), buffers: &[] },
-                    primitive: Default::default(),
-                    depth_stencil: None,
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: options, targets: &[Some(target.clone()), Some(target.clone())] }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+                let options = wgpu::PipelineCompilationOptions {
+                    constants: if per_light { &constants } else { &[] },
+                    zero_initialize_workgroup_memory: true,
+                };
+                gpu.device
+                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some(label),
+                        layout: Some(&pl),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some("vs_fullscreen"),
+                            compilation_options: Default::default(),
+                            buffers: &[],
+                        },
+                        primitive: Default::default(),
+                        depth_stencil: None,
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some("fs"),
+                            compilation_options: options,
+                            targets: &[Some(target.clone()), Some(target.clone())],
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    })
             })
             .collect();
         ResolvePass {
@@ -189,7 +239,12 @@ impl ResolvePass {
         targets: &Targets,
         extra: &[&wgpu::TextureView],
     ) {
-        assert_eq!(extra.len() as u32, self.extra_textures, "{}: texture count", self.label);
+        assert_eq!(
+            extra.len() as u32,
+            self.extra_textures,
+            "{}: texture count",
+            self.label
+        );
         // The harness owns the AOV textures, so the group that reads `surface` is built per frame.
         let mut entries = vec![
             wgpu::BindGroupEntry {
@@ -212,7 +267,10 @@ impl ResolvePass {
             resource: wgpu::BindingResource::TextureView(v),
         }));
         if let Some(c) = &self.counters {
-            entries.push(wgpu::BindGroupEntry { binding: 15, resource: c.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry {
+                binding: 15,
+                resource: c.as_entire_binding(),
+            });
         }
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.label),
@@ -243,7 +301,11 @@ impl ResolvePass {
         });
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &bind, &[]);
-        let count = if self.per_light { renderer.scene.desc.lights.len().min(self.pipelines.len()) } else { 1 };
+        let count = if self.per_light {
+            renderer.scene.desc.lights.len().min(self.pipelines.len())
+        } else {
+            1
+        };
         for p in &self.pipelines[..count] {
             pass.set_pipeline(p);
             pass.draw(0..3, 0..1);

@@ -39,10 +39,12 @@ impl EdgeMesh {
             .positions
             .iter()
             .map(|p| {
-                *index.entry(p.to_array().map(f32::to_bits)).or_insert_with(|| {
-                    positions.push(*p);
-                    positions.len() as u32 - 1
-                })
+                *index
+                    .entry(p.to_array().map(f32::to_bits))
+                    .or_insert_with(|| {
+                        positions.push(*p);
+                        positions.len() as u32 - 1
+                    })
             })
             .collect();
         let triangles: Vec<[u32; 3]> = mesh
@@ -58,9 +60,14 @@ impl EdgeMesh {
                 map.entry((a.min(b), a.max(b))).or_default().push(f as u32);
             }
         }
-        let mut edges: Vec<(u32, u32, Vec<u32>)> = map.into_iter().map(|((a, b), f)| (a, b, f)).collect();
+        let mut edges: Vec<(u32, u32, Vec<u32>)> =
+            map.into_iter().map(|((a, b), f)| (a, b, f)).collect();
         edges.sort_by_key(|e| (e.0, e.1));
-        EdgeMesh { positions, triangles, edges }
+        EdgeMesh {
+            positions,
+            triangles,
+            edges,
+        }
     }
 
     pub fn edge_count(&self) -> usize {
@@ -69,12 +76,20 @@ impl EdgeMesh {
 
     /// Silhouette edges in world space, each oriented as its light-facing face winds it.
     pub fn silhouette(&self, world_from_local: &Mat4, light: LightPos) -> Vec<[Vec3; 2]> {
-        let world: Vec<Vec3> = self.positions.iter().map(|p| world_from_local.transform_point3(*p)).collect();
+        let world: Vec<Vec3> = self
+            .positions
+            .iter()
+            .map(|p| world_from_local.transform_point3(*p))
+            .collect();
         let facing: Vec<bool> = self
             .triangles
             .iter()
             .map(|t| {
-                let (a, b, c) = (world[t[0] as usize], world[t[1] as usize], world[t[2] as usize]);
+                let (a, b, c) = (
+                    world[t[0] as usize],
+                    world[t[1] as usize],
+                    world[t[2] as usize],
+                );
                 let n = (b - a).cross(c - a);
                 let to_light = match light {
                     LightPos::Point(l) => l - (a + b + c) / 3.0,
@@ -94,7 +109,10 @@ impl EdgeMesh {
                 continue;
             }
             // Orient along a light-facing face's winding.
-            let f = faces.iter().find(|f| facing[**f as usize]).expect("some face is lit");
+            let f = faces
+                .iter()
+                .find(|f| facing[**f as usize])
+                .expect("some face is lit");
             let t = self.triangles[*f as usize];
             let forward = (0..3).any(|k| t[k] == *a && t[(k + 1) % 3] == *b);
             let (p, q) = (world[*a as usize], world[*b as usize]);
@@ -134,7 +152,10 @@ mod tests {
             *balance.entry(key(*p)).or_default() += 1;
             *balance.entry(key(*q)).or_default() -= 1;
         }
-        assert!(balance.values().all(|b| *b == 0), "silhouette is not a set of closed loops");
+        assert!(
+            balance.values().all(|b| *b == 0),
+            "silhouette is not a set of closed loops"
+        );
     }
 
     /// The silhouette of a box lit along an axis is the 4 edges around the lit face's sides.
@@ -152,7 +173,11 @@ mod tests {
     #[test]
     fn extrusion_goes_away_from_the_light() {
         let l = Vec3::new(0.0, 10.0, 0.0);
-        let quad = extrude([Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0)], LightPos::Point(l), 5.0);
+        let quad = extrude(
+            [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0)],
+            LightPos::Point(l),
+            5.0,
+        );
         assert_eq!(quad[0], Vec3::new(1.0, 0.0, 0.0));
         assert!(((quad[5] - l).length() - ((quad[0] - l).length() + 5.0)).abs() < 1e-4);
     }

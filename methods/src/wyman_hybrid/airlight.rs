@@ -23,12 +23,24 @@ pub struct FTable {
 }
 
 const GL_X: [f64; 8] = [
-    -0.960_289_856_497_536_2, -0.796_666_477_413_626_7, -0.525_532_409_916_329_0, -0.183_434_642_495_649_8,
-    0.183_434_642_495_649_8, 0.525_532_409_916_329_0, 0.796_666_477_413_626_7, 0.960_289_856_497_536_2,
+    -0.960_289_856_497_536_2,
+    -0.796_666_477_413_626_7,
+    -0.525_532_409_916_329_0,
+    -0.183_434_642_495_649_8,
+    0.183_434_642_495_649_8,
+    0.525_532_409_916_329_0,
+    0.796_666_477_413_626_7,
+    0.960_289_856_497_536_2,
 ];
 const GL_W: [f64; 8] = [
-    0.101_228_536_290_376_3, 0.222_381_034_453_374_5, 0.313_706_645_877_887_3, 0.362_683_783_378_362_0,
-    0.362_683_783_378_362_0, 0.313_706_645_877_887_3, 0.222_381_034_453_374_5, 0.101_228_536_290_376_3,
+    0.101_228_536_290_376_3,
+    0.222_381_034_453_374_5,
+    0.313_706_645_877_887_3,
+    0.362_683_783_378_362_0,
+    0.362_683_783_378_362_0,
+    0.313_706_645_877_887_3,
+    0.222_381_034_453_374_5,
+    0.101_228_536_290_376_3,
 ];
 
 /// ∫_a^b exp(−u tan ξ) dξ by 8-point Gauss–Legendre on `panels` sub-intervals.
@@ -37,7 +49,12 @@ fn integral(u: f64, a: f64, b: f64, panels: usize) -> f64 {
     (0..panels)
         .map(|p| {
             let mid = a + (p as f64 + 0.5) * h;
-            GL_X.iter().zip(GL_W).map(|(x, w)| w * (-u * (mid + 0.5 * h * x).tan()).exp()).sum::<f64>() * 0.5 * h
+            GL_X.iter()
+                .zip(GL_W)
+                .map(|(x, w)| w * (-u * (mid + 0.5 * h * x).tan()).exp())
+                .sum::<f64>()
+                * 0.5
+                * h
         })
         .sum()
 }
@@ -50,13 +67,21 @@ impl FTable {
             let u = u_max as f64 * i as f64 / (nu - 1) as f64;
             let mut acc = 0.0;
             for j in 1..nv {
-                let (a, b) = (FRAC_PI_2 * (j - 1) as f64 / (nv - 1) as f64, FRAC_PI_2 * j as f64 / (nv - 1) as f64);
+                let (a, b) = (
+                    FRAC_PI_2 * (j - 1) as f64 / (nv - 1) as f64,
+                    FRAC_PI_2 * j as f64 / (nv - 1) as f64,
+                );
                 // Near π/2 the integrand falls off a cliff for u > 0: more panels there.
                 acc += integral(u, a, b.min(FRAC_PI_2 - 1e-12), 4);
                 data[(j * nu + i) as usize] = acc as f32;
             }
         }
-        FTable { nu, nv, u_max, data }
+        FTable {
+            nu,
+            nv,
+            u_max,
+            data,
+        }
     }
 
     /// Bilinear lookup, as the shader does it (clamped to the table).
@@ -101,15 +126,21 @@ mod tests {
             .map(|k| {
                 let x = a + (k as f64 + 0.5) * dx;
                 let r2 = (x - t0).powi(2) + h * h;
-                sigma_s * intensity / (4.0 * std::f64::consts::PI) * (-sigma_t * (x + r2.sqrt())).exp() / r2 * dx
+                sigma_s * intensity / (4.0 * std::f64::consts::PI)
+                    * (-sigma_t * (x + r2.sqrt())).exp()
+                    / r2
+                    * dx
             })
             .sum();
         let xi = |x: f64| std::f64::consts::FRAC_PI_4 + 0.5 * ((x - t0) / h).atan();
         let u = sigma_t * h;
-        let exact = sigma_s * intensity / (4.0 * std::f64::consts::PI) * 2.0 / h * (-sigma_t * t0).exp() * (f_exact(u, xi(b)) - f_exact(u, xi(a)));
+        let exact = sigma_s * intensity / (4.0 * std::f64::consts::PI) * 2.0 / h
+            * (-sigma_t * t0).exp()
+            * (f_exact(u, xi(b)) - f_exact(u, xi(a)));
         assert!((exact / direct - 1.0).abs() < 1e-6, "{exact} vs {direct}");
         let t = FTable::new(256, 256, 2.0);
-        let tab = sigma_s * intensity / (4.0 * std::f64::consts::PI) * 2.0 / h * (-sigma_t * t0).exp()
+        let tab = sigma_s * intensity / (4.0 * std::f64::consts::PI) * 2.0 / h
+            * (-sigma_t * t0).exp()
             * (t.lookup(u as f32, xi(b) as f32) as f64 - t.lookup(u as f32, xi(a) as f32) as f64);
         assert!((tab / direct - 1.0).abs() < 2e-3, "table {tab} vs {direct}");
     }

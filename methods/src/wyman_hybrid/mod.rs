@@ -149,8 +149,20 @@ impl Method for WymanHybrid {
                 choices: vec![],
                 meaning: "ray-march steps between the first and last shadow polygon (and per lit segment of a spot)",
             },
-            ParamSpec { name: "shadow_map", default: ParamValue::Int(1024), sweep: [512, 2048].map(ParamValue::Int).to_vec(), choices: vec![], meaning: "shadow-map resolution per face, texels" },
-            ParamSpec { name: "table", default: ParamValue::Int(256), sweep: [32, 64].map(ParamValue::Int).to_vec(), choices: vec![], meaning: "F(u,v) table size per side" },
+            ParamSpec {
+                name: "shadow_map",
+                default: ParamValue::Int(1024),
+                sweep: [512, 2048].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "shadow-map resolution per face, texels",
+            },
+            ParamSpec {
+                name: "table",
+                default: ParamValue::Int(256),
+                sweep: [32, 64].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "F(u,v) table size per side",
+            },
             ParamSpec {
                 name: "airlight",
                 default: ParamValue::Bool(true),
@@ -179,7 +191,13 @@ impl Method for WymanHybrid {
                 choices: vec![],
                 meaning: "§3.4: airlight from a per-frame F'(cos γ, x) table (two lookups per interval) instead of the F(u,v) formula",
             },
-            ParamSpec { name: "pattern_res", default: ParamValue::Int(512), sweep: vec![], choices: vec![], meaning: "spot pattern texture resolution, texels" },
+            ParamSpec {
+                name: "pattern_res",
+                default: ParamValue::Int(512),
+                sweep: vec![],
+                choices: vec![],
+                meaning: "spot pattern texture resolution, texels",
+            },
         ]
     }
 
@@ -188,7 +206,9 @@ impl Method for WymanHybrid {
             return Support::No(why);
         }
         if !device.contains(wgpu::Features::FLOAT32_BLENDABLE) {
-            return Support::No("needs FLOAT32_BLENDABLE (min/max blending of shadow-polygon distances)".into());
+            return Support::No(
+                "needs FLOAT32_BLENDABLE (min/max blending of shadow-polygon distances)".into(),
+            );
         }
         if scene.indirect_single_scattering {
             return Support::Partial(vec!["indirect_single_scattering".into()]);
@@ -201,10 +221,25 @@ impl Method for WymanHybrid {
         let get = |k: &str| ctx.params.get(k).and_then(ParamValue::as_i64).unwrap_or(0);
         let samples = get("samples").clamp(1, 4096) as u32;
         let table_n = get("table").clamp(2, 4096) as u32;
-        let analytic = ctx.params.get("airlight").and_then(ParamValue::as_bool).unwrap_or(true);
-        let renderer = SceneRenderer::new(ctx, get("shadow_map").clamp(16, 8192) as u32, get("pattern_res").clamp(1, 8192) as u32)?;
+        let analytic = ctx
+            .params
+            .get("airlight")
+            .and_then(ParamValue::as_bool)
+            .unwrap_or(true);
+        let renderer = SceneRenderer::new(
+            ctx,
+            get("shadow_map").clamp(16, 8192) as u32,
+            get("pattern_res").clamp(1, 8192) as u32,
+        )?;
         let scene = ctx.scene;
-        let casters = scene.desc.objects.iter().enumerate().filter(|(_, o)| o.casts_volumetric_shadow).map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k]))).collect();
+        let casters = scene
+            .desc
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.casts_volumetric_shadow)
+            .map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k])))
+            .collect();
 
         // F's u = σ_t h never exceeds σ_t times the light's distance to the eye (h ≤ that).
         let sigma_t = scene.medium().background().sigma_t.max_element();
@@ -221,7 +256,11 @@ impl Method for WymanHybrid {
         let table = FTable::new(table_n, table_n, u_max);
         let table_tex = gpu.texture(&wgpu::TextureDescriptor {
             label: Some("F(u,v)"),
-            size: wgpu::Extent3d { width: table.nu, height: table.nv, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: table.nu,
+                height: table.nv,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -232,59 +271,137 @@ impl Method for WymanHybrid {
         gpu.queue.write_texture(
             table_tex.as_image_copy(),
             bytemuck::cast_slice(&table.data),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(table.nu * 4), rows_per_image: Some(table.nv) },
-            wgpu::Extent3d { width: table.nu, height: table.nv, depth_or_array_layers: 1 },
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(table.nu * 4),
+                rows_per_image: Some(table.nv),
+            },
+            wgpu::Extent3d {
+                width: table.nu,
+                height: table.nv,
+                depth_or_array_layers: 1,
+            },
         );
         let target = |label| {
             gpu.texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d { width: ctx.width, height: ctx.height, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width: ctx.width,
+                    height: ctx.height,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: VOLUME_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
                 view_formats: &[],
             })
         };
         let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
         let module = wgsl::module(&gpu.device, "shadow volumes", &volumes_source());
-        let layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("shadow volumes"), bind_group_layouts: &[Some(&renderer.frame_layout)], immediate_size: 0 });
+        let layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow volumes"),
+                bind_group_layouts: &[Some(&renderer.frame_layout)],
+                immediate_size: 0,
+            });
         let blend = |op| wgpu::BlendState {
-            color: wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: op },
-            alpha: wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: op },
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: op,
+            },
+            alpha: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: op,
+            },
         };
         let targets = [
-            Some(wgpu::ColorTargetState { format: VOLUME_FORMAT, blend: Some(blend(wgpu::BlendOperation::Min)), write_mask: wgpu::ColorWrites::ALL }),
-            Some(wgpu::ColorTargetState { format: VOLUME_FORMAT, blend: Some(blend(wgpu::BlendOperation::Max)), write_mask: wgpu::ColorWrites::ALL }),
+            Some(wgpu::ColorTargetState {
+                format: VOLUME_FORMAT,
+                blend: Some(blend(wgpu::BlendOperation::Min)),
+                write_mask: wgpu::ColorWrites::ALL,
+            }),
+            Some(wgpu::ColorTargetState {
+                format: VOLUME_FORMAT,
+                blend: Some(blend(wgpu::BlendOperation::Max)),
+                write_mask: wgpu::ColorWrites::ALL,
+            }),
         ];
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<VolumeVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Uint32],
         };
-        let volumes = mesh_pipeline_with(&gpu.device, "shadow volumes", &layout, &module, vertex_layout, None, &targets);
-        let resolve = ResolvePass::per_light(gpu, &renderer, "hybrid", &hybrid_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 4, 2);
+        let volumes = mesh_pipeline_with(
+            &gpu.device,
+            "shadow volumes",
+            &layout,
+            &module,
+            vertex_layout,
+            None,
+            &targets,
+        );
+        let resolve = ResolvePass::per_light(
+            gpu,
+            &renderer,
+            "hybrid",
+            &hybrid_wgsl(),
+            Some(std::mem::size_of::<HybridUniform>() as u64),
+            4,
+            2,
+        );
         let counters = CounterReadback::new(gpu, 2);
-        let use_fprime = ctx.params.get("fprime").and_then(ParamValue::as_bool).unwrap_or(false);
+        let use_fprime = ctx
+            .params
+            .get("fprime")
+            .and_then(ParamValue::as_bool)
+            .unwrap_or(false);
         let table_target = |label, w, h| {
             gpu.texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: harness::method::AOV_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
                 view_formats: &[],
             })
             .create_view(&Default::default())
         };
         let (fprime, fprime_view) = if use_fprime {
-            let (w, h) = (FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32, FPRIME_SIZE);
-            let pass = ResolvePass::per_light(gpu, &renderer, "F' table", &fprime_wgsl(), Some(std::mem::size_of::<HybridUniform>() as u64), 3, 0);
+            let (w, h) = (
+                FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32,
+                FPRIME_SIZE,
+            );
+            let pass = ResolvePass::per_light(
+                gpu,
+                &renderer,
+                "F' table",
+                &fprime_wgsl(),
+                Some(std::mem::size_of::<HybridUniform>() as u64),
+                3,
+                0,
+            );
             let table = table_target("F' table", w, h);
-            (Some(FPrime { pass, table: table.clone(), unused: table_target("F' table (unused)", w, h) }), table)
+            (
+                Some(FPrime {
+                    pass,
+                    table: table.clone(),
+                    unused: table_target("F' table (unused)", w, h),
+                }),
+                table,
+            )
         } else {
             (None, table_target("F' table (off)", 1, 1))
         };
@@ -294,27 +411,52 @@ impl Method for WymanHybrid {
             let make = |label| {
                 gpu.texture(&wgpu::TextureDescriptor {
                     label: Some(label),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
                     mip_level_count: 1,
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,
                     format: harness::method::AOV_FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
                     view_formats: &[],
                 })
                 .create_view(&Default::default())
             };
-            let bilateral = ctx.params.get("bilateral").and_then(ParamValue::as_bool).unwrap_or(true);
-            let upsample = ResolvePass::with_textures(gpu, &renderer, "upsample", UPSAMPLE_WGSL, Some(16), 1);
+            let bilateral = ctx
+                .params
+                .get("bilateral")
+                .and_then(ParamValue::as_bool)
+                .unwrap_or(true);
+            let upsample =
+                ResolvePass::with_textures(gpu, &renderer, "upsample", UPSAMPLE_WGSL, Some(16), 1);
             if let Some(u) = &upsample.uniform {
-                gpu.queue.write_buffer(u, 0, bytemuck::cast_slice(&[scale as f32, bilateral as u32 as f32, 0.0, 0.0]));
+                gpu.queue.write_buffer(
+                    u,
+                    0,
+                    bytemuck::cast_slice(&[scale as f32, bilateral as u32 as f32, 0.0, 0.0]),
+                );
             }
-            LowRes { inscatter: make("low-res inscatter"), total: make("low-res total (unused)"), width, height, upsample }
+            LowRes {
+                inscatter: make("low-res inscatter"),
+                total: make("low-res total (unused)"),
+                width,
+                height,
+                upsample,
+            }
         });
         let uniform = HybridUniform {
             config: [samples, table.nu, table.nv, analytic as u32],
             table: [table.u_max, scale as f32, 0.0, 0.0],
-            fprime: [1.0, FPRIME_SIZE as f32, FPRIME_SIZE as f32, use_fprime as u32 as f32],
+            fprime: [
+                1.0,
+                FPRIME_SIZE as f32,
+                FPRIME_SIZE as f32,
+                use_fprime as u32 as f32,
+            ],
         };
         self.state = Some(State {
             renderer,
@@ -338,16 +480,31 @@ impl Method for WymanHybrid {
         Ok(())
     }
 
-    fn render(&mut self, gpu: &Gpu, frame: &FrameState, targets: &Targets, enc: &mut wgpu::CommandEncoder) -> Result<FrameReport> {
-        let st = self.state.as_mut().ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let st = self
+            .state
+            .as_mut()
+            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
         let mut report = FrameReport::default();
         st.renderer.update(gpu, frame);
         // F' spans x up to the longest camera ray (a corner ray to the far plane).
         let rays = frame.camera.rays(targets.width, targets.height);
         let corner = rays.direction(0, 0);
         st.uniform.fprime[0] = (rays.far_distance(corner) * 1.001) as f32;
-        for u in st.resolve.uniform.iter().chain(st.fprime.as_ref().and_then(|f| f.pass.uniform.as_ref())) {
-            gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&st.uniform));
+        for u in st
+            .resolve
+            .uniform
+            .iter()
+            .chain(st.fprime.as_ref().and_then(|f| f.pass.uniform.as_ref()))
+        {
+            gpu.queue
+                .write_buffer(u, 0, bytemuck::bytes_of(&st.uniform));
         }
         let counter_buf = st.resolve.counters.clone().expect("hybrid pass counts");
         st.counters.begin_frame(gpu, &counter_buf);
@@ -358,9 +515,16 @@ impl Method for WymanHybrid {
         st.renderer.encode_shadows(enc, &mut report);
         st.renderer.encode_surface(enc, targets, &mut report);
 
-        let key = (frame.lights.clone(), frame.world_from_local.clone(), frame.camera.position);
+        let key = (
+            frame.lights.clone(),
+            frame.world_from_local.clone(),
+            frame.camera.position,
+        );
         if !st.no_skip && st.built_for.as_ref() == Some(&key) {
-            report.skip("silhouettes", "lights and occluders unchanged since the last frame");
+            report.skip(
+                "silhouettes",
+                "lights and occluders unchanged since the last frame",
+            );
         } else if !st.casters.is_empty() {
             build_volumes(gpu, st, frame);
             st.built_for = Some(key);
@@ -369,12 +533,30 @@ impl Method for WymanHybrid {
         report.count("silhouette_edges", st.silhouette_edges as f64);
         report.count("shadow_polygons", (st.vertex_count / 6) as f64);
         {
-            let clear = |v: f64| wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: v, g: v, b: v, a: v }), store: wgpu::StoreOp::Store };
+            let clear = |v: f64| wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: v,
+                    g: v,
+                    b: v,
+                    a: v,
+                }),
+                store: wgpu::StoreOp::Store,
+            };
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow volumes"),
                 color_attachments: &[
-                    Some(wgpu::RenderPassColorAttachment { view: &st.front_view, depth_slice: None, resolve_target: None, ops: clear(1e30) }),
-                    Some(wgpu::RenderPassColorAttachment { view: &st.back_view, depth_slice: None, resolve_target: None, ops: clear(-1.0) }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &st.front_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: clear(1e30),
+                    }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &st.back_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: clear(-1.0),
+                    }),
                 ],
                 ..Default::default()
             });
@@ -386,28 +568,63 @@ impl Method for WymanHybrid {
             }
         }
         if st.casters.is_empty() && !st.no_skip {
-            report.skip("shadow-volumes", "no object casts a volumetric shadow: airlight only");
+            report.skip(
+                "shadow-volumes",
+                "no object casts a volumetric shadow: airlight only",
+            );
         } else {
             report.ran("shadow-volumes");
         }
         if let Some(fp) = &st.fprime {
-            let t = Targets { inscatter: &fp.table, surface: targets.surface, total: &fp.unused, width: FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32, height: FPRIME_SIZE };
-            fp.pass.encode_with(gpu, enc, &st.renderer, &t, &[&st.front_view, &st.back_view, &st.table_view]);
+            let t = Targets {
+                inscatter: &fp.table,
+                surface: targets.surface,
+                total: &fp.unused,
+                width: FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32,
+                height: FPRIME_SIZE,
+            };
+            fp.pass.encode_with(
+                gpu,
+                enc,
+                &st.renderer,
+                &t,
+                &[&st.front_view, &st.back_view, &st.table_view],
+            );
             report.ran("fprime-table");
         }
-        let extra = [&st.front_view, &st.back_view, &st.table_view, &st.fprime_view];
+        let extra = [
+            &st.front_view,
+            &st.back_view,
+            &st.table_view,
+            &st.fprime_view,
+        ];
         match &st.low {
-            None => st.resolve.encode_with(gpu, enc, &st.renderer, targets, &extra),
+            None => st
+                .resolve
+                .encode_with(gpu, enc, &st.renderer, targets, &extra),
             Some(low) => {
-                let low_targets = Targets { inscatter: &low.inscatter, surface: targets.surface, total: &low.total, width: low.width, height: low.height };
-                st.resolve.encode_with(gpu, enc, &st.renderer, &low_targets, &extra);
-                low.upsample.encode_with(gpu, enc, &st.renderer, targets, &[&low.inscatter]);
+                let low_targets = Targets {
+                    inscatter: &low.inscatter,
+                    surface: targets.surface,
+                    total: &low.total,
+                    width: low.width,
+                    height: low.height,
+                };
+                st.resolve
+                    .encode_with(gpu, enc, &st.renderer, &low_targets, &extra);
+                low.upsample
+                    .encode_with(gpu, enc, &st.renderer, targets, &[&low.inscatter]);
                 report.ran("upsample");
             }
         }
         st.counters.end_frame(enc, &counter_buf);
         report.ran("hybrid");
-        report.count("scattering_pixels", st.low.as_ref().map_or(targets.width * targets.height, |l| l.width * l.height) as f64);
+        report.count(
+            "scattering_pixels",
+            st.low
+                .as_ref()
+                .map_or(targets.width * targets.height, |l| l.width * l.height) as f64,
+        );
         Ok(report)
     }
 }
@@ -422,11 +639,15 @@ fn build_volumes(gpu: &Gpu, st: &mut State, frame: &FrameState) {
             LightState::Directional { direction, .. } => LightPos::Direction(*direction),
             _ => LightPos::Point(light.position().expect("local light")),
         };
-        let reach = 2.0 * (frame.camera.far + light.position().map_or(0.0, |p| (p - cam).length())) + 1.0;
+        let reach =
+            2.0 * (frame.camera.far + light.position().map_or(0.0, |p| (p - cam).length())) + 1.0;
         for (obj, mesh) in &st.casters {
             for e in mesh.silhouette(&frame.world_from_local[*obj], pos) {
                 edges += 1;
-                verts.extend(extrude(e, pos, reach).map(|p: Vec3| VolumeVertex { position: p.to_array(), light: k as u32 }));
+                verts.extend(extrude(e, pos, reach).map(|p: Vec3| VolumeVertex {
+                    position: p.to_array(),
+                    light: k as u32,
+                }));
             }
         }
     }
@@ -436,7 +657,10 @@ fn build_volumes(gpu: &Gpu, st: &mut State, frame: &FrameState) {
         return;
     }
     let bytes: &[u8] = bytemuck::cast_slice(&verts);
-    let fits = st.vertex_buffer.as_ref().is_some_and(|b| b.size() >= bytes.len() as u64);
+    let fits = st
+        .vertex_buffer
+        .as_ref()
+        .is_some_and(|b| b.size() >= bytes.len() as u64);
     if !fits {
         st.vertex_buffer = Some(gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("shadow-volume quads"),
@@ -445,5 +669,9 @@ fn build_volumes(gpu: &Gpu, st: &mut State, frame: &FrameState) {
             mapped_at_creation: false,
         }));
     }
-    gpu.queue.write_buffer(st.vertex_buffer.as_ref().expect("allocated above"), 0, bytes);
+    gpu.queue.write_buffer(
+        st.vertex_buffer.as_ref().expect("allocated above"),
+        0,
+        bytes,
+    );
 }

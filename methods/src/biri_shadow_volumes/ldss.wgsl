@@ -1,0 +1,69 @@
+// Biri et al. 2006, eq. 7 in the project convention (∫ p dω = 1): the direct single scattering
+// of point light k over [0, d] of the view ray `dir` from the eye is
+//   σ_s I e^(−σ_t t) / h · [Γ(σ_t h, w(d − t)) − Γ(σ_t h, w(−t))],
+// with the Γ table indexed by u = λ/(1 + λ) (rows) and w = s/(1 + s), s = (r + y)/h = tan(γ/2 + π/4)
+// (columns; y: signed distance along the ray from the light's foot, r = √(y² + h²)).
+// Needs PRELUDE. Mirrors biri_shadow_volumes::gamma.
+
+// Bilinear Γ lookup (R32Float is not filterable without an optional feature).
+fn gamma_lookup(tab: texture_2d<f32>, lambda: f32, w: f32) -> f32 {
+    let dims = vec2<f32>(textureDimensions(tab));
+    let fi = clamp(lambda / (1.0 + lambda) * dims.y, 0.0, dims.y - 1.0);
+    let fj = clamp(w * (dims.x - 1.0), 0.0, dims.x - 1.0);
+    let i0 = u32(fi);
+    let j0 = u32(fj);
+    let i1 = min(i0 + 1u, u32(dims.y) - 1u);
+    let j1 = min(j0 + 1u, u32(dims.x) - 1u);
+    let a = fi - f32(i0);
+    let b = fj - f32(j0);
+    let r0 = mix(textureLoad(tab, vec2<u32>(j0, i0), 0).r, textureLoad(tab, vec2<u32>(j1, i0), 0).r, b);
+    let r1 = mix(textureLoad(tab, vec2<u32>(j0, i1), 0).r, textureLoad(tab, vec2<u32>(j1, i1), 0).r, b);
+    return mix(r0, r1, a);
+}
+
+// w = s/(1 + s) with s = (r + y)/h; r + y = h²/(r − y) when y < 0 (no cancellation).
+fn gamma_w(y: f32, h: f32) -> f32 {
+    let r = sqrt(y * y + h * h);
+    let n = select(h * h / (r - y), r + y, y >= 0.0);
+    return n / (n + h);
+}
+
+// Geometry of light k seen along `dir`: x = t (foot distance), y = h (distance to the ray).
+fn ldss_geometry(k: u32, dir: vec3<f32>) -> vec2<f32> {
+    let sp = lights.lights[k].position.xyz - camera.position.xyz;
+    let t = dot(sp, dir);
+    let h = max(length(sp - dir * t), 1e-6);
+    return vec2<f32>(t, h);
+}
+
+// σ_s I e^(−σ_t t)/h · Γ(σ_t h, w(d − t)) per channel: the term a crossing at distance d adds
+// (and what the eye's own term, d = 0, takes away).
+fn ldss_term(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> {
+    let g = ldss_geometry(k, dir);
+    let w = gamma_w(d - g.x, g.y);
+    let st = medium.sigma_t.rgb;
+    let lam = st * g.y;
+    let gam = vec3<f32>(gamma_lookup(tab, lam.r, w), gamma_lookup(tab, lam.g, w), gamma_lookup(tab, lam.b, w));
+    return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * exp(-st * g.x) / g.y * gam;
+}
+
+// L_dss over [0, d] (eq. 7): the difference of the two lookups.
+fn ldss(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> {
+    let g = ldss_geometry(k, dir);
+    let w0 = gamma_w(-g.x, g.y);
+    let wd = gamma_w(d - g.x, g.y);
+    let st = medium.sigma_t.rgb;
+    let lam = st * g.y;
+    let diff = vec3<f32>(
+        gamma_lookup(tab, lam.r, wd) - gamma_lookup(tab, lam.r, w0),
+        gamma_lookup(tab, lam.g, wd) - gamma_lookup(tab, lam.g, w0),
+        gamma_lookup(tab, lam.b, wd) - gamma_lookup(tab, lam.b, w0));
+    // With the light behind the eye (t < 0) e^(−σ_t t) grows while the Γ difference shrinks into
+    // f32 rounding: cap the exponent and clamp to a bound that holds exactly (x + r ≥ |OS| = D by the
+    // triangle inequality, and ∫ dx/r² ≤ π/h), so f32 noise can never exceed the physics.
+    let dist = sqrt(g.x * g.x + g.y * g.y);
+    let pmax = max(phase(medium, 1.0), phase(medium, -1.0));
+    let scale = medium.sigma_s.rgb * lights.lights[k].intensity.rgb / g.y;
+    let bound = scale * pmax * PI * exp(-st * dist);
+    return min(scale * exp(min(-st * g.x, vec3<f32>(80.0))) * max(diff, vec3<f32>(0.0)), bound);
+}

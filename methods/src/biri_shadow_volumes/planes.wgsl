@@ -1,0 +1,44 @@
+// Steps 3 and 5 of Biri et al. with stencil shadow planes, one light at a time (cfg.light.x):
+// a depth-only scene pass, a z-pass count of the planes in front of each surface (stencil = the
+// number of shadow volumes around the visible point, seeded with the eye's count), the lit
+// surfaces' term +C Γ(w(d)) where the stencil is 0, then the planes back to front, each crossing
+// adding (front-facing: entering a shadow) or subtracting (back-facing: leaving one) its term
+// C Γ(w(distance)) under the paper's stencil rules. Signed float accumulation replaces the
+// paper's reverse-subtract blending on 8-bit targets. Needs PRELUDE, FULLSCREEN and ldss.wgsl.
+
+struct PlaneCfg {
+    // x: light index
+    light: vec4<u32>,
+};
+@group(1) @binding(0) var gamma_table: texture_2d<f32>;
+@group(1) @binding(1) var<uniform> cfg: PlaneCfg;
+@group(1) @binding(2) var ray_distance: texture_2d<f32>;
+
+@vertex
+fn vs_scene(v: VertexIn) -> @builtin(position) vec4<f32> {
+    return camera.clip_from_world * (objects[v.object].world_from_local * vec4<f32>(v.position, 1.0));
+}
+
+struct PlaneOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
+@vertex
+fn vs_plane(@location(0) p: vec3<f32>) -> PlaneOut {
+    return PlaneOut(camera.clip_from_world * vec4<f32>(p, 1.0), p);
+}
+
+@fragment
+fn fs_plane(v: PlaneOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let dir = camera_ray_dir(camera, v.clip.xy);
+    let term = ldss_term(gamma_table, cfg.light.x, dir, length(v.world - camera.position.xyz));
+    return vec4<f32>(select(-term, term, front), 0.0);
+}
+
+@fragment
+fn fs_surface(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let dir = camera_ray_dir(camera, frag.xy);
+    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
+    return vec4<f32>(ldss_term(gamma_table, cfg.light.x, dir, d), 0.0);
+}

@@ -1,0 +1,48 @@
+//! `scatterbench merge RUN_DIR... --out DIR`: reassemble the shards of `run --shard i/n` (or
+//! any runs of the same resolution and adapter) into one run with its report.
+
+use std::path::PathBuf;
+
+use anyhow::{Result, anyhow};
+use clap::Args;
+use harness::merge::{MergeOptions, merge};
+
+#[derive(Args)]
+pub struct MergeArgs {
+    /// Run directories (each holds results.json), e.g. the shards of one split.
+    #[arg(required = true)]
+    pub run_dirs: Vec<PathBuf>,
+    /// Output directory (must not hold a results.json yet).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Merge runs measured on different adapters (their timings then do not compare).
+    #[arg(long)]
+    pub allow_mixed_adapters: bool,
+}
+
+pub fn run(a: MergeArgs) -> Result<()> {
+    let summary = merge(
+        &a.run_dirs,
+        &a.out,
+        &MergeOptions {
+            allow_mixed_adapters: a.allow_mixed_adapters,
+            run_id: None,
+        },
+    )
+    .map_err(|e| anyhow!(e))?;
+    for w in &summary.warnings {
+        eprintln!("warning: {w}");
+    }
+    println!(
+        "{} records from {} runs, {} files copied → {}",
+        summary.results.records.len(),
+        a.run_dirs.len(),
+        summary.files_copied,
+        a.out.join("results.json").display()
+    );
+    match report::generate(&a.out) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
+    }
+    Ok(())
+}

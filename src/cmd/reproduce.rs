@@ -1,0 +1,364 @@
+//! `scatterbench reproduce`: re-creates the papers' headline tables as one results run (with
+//! its report) and prints, for each table, the measured configurations and the paper's claim
+//! next to the measured value, as ratios within this run, then the equal-error table (each
+//! method's cheapest configuration under 1 %, 5 %, 10 % in-scatter relative RMSE per scene).
+//!
+//! Papers whose method is not in the registry yet print "method not implemented yet". The
+//! tables are defined in [`super::papers`]; the printed text is also written to
+//! `OUT/reproduce.md`.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Result, anyhow, bail};
+use clap::Args;
+use harness::method::{ParamValue, Params, resolve_params};
+use harness::reference::Settings;
+use harness::results::{Record, Results, Status, record_key};
+use harness::runner::{Event, RunConfig, WorkItem, run_items};
+use report::analysis::{self, BUDGETS, TimeBasis};
+
+use super::papers::{Config, Experiment, PAPERS, experiments};
+
+#[derive(Args)]
+pub struct ReproduceArgs {
+    /// Which paper: wyman, dobashi, biri2006, biri-poly, umenhoffer, or all.
+    #[arg(long, default_value = "all")]
+    pub paper: String,
+    /// Output directory (default results/reproduce-<run-id>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// N (square) or WxH. The papers used 1024² (Wyman) and 640×480 (Dobashi); the default
+    /// is small so the whole set finishes in minutes on a software adapter.
+    #[arg(long, default_value = "128")]
+    pub res: String,
+    /// Timed frames per configuration.
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
+    /// Warm-up frames per configuration.
+    #[arg(long, default_value_t = 1)]
+    pub warmup: u32,
+    /// Reference cache directory.
+    #[arg(long, default_value = "results/cache")]
+    pub cache: PathBuf,
+}
+
+pub fn run(a: ReproduceArgs) -> Result<()> {
+    let chosen: Vec<&str> = if a.paper == "all" {
+        PAPERS.to_vec()
+    } else if PAPERS.contains(&a.paper.as_str()) {
+        vec![a.paper.as_str()]
+    } else {
+        bail!(
+            "--paper '{}': valid papers are {}, all",
+            a.paper,
+            PAPERS.join(", ")
+        );
+    };
+    let (width, height) = super::parse_res(&a.res)?;
+    let exps: Vec<Experiment> = experiments()
+        .into_iter()
+        .filter(|e| chosen.contains(&e.paper))
+        .collect();
+    let mut text = String::new();
+    let mut runnable = Vec::new();
+    for e in exps {
+        let missing: Vec<&str> = e
+            .needs
+            .iter()
+            .copied()
+            .filter(|m| methods::find(m).is_none())
+            .collect();
+        if missing.is_empty() && !e.configs.is_empty() {
+            runnable.push(e);
+        } else if missing.is_empty() {
+            let _ = writeln!(
+                text,
+                "## {}\n\nreproduction not written yet ({} exists; add its table to src/cmd/papers.rs)\n",
+                e.title,
+                e.needs.join(", ")
+            );
+        } else {
+            let _ = writeln!(
+                text,
+                "## {}\n\nmethod not implemented yet: {}\n",
+                e.title,
+                missing.join(", ")
+            );
+        }
+    }
+    if runnable.is_empty() {
+        print!("{text}");
+        return Ok(());
+    }
+
+    // One work list for every runnable table, without duplicates.
+    let mut scene_names: Vec<&str> = Vec::new();
+    for e in &runnable {
+        for s in e.scenes {
+            if !scene_names.contains(s) {
+                scene_names.push(s);
+            }
+        }
+    }
+    let scenes: Vec<scenes::Scene> = scene_names
+        .iter()
+        .map(|n| scenes::library::resolve(n).map_err(|e| anyhow!(e)))
+        .collect::<Result<_>>()?;
+    let mut work: Vec<WorkItem> = Vec::new();
+    let mut keys = BTreeSet::new();
+    for e in &runnable {
+        for (si, s) in scene_names.iter().enumerate() {
+            if !e.scenes.contains(s) {
+                continue;
+            }
+            for c in &e.configs {
+                let (entry, params) = resolve(c)?;
+                if keys.insert(record_key(s, entry.id, &params)) {
+                    work.push(WorkItem {
+                        scene: si,
+                        entry,
+                        params,
+                    });
+                }
+            }
+        }
+    }
+
+    let run_id = harness::results::run_id_now();
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(format!("reproduce-{run_id}")));
+    let gpu = harness::Gpu::new().map_err(|e| anyhow!(e))?;
+    eprintln!(
+        "adapter: {} ({}); {} configurations at {width}x{height}, {} frames",
+        gpu.summary.adapter,
+        gpu.summary.backend,
+        work.len(),
+        a.frames
+    );
+    let cfg = RunConfig {
+        out_dir: out.clone(),
+        width,
+        height,
+        frames: a.frames,
+        warmup: a.warmup,
+        no_skip: false,
+        resume: false,
+        sweep: false,
+        overrides: BTreeMap::new(),
+        reference: Settings::default(),
+        cache_dir: Some(a.cache.clone()),
+        run_id: format!("reproduce-{run_id}"),
+    };
+    let total = work.len();
+    let mut done = 0;
+    let results = run_items(&gpu, &scenes, &work, &cfg, None, &mut |ev| match ev {
+        Event::Reference {
+            scene,
+            cached,
+            seconds,
+        } => eprintln!(
+            "reference {scene}: {}",
+            if cached {
+                "cached".to_string()
+            } else {
+                format!("{seconds:.1} s")
+            }
+        ),
+        Event::Record(r) => {
+            done += 1;
+            eprintln!(
+                "  [{done}/{total}] {:<8} {} {} {}",
+                format!("{:?}", r.status).to_lowercase(),
+                r.scene,
+                r.method,
+                super::papers::params_text(&r.method, &r.params)
+            );
+        }
+        Event::Resumed(_) => {}
+    })
+    .map_err(|e| anyhow!(e))?;
+
+    let _ = writeln!(
+        text,
+        "# Paper reproductions — {width}x{height}, {} timed frames, {}\n",
+        a.frames, results.run.machine.adapter
+    );
+    for e in &runnable {
+        text.push_str(&experiment_text(e, &results, &out));
+    }
+    text.push_str(&equal_error_text(&results));
+    print!("{text}");
+    let md = out.join("reproduce.md");
+    std::fs::write(&md, &text).map_err(|e| anyhow!("{}: {e}", md.display()))?;
+    println!(
+        "\nwritten: {} and {}",
+        md.display(),
+        out.join("results.json").display()
+    );
+    match report::generate(&out) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
+    }
+    Ok(())
+}
+
+/// A configuration's registry entry and full parameter set.
+fn resolve(c: &Config) -> Result<(&'static harness::method::Entry, Params)> {
+    let entry = methods::find(c.method).ok_or_else(|| anyhow!("unknown method {}", c.method))?;
+    let specs = (entry.make)().params();
+    let mut overrides = Params::new();
+    for (k, v) in c.params {
+        let spec = specs
+            .iter()
+            .find(|s| s.name == *k)
+            .ok_or_else(|| anyhow!("{}: no knob '{k}' (paper table out of date)", c.method))?;
+        let v = ParamValue::parse_like(v, &spec.default)
+            .map_err(|e| anyhow!("{}.{k}: {e}", c.method))?;
+        overrides.insert(k.to_string(), v);
+    }
+    let params = resolve_params(&specs, &overrides).map_err(|e| anyhow!("{}: {e}", c.method))?;
+    Ok((entry, params))
+}
+
+fn find<'a>(results: &'a Results, scene: &str, c: &Config) -> Option<&'a Record> {
+    let (entry, params) = resolve(c).ok()?;
+    let key = record_key(scene, entry.id, &params);
+    results.records.iter().find(|r| r.key() == key)
+}
+
+/// Mean in-scatter luminance of a record over the reference's (1 = unbiased), from the EXRs.
+fn mean_ratio(out: &std::path::Path, r: &Record) -> Option<f64> {
+    let path = r.images.get("inscatter")?;
+    let img = harness::image::io::read_exr(&out.join(path)).ok()?;
+    let reference =
+        harness::image::io::read_exr(&out.join(format!("{}/reference/inscatter.exr", r.scene)))
+            .ok()?;
+    let mean = |v: Vec<f32>| v.iter().map(|x| *x as f64).sum::<f64>() / v.len().max(1) as f64;
+    let (m, rm) = (mean(img.luminance()), mean(reference.luminance()));
+    (rm > 0.0).then(|| m / rm)
+}
+
+fn experiment_text(e: &Experiment, results: &Results, out: &std::path::Path) -> String {
+    let mut t = String::new();
+    let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
+    for scene in e.scenes {
+        let recs: Vec<Option<&Record>> =
+            e.configs.iter().map(|c| find(results, scene, c)).collect();
+        let basis = TimeBasis::for_records(recs.iter().flatten().copied());
+        let time = |label: &str| -> Option<f64> {
+            let i = e.configs.iter().position(|c| c.label == label)?;
+            let r = recs[i]?;
+            (r.status == Status::Ok).then(|| basis.time_ms(r)).flatten()
+        };
+        let base = time(e.configs[0].label);
+        let _ = writeln!(t, "### {scene} ({})\n", basis.label());
+        let _ = writeln!(
+            t,
+            "| configuration | ms | speed vs {} | in-scatter rel RMSE | mean in-scatter / reference |",
+            e.configs[0].label
+        );
+        let _ = writeln!(t, "|---|---|---|---|---|");
+        for (c, r) in e.configs.iter().zip(&recs) {
+            match r {
+                Some(r) if r.status == Status::Ok => {
+                    let ms = time(c.label);
+                    let speed = match (base, ms) {
+                        (Some(b), Some(m)) if m > 0.0 => format!("{:.2}×", b / m),
+                        _ => "-".into(),
+                    };
+                    let _ = writeln!(
+                        t,
+                        "| {} | {} | {speed} | {} | {} |",
+                        c.label,
+                        ms.map_or("-".into(), |m| format!("{m:.2}")),
+                        analysis::inscatter_error(r).map_or("-".into(), |v| format!("{v:.4}")),
+                        mean_ratio(out, r).map_or("-".into(), |v| format!("{v:.3}"))
+                    );
+                }
+                Some(r) => {
+                    let _ = writeln!(
+                        t,
+                        "| {} | {:?}: {} | | | |",
+                        c.label,
+                        r.status,
+                        r.reason.as_deref().unwrap_or("")
+                    );
+                }
+                None => {
+                    let _ = writeln!(t, "| {} | not run | | | |", c.label);
+                }
+            }
+        }
+        let _ = writeln!(t);
+        for claim in &e.claims {
+            if claim.scene.is_some_and(|s| s != *scene) {
+                continue;
+            }
+            let measured = match (time(claim.faster), time(claim.slower)) {
+                (Some(f), Some(s)) if f > 0.0 => format!("{:.2}×", s / f),
+                _ => "not measured".into(),
+            };
+            let _ = writeln!(
+                t,
+                "- {}: {} vs {} — paper {}, measured {measured}",
+                claim.what, claim.faster, claim.slower, claim.paper
+            );
+        }
+        let _ = writeln!(t);
+    }
+    for q in e.qualitative {
+        let _ = writeln!(t, "- paper: {q}");
+    }
+    let _ = writeln!(t);
+    t
+}
+
+/// Each scene × method: the cheapest configuration of this run under each error budget.
+fn equal_error_text(results: &Results) -> String {
+    let mut t = String::from(
+        "## Equal error: cheapest configuration per method under each in-scatter rel RMSE budget\n\n",
+    );
+    let mut scenes: Vec<&str> = results.records.iter().map(|r| r.scene.as_str()).collect();
+    scenes.dedup();
+    let header: Vec<String> = BUDGETS
+        .iter()
+        .map(|b| format!("≤ {:.0} %", b * 100.0))
+        .collect();
+    for scene in scenes {
+        let recs: Vec<&Record> = results
+            .records
+            .iter()
+            .filter(|r| r.scene == scene)
+            .collect();
+        let basis = TimeBasis::for_records(recs.iter().copied());
+        let _ = writeln!(t, "### {scene} ({})\n", basis.label());
+        let _ = writeln!(t, "| method | {} |", header.join(" | "));
+        let _ = writeln!(t, "|---|{}", "---|".repeat(BUDGETS.len()));
+        let mut ids: Vec<&str> = recs.iter().map(|r| r.method.as_str()).collect();
+        ids.sort();
+        ids.dedup();
+        for id in ids {
+            let mine: Vec<&Record> = recs.iter().copied().filter(|r| r.method == id).collect();
+            let pts = analysis::points(&mine, basis);
+            let cells: Vec<String> = BUDGETS
+                .iter()
+                .map(|&b| match analysis::cheapest_under_budget(&pts, b) {
+                    Some(p) => format!(
+                        "{:.2} ms ({}, {:.2} %)",
+                        p.time,
+                        super::papers::params_text(id, &mine[p.index].params),
+                        p.error * 100.0
+                    ),
+                    None => "none".into(),
+                })
+                .collect();
+            let _ = writeln!(t, "| {id} | {} |", cells.join(" | "));
+        }
+        let _ = writeln!(t);
+    }
+    t
+}

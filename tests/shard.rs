@@ -1,0 +1,200 @@
+//! Sharding and merging: two shards of a tiny run, merged, equal the unsharded run in
+//! everything but timing; `merge` refuses runs that do not compare, with a clear message.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use harness::Gpu;
+use harness::merge::{MergeOptions, merge};
+use harness::reference::Settings;
+use harness::results::{Record, Results};
+use harness::runner::{RunConfig, run, run_shard};
+use harness::shard::Shard;
+
+fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => Some(g),
+        Err(e) if std::env::var_os("CI").is_some() => {
+            panic!("CI is set and there is no GPU adapter: {e}")
+        }
+        Err(e) => {
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scatterbench-shard-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn config(out: PathBuf) -> RunConfig {
+    RunConfig {
+        out_dir: out,
+        width: 32,
+        height: 32,
+        frames: 1,
+        warmup: 0,
+        no_skip: false,
+        resume: false,
+        sweep: false,
+        overrides: BTreeMap::new(),
+        reference: Settings::default(),
+        cache_dir: None,
+        run_id: "shard-test".into(),
+    }
+}
+
+/// A record without its timing and memory (the only fields that legitimately differ
+/// between two runs of the same work).
+fn untimed(r: &Record) -> Record {
+    Record {
+        timing: None,
+        memory_bytes: None,
+        ..r.clone()
+    }
+}
+
+#[test]
+fn two_shards_merged_equal_the_unsharded_run() {
+    let Some(gpu) = gpu() else { return };
+    let names = ["sphere-point", "clear-fog", "fence-spot"];
+    let scenes: Vec<scenes::Scene> = names
+        .iter()
+        .map(|n| scenes::library::resolve(n).expect("library scene"))
+        .collect();
+    let entry = methods::find("no-scatter").expect("registered");
+    let whole = run(&gpu, &scenes, &[entry], &config(tmp("whole")), &mut |_| {}).unwrap();
+    assert_eq!(whole.records.len(), 3);
+
+    let mut dirs = Vec::new();
+    // Shard 2 first: merge must order by shard index, not by argument order.
+    for i in [2, 1] {
+        let dir = tmp(&format!("part{i}"));
+        let shard = Shard { index: i, count: 2 };
+        let r = run_shard(
+            &gpu,
+            &scenes,
+            &[entry],
+            &config(dir.clone()),
+            shard,
+            &mut |_| {},
+        )
+        .unwrap();
+        assert_eq!(r.run.shard, Some(shard));
+        // Contiguous halves of 3 items: 1 then 2.
+        assert_eq!(r.records.len(), if i == 1 { 1 } else { 2 });
+        dirs.push(dir);
+    }
+    let out = tmp("merged");
+    let m = merge(&dirs, &out, &MergeOptions::default()).unwrap();
+    assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+    let loaded = Results::load(&out.join("results.json")).unwrap();
+    assert_eq!(loaded, m.results);
+    assert_eq!(loaded.run.shard, None);
+    assert_eq!(loaded.run.resolution, [32, 32]);
+    let a: Vec<Record> = whole.records.iter().map(untimed).collect();
+    let b: Vec<Record> = loaded.records.iter().map(untimed).collect();
+    assert_eq!(a, b, "merged records differ from the unsharded run");
+    // Every image a record names, and each scene's reference, was copied.
+    for r in &loaded.records {
+        assert!(!r.images.is_empty());
+        for rel in r.images.values() {
+            assert!(out.join(rel).is_file(), "missing {rel}");
+        }
+        assert!(out.join(&r.scene).join("reference/inscatter.exr").is_file());
+    }
+    // Merging into a directory that already holds a run is refused.
+    let e = merge(&dirs, &out, &MergeOptions::default()).unwrap_err();
+    assert!(e.contains("already holds a results.json"), "{e}");
+    // A shard given twice is refused.
+    let e = merge(
+        &[dirs[0].clone(), dirs[0].clone()],
+        &tmp("twice"),
+        &MergeOptions::default(),
+    )
+    .unwrap_err();
+    assert!(e.contains("both shard 2/2"), "{e}");
+    // A missing shard merges with a warning.
+    let m = merge(&dirs[..1], &tmp("partial"), &MergeOptions::default()).unwrap();
+    assert!(
+        m.warnings.iter().any(|w| w.contains("1/2")),
+        "{:?}",
+        m.warnings
+    );
+}
+
+/// Writes a run directory holding only a results.json (no GPU needed).
+fn fake_run(name: &str, res: [u32; 2], scene: &str) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = serde_json::json!({
+        "schema_version": harness::results::SCHEMA_VERSION,
+        "run": {
+            "id": name, "git_commit": "abc", "resolution": res, "frames": 1, "warmup": 0,
+            "machine": {"adapter": "a", "backend": "b", "driver": "d", "cpu": "c", "cores": 1, "os": "o"},
+            "scored_frame": 0, "note": ""
+        },
+        "records": [{
+            "scene": scene, "method": "m", "params": {}, "status": "skipped",
+            "reason": "unsupported", "timing": null, "memory_bytes": null, "passes": null
+        }]
+    });
+    std::fs::write(dir.join("results.json"), text.to_string()).unwrap();
+    dir
+}
+
+fn merge_cli(dirs: &[&Path], out: &Path) -> (bool, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_scatterbench"))
+        .arg("merge")
+        .args(dirs)
+        .arg("--out")
+        .arg(out)
+        .env("NODEVICE_SELECT", "1")
+        .output()
+        .unwrap();
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn merge_refuses_mismatched_resolution_and_schema() {
+    let a = fake_run("res-a", [32, 32], "s1");
+    let b = fake_run("res-b", [64, 64], "s2");
+    let (ok, err) = merge_cli(&[&a, &b], &tmp("res-out"));
+    assert!(!ok);
+    assert!(
+        err.contains("resolution differs") && err.contains("32x32") && err.contains("64x64"),
+        "{err}"
+    );
+    // Same resolution, different scenes: merges.
+    let c = fake_run("res-c", [32, 32], "s3");
+    let out = tmp("res-ok");
+    let (ok, err) = merge_cli(&[&a, &c], &out);
+    assert!(ok, "{err}");
+    let r = Results::load(&out.join("results.json")).unwrap();
+    let scenes: Vec<&str> = r.records.iter().map(|r| r.scene.as_str()).collect();
+    assert_eq!(scenes, ["s1", "s3"]);
+    // A results file of another schema version is refused by name.
+    let d = fake_run("schema", [32, 32], "s4");
+    let text = std::fs::read_to_string(d.join("results.json"))
+        .unwrap()
+        .replace(
+            &format!("\"schema_version\":{}", harness::results::SCHEMA_VERSION),
+            "\"schema_version\":999",
+        );
+    std::fs::write(d.join("results.json"), text).unwrap();
+    let (ok, err) = merge_cli(&[&a, &d], &tmp("schema-out"));
+    assert!(!ok);
+    assert!(err.contains("schema_version 999"), "{err}");
+    // The same record in two runs is refused.
+    let e = fake_run("dup", [32, 32], "s1");
+    let (ok, err) = merge_cli(&[&a, &e], &tmp("dup-out"));
+    assert!(!ok);
+    assert!(err.contains("is in both"), "{err}");
+}
