@@ -4,8 +4,7 @@
 //! Without an adapter these tests skip with a message — except when `CI` is set, where a
 //! missing adapter is a failure (a CI machine that cannot run them must not pass silently).
 
-use std::collections::BTreeMap;
-use std::path::PathBuf;
+use harness::testing::{gpu_or_skip as gpu, run_config as config, temp_dir as tmp};
 
 use harness::method::{
     Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support,
@@ -13,48 +12,12 @@ use harness::method::{
 };
 use harness::reference::{self, Settings};
 use harness::results::{Results, Status};
-use harness::runner::{RunConfig, run};
+use harness::runner::run;
 use harness::{
     Gpu,
     image::metrics::{ToneMap, compare},
 };
 use scenes::{FrameState, SceneFeatures};
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scatterbench-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn config(out: PathBuf, res: u32, frames: u32) -> RunConfig {
-    RunConfig {
-        out_dir: out,
-        width: res,
-        height: res,
-        frames,
-        warmup: 0,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: BTreeMap::new(),
-        reference: Settings::default(),
-        cache_dir: None,
-        run_id: "test".into(),
-    }
-}
 
 fn steps(n: i64) -> Params {
     let mut p = Params::new();

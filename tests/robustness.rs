@@ -2,7 +2,8 @@
 //! unknown names; the reference cache with a corrupt entry; methods that raise a wgpu
 //! validation error or lose the device are recorded as failed and the run goes on.
 
-use std::path::{Path, PathBuf};
+use harness::testing::{gpu_or_skip as have_gpu, temp_dir as tmp};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -16,25 +17,6 @@ use harness::stress::{self, StressConfig};
 use scenes::{FrameState, SceneFeatures};
 
 const BIN: &str = env!("CARGO_BIN_EXE_scatterbench");
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scatterbench-robust-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn have_gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
 
 fn cli(args: &[&str]) -> (i32, String) {
     let o = Command::new(BIN)

@@ -1,35 +1,16 @@
 //! Sharding and merging: two shards of a tiny run, merged, equal the unsharded run in
 //! everything but timing; `merge` refuses runs that do not compare, with a clear message.
 
+use harness::testing::{gpu_or_skip as gpu, temp_dir as tmp};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use harness::Gpu;
 use harness::merge::{MergeOptions, merge};
 use harness::reference::Settings;
 use harness::results::{Record, Results};
 use harness::runner::{RunConfig, run, run_shard};
 use harness::shard::Shard;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scatterbench-shard-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
 
 fn config(out: PathBuf) -> RunConfig {
     RunConfig {

@@ -3,29 +3,10 @@
 //! declared bound, or a clean "unsupported"). `many-triangles` runs at 100k triangles here; the
 //! manual `scatterbench stress` runs it at 1M.
 
-use harness::Gpu;
 use harness::reference::Settings;
 use harness::results::Status;
 use harness::stress::{self, CASES, StressConfig, Verdict, judge};
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
-
-fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("scatterbench-stress-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use harness::testing::{gpu_or_skip as gpu, temp_dir as tmp};
 
 #[test]
 fn every_case_builds_a_valid_scene() {

@@ -11,6 +11,7 @@ pub mod results;
 pub mod runner;
 pub mod shard;
 pub mod stress;
+pub mod testing;
 
 pub use gpu::Gpu;
 pub use method::{

@@ -5,21 +5,9 @@
 //! Without an adapter the GPU test skips with a message, except when `CI` is set.
 
 use harness::Gpu;
+use harness::testing::gpu_or_skip as gpu;
 use methods::biri_polynomial::{KERNEL_WGSL, poly};
 use scenes::Phase;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
 
 /// The hazy Mie phase of DESIGN §1 (scenes::Phase::HazyMie), as the including module supplies it.
 const PHASE: &str = "fn biri_phase(c: f32) -> f32 {\n    let h = pow(0.5 * (1.0 + c), 8.0);\n    return (1.0 + 9.0 * h) / (8.0 * 3.14159265358979);\n}\n";

@@ -6,29 +6,11 @@
 
 use harness::Gpu;
 use harness::image::metrics::{ToneMap, compare};
-use harness::method::{Method, ParamValue, Params, PrepareContext, resolve_params};
+use harness::method::{Method, ParamValue, PrepareContext, resolve_params};
 use harness::reference::{self, Settings};
 use harness::runner::{AovTargets, render_frame};
+use harness::testing::{gpu_or_skip as gpu, knobs};
 use methods::biri_shadow_volumes::BiriShadowVolumes;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
-
-fn knobs(list: &[(&str, ParamValue)]) -> Params {
-    list.iter()
-        .map(|(k, v)| (k.to_string(), v.clone()))
-        .collect()
-}
 
 /// In-scatter rel RMSE of biri-shadow-volumes against the reference on `scene`, frame 0.
 fn error(gpu: &Gpu, scene: &str, res: u32, list: &[(&str, ParamValue)]) -> f64 {

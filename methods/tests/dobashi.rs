@@ -10,21 +10,9 @@ use harness::image::Image;
 use harness::method::{Method, ParamValue, Params, PrepareContext, resolve_params};
 use harness::reference::{self, Settings};
 use harness::runner::{AovTargets, render_frame};
+use harness::testing::gpu_or_skip as gpu;
 use methods::dobashi_virtual_planes::{DobashiVirtualPlanes, probe_light_map};
 use scenes::{LightState, Scene};
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
 
 fn prepared(
     gpu: &Gpu,

@@ -5,60 +5,18 @@
 //! Without an adapter these tests skip with a message — except when `CI` is set, where a missing
 //! adapter is a failure.
 
-use std::collections::BTreeMap;
+use harness::testing::{gpu_or_skip as gpu, knobs, run_config as config, temp_dir as tmp};
 use std::path::PathBuf;
 
 use harness::Gpu;
 use harness::image::Image;
 use harness::image::metrics::{ToneMap, compare};
-use harness::method::{FrameReport, Method, ParamValue, Params, PrepareContext, resolve_params};
+use harness::method::{FrameReport, Method, ParamValue, PrepareContext, resolve_params};
 use harness::reference::{self, Settings};
 use harness::results::{Record, Status};
-use harness::runner::{AovTargets, RunConfig, render_frame, run};
+use harness::runner::{AovTargets, render_frame, run};
 use methods::wyman_hybrid::WymanHybrid;
 use scenes::Scene;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("CI is set and there is no GPU adapter: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scatterbench-wyman-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn config(out: PathBuf, res: u32, frames: u32) -> RunConfig {
-    RunConfig {
-        out_dir: out,
-        width: res,
-        height: res,
-        frames,
-        warmup: 0,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: BTreeMap::new(),
-        reference: Settings::default(),
-        cache_dir: None,
-        run_id: "test".into(),
-    }
-}
-
-fn knobs(list: &[(&str, ParamValue)]) -> Params {
-    list.iter()
-        .map(|(k, v)| (k.to_string(), v.clone()))
-        .collect()
-}
 
 fn scene(name: &str) -> Scene {
     scenes::library::resolve(name).unwrap()
