@@ -36,7 +36,9 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
             let t = clamp(n + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
             let s = textureLoad(low, t, 0);
             let d = vec2<f32>(t) - c;
-            var w = exp(-0.5 * dot(d, d));
+            // σ = ½ texel: the 3×3 window then holds the kernel to 3σ, so it does not jump as the
+            // window re-centres from one block to the next (σ = 1 left seams every `scale` pixels).
+            var w = exp(-2.0 * dot(d, d));
             let dz = abs(s.a - len);
             if (upsample.config.y > 0.5) {
                 let rel = dz / max(0.02 * len, 1e-4);
