@@ -67,7 +67,9 @@ pub fn dispatch(c: BenchCommand) -> Result<()> {
     }
 }
 
-fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
+/// Registry entries named by a comma-separated list, or all of them; unknown ids are refused
+/// with the valid ones.
+pub fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
     if spec == "all" {
         return Ok(methods::REGISTRY.iter().collect());
     }

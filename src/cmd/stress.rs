@@ -6,7 +6,6 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use harness::method::Entry;
 use harness::reference::Settings;
 use harness::results::Status;
 use harness::runner::Event;
@@ -37,26 +36,6 @@ pub struct StressArgs {
     pub cache: PathBuf,
 }
 
-fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
-    if spec == "all" {
-        return Ok(methods::REGISTRY.iter().collect());
-    }
-    spec.split(',')
-        .map(|id| {
-            methods::find(id.trim()).ok_or_else(|| {
-                anyhow!(
-                    "unknown method '{id}': valid methods are {}",
-                    methods::REGISTRY
-                        .iter()
-                        .map(|e| e.id)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
-            })
-        })
-        .collect()
-}
-
 fn pick_cases(spec: &str) -> Result<Vec<&'static stress::Case>> {
     if spec == "all" {
         return Ok(stress::CASES.iter().collect());
@@ -75,7 +54,7 @@ fn pick_cases(spec: &str) -> Result<Vec<&'static stress::Case>> {
 
 pub fn run(a: StressArgs) -> Result<()> {
     let (width, height) = super::parse_res(&a.res)?;
-    let chosen = pick_methods(&a.methods)?;
+    let chosen = super::run::pick_methods(&a.methods)?;
     let cases = pick_cases(&a.cases)?;
     let run_id = harness::results::run_id_now();
     let out = a
