@@ -206,6 +206,31 @@ impl Gpu {
         self.device.create_texture(desc)
     }
 
+    /// A single-layer, single-mip 2-D texture, counted like [`Gpu::texture`].
+    pub fn texture_2d(
+        &self,
+        label: &str,
+        width: u32,
+        height: u32,
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> wgpu::Texture {
+        self.texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    }
+
     /// Bytes allocated through [`Gpu::buffer`] and [`Gpu::texture`] since the last reset.
     pub fn allocated_bytes(&self) -> u64 {
         self.allocated.load(Ordering::Relaxed)

@@ -79,20 +79,13 @@ struct State {
 
 /// Uploads a Γ table as an R32Float texture (w along x, λ along y).
 fn upload(gpu: &Gpu, t: &GammaTable) -> wgpu::Texture {
-    let texture = gpu.texture(&wgpu::TextureDescriptor {
-        label: Some("biri gamma"),
-        size: wgpu::Extent3d {
-            width: t.w_res,
-            height: t.lambda_res,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let texture = gpu.texture_2d(
+        "biri gamma",
+        t.w_res,
+        t.lambda_res,
+        wgpu::TextureFormat::R32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
     gpu.queue.write_texture(
         texture.as_image_copy(),
         bytemuck::cast_slice(&t.data),

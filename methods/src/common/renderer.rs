@@ -185,22 +185,8 @@ impl SceneRenderer {
             &module,
             &[Some(AOV_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
         );
-        let size = wgpu::Extent3d {
-            width: ctx.width,
-            height: ctx.height,
-            depth_or_array_layers: 1,
-        };
         let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
-            gpu.texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
+            gpu.texture_2d(label, ctx.width, ctx.height, format, usage)
         };
         let depth = target(
             "camera depth",

@@ -100,20 +100,13 @@ impl ShadowMaps {
                 })
             })
             .collect();
-        let depth = gpu.texture(&wgpu::TextureDescriptor {
-            label: Some("shadow depth"),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Depth32Float,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
+        let depth = gpu.texture_2d(
+            "shadow depth",
+            size,
+            size,
+            wgpu::TextureFormat::Depth32Float,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
         let depth_view = depth.create_view(&Default::default());
         let faces = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("shadow faces"),

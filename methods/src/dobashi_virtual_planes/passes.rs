@@ -277,20 +277,13 @@ impl Passes {
             bytemuck::cast_slice(&idx),
             wgpu::BufferUsages::INDEX,
         );
-        let accum_tex = gpu.texture(&wgpu::TextureDescriptor {
-            label: Some("dobashi accumulation"),
-            size: wgpu::Extent3d {
-                width: renderer.width,
-                height: renderer.height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: accum,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        let accum_tex = gpu.texture_2d(
+            "dobashi accumulation",
+            renderer.width,
+            renderer.height,
+            accum,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
         let accum_view = accum_tex.create_view(&Default::default());
 
         // Resolve: the shared full-screen pass with the Planes uniform and the accumulation.

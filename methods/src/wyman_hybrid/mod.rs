@@ -254,20 +254,13 @@ impl Method for WymanHybrid {
         }
         let u_max = (sigma_t * reach * 1.05).max(1e-3);
         let table = FTable::new(table_n, table_n, u_max);
-        let table_tex = gpu.texture(&wgpu::TextureDescriptor {
-            label: Some("F(u,v)"),
-            size: wgpu::Extent3d {
-                width: table.nu,
-                height: table.nv,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let table_tex = gpu.texture_2d(
+            "F(u,v)",
+            table.nu,
+            table.nv,
+            wgpu::TextureFormat::R32Float,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        );
         gpu.queue.write_texture(
             table_tex.as_image_copy(),
             bytemuck::cast_slice(&table.data),
@@ -283,21 +276,13 @@ impl Method for WymanHybrid {
             },
         );
         let target = |label| {
-            gpu.texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: ctx.width,
-                    height: ctx.height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: VOLUME_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
+            gpu.texture_2d(
+                label,
+                ctx.width,
+                ctx.height,
+                VOLUME_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
         };
         let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
         let module = wgsl::module(&gpu.device, "shadow volumes", &volumes_source());
@@ -361,22 +346,14 @@ impl Method for WymanHybrid {
             .get("fprime")
             .and_then(ParamValue::as_bool)
             .unwrap_or(false);
-        let table_target = |label, w, h| {
-            gpu.texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: harness::method::AOV_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
+        let render_target = |label, w, h| {
+            gpu.texture_2d(
+                label,
+                w,
+                h,
+                harness::method::AOV_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
             .create_view(&Default::default())
         };
         let (fprime, fprime_view) = if use_fprime {
@@ -393,39 +370,21 @@ impl Method for WymanHybrid {
                 3,
                 0,
             );
-            let table = table_target("F' table", w, h);
+            let table = render_target("F' table", w, h);
             (
                 Some(FPrime {
                     pass,
                     table: table.clone(),
-                    unused: table_target("F' table (unused)", w, h),
+                    unused: render_target("F' table (unused)", w, h),
                 }),
                 table,
             )
         } else {
-            (None, table_target("F' table (off)", 1, 1))
+            (None, render_target("F' table (off)", 1, 1))
         };
         let scale = get("scale").clamp(1, 16) as u32;
         let low = (scale > 1).then(|| {
             let (width, height) = (ctx.width.div_ceil(scale), ctx.height.div_ceil(scale));
-            let make = |label| {
-                gpu.texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: harness::method::AOV_FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-            };
             let bilateral = ctx
                 .params
                 .get("bilateral")
@@ -441,8 +400,8 @@ impl Method for WymanHybrid {
                 );
             }
             LowRes {
-                inscatter: make("low-res inscatter"),
-                total: make("low-res total (unused)"),
+                inscatter: render_target("low-res inscatter", width, height),
+                total: render_target("low-res total (unused)", width, height),
                 width,
                 height,
                 upsample,
