@@ -79,28 +79,7 @@ struct State {
 
 /// Uploads a Γ table as an R32Float texture (w along x, λ along y).
 fn upload(gpu: &Gpu, t: &GammaTable) -> wgpu::Texture {
-    let texture = gpu.texture_2d(
-        "biri gamma",
-        t.w_res,
-        t.lambda_res,
-        wgpu::TextureFormat::R32Float,
-        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-    );
-    gpu.queue.write_texture(
-        texture.as_image_copy(),
-        bytemuck::cast_slice(&t.data),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(t.w_res * 4),
-            rows_per_image: Some(t.lambda_res),
-        },
-        wgpu::Extent3d {
-            width: t.w_res,
-            height: t.lambda_res,
-            depth_or_array_layers: 1,
-        },
-    );
-    texture
+    crate::common::tables::r32_table(gpu, "biri gamma", t.w_res, t.lambda_res, &t.data)
 }
 
 impl Method for BiriShadowVolumes {

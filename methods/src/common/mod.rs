@@ -8,5 +8,6 @@ pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;
 pub mod silhouette;
+pub mod tables;
 pub mod uniforms;
 pub mod wgsl;

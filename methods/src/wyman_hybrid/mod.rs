@@ -42,6 +42,7 @@ use crate::common::gpu_scene::mesh_pipeline_with;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::ResolvePass;
 use crate::common::silhouette::{EdgeMesh, LightPos, extrude};
+use crate::common::tables::r32_table;
 use crate::common::wgsl;
 use airlight::FTable;
 
@@ -254,27 +255,7 @@ impl Method for WymanHybrid {
         }
         let u_max = (sigma_t * reach * 1.05).max(1e-3);
         let table = FTable::new(table_n, table_n, u_max);
-        let table_tex = gpu.texture_2d(
-            "F(u,v)",
-            table.nu,
-            table.nv,
-            wgpu::TextureFormat::R32Float,
-            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        );
-        gpu.queue.write_texture(
-            table_tex.as_image_copy(),
-            bytemuck::cast_slice(&table.data),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(table.nu * 4),
-                rows_per_image: Some(table.nv),
-            },
-            wgpu::Extent3d {
-                width: table.nu,
-                height: table.nv,
-                depth_or_array_layers: 1,
-            },
-        );
+        let table_tex = r32_table(gpu, "F(u,v)", table.nu, table.nv, &table.data);
         let target = |label| {
             gpu.texture_2d(
                 label,
