@@ -2,6 +2,7 @@
 
 pub mod obj;
 pub mod procedural;
+pub mod subdivide;
 
 use glam::{Mat4, Vec3};
 
