@@ -2,16 +2,13 @@
 //! (`common::silhouette`), quads sorted back to front, the stencil count of shadow volumes at
 //! each visible point, and the signed L_dss crossing terms accumulated into a float target.
 
-use std::time::Instant;
-
-use glam::{Mat4, Vec3};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
-use scenes::{FrameState, LightState};
+use scenes::FrameState;
 
 use crate::common::gpu_scene::Vertex;
 use crate::common::renderer::SceneRenderer;
-use crate::common::silhouette::{EdgeMesh, LightPos, extrude};
+use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::wgsl;
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
@@ -28,7 +25,7 @@ pub fn source() -> String {
 }
 
 pub struct Planes {
-    casters: Vec<(usize, EdgeMesh)>,
+    casters: ShadowCasters,
     depth_view: wgpu::TextureView,
     pub acc_view: wgpu::TextureView,
     layout: wgpu::BindGroupLayout,
@@ -40,9 +37,6 @@ pub struct Planes {
     vertices: Option<wgpu::Buffer>,
     /// Per light: vertex range (sorted back to front) and the eye's shadow count.
     ranges: Vec<(u32, u32, u32)>,
-    /// Light positions and caster transforms the silhouettes were built for.
-    built_for: Option<(Vec<Vec3>, Vec<Mat4>)>,
-    silhouettes: Vec<Vec<[Vec3; 2]>>,
 }
 
 fn stencil_face(
@@ -64,14 +58,7 @@ impl Planes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, rules: bool) -> Planes {
         let gpu = ctx.gpu;
         let scene = ctx.scene;
-        let casters = scene
-            .desc
-            .objects
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| o.casts_volumetric_shadow)
-            .map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k])))
-            .collect();
+        let casters = ShadowCasters::new(scene);
         let size = wgpu::Extent3d {
             width: ctx.width,
             height: ctx.height,
@@ -283,8 +270,6 @@ impl Planes {
             plane_pipe,
             vertices: None,
             ranges: Vec::new(),
-            built_for: None,
-            silhouettes: Vec::new(),
         }
     }
 
@@ -293,64 +278,24 @@ impl Planes {
     /// Returns the bit mask of lights whose eye is lit.
     pub fn update(&mut self, gpu: &Gpu, frame: &FrameState, report: &mut FrameReport) -> u32 {
         let eye = frame.camera.position;
-        let lights: Vec<Vec3> = frame
-            .lights
-            .iter()
-            .map(|l| match l {
-                LightState::Directional { direction, .. } => *direction * 1e30,
-                _ => l.position().unwrap_or(Vec3::ZERO),
-            })
-            .collect();
-        let transforms: Vec<Mat4> = self
-            .casters
-            .iter()
-            .map(|(k, _)| frame.world_from_local[*k])
-            .collect();
-        let t0 = Instant::now();
-        let key = (lights.clone(), transforms.clone());
-        let moved = self.built_for.as_ref() != Some(&key);
-        if moved {
-            self.silhouettes = lights
-                .iter()
-                .map(|l| {
-                    self.casters
-                        .iter()
-                        .flat_map(|(k, m)| {
-                            m.silhouette(&frame.world_from_local[*k], LightPos::Point(*l))
-                        })
-                        .collect()
-                })
-                .collect();
-            self.built_for = Some(key);
-        }
-        report.count("silhouettes_recomputed", moved as u32 as f64);
-        report.count("silhouette_ms", t0.elapsed().as_secs_f64() * 1e3);
-        let t1 = Instant::now();
+        let far = frame.camera.far;
+        let planes = self.casters.planes(
+            frame,
+            Order::BackToFront,
+            |l| 2.0 * (far + (l.position().unwrap_or(eye) - eye).length()) + 1.0,
+            report,
+        );
         let mut verts: Vec<[f32; 3]> = Vec::new();
         self.ranges.clear();
         let mut eye_lit = 0u32;
-        for (k, l) in lights.iter().enumerate() {
-            let reach = 2.0 * (frame.camera.far + (*l - eye).length()) + 1.0;
-            let mut quads: Vec<(f32, [Vec3; 6])> = self.silhouettes[k]
-                .iter()
-                .map(|e| {
-                    (
-                        ((e[0] + e[1]) * 0.5 - eye).length(),
-                        extrude(*e, LightPos::Point(*l), reach),
-                    )
-                })
-                .collect();
-            quads.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (k, light) in planes.iter().enumerate() {
             let first = verts.len() as u32;
-            verts.extend(quads.iter().flat_map(|(_, q)| q.map(|p| p.to_array())));
-            let count = self.eye_count(frame, *l, eye);
-            if count == 0 {
+            verts.extend(light.quads.iter().flat_map(|q| q.map(|p| p.to_array())));
+            if light.eye_count == 0 {
                 eye_lit |= 1 << k;
             }
-            self.ranges.push((first, verts.len() as u32, count));
+            self.ranges.push((first, verts.len() as u32, light.eye_count));
         }
-        report.count("sort_ms", t1.elapsed().as_secs_f64() * 1e3);
-        report.count("silhouette_edges", (verts.len() / 6) as f64);
         report.count("shadow_planes", (verts.len() / 6) as f64);
         if !verts.is_empty() {
             let bytes: &[u8] = bytemuck::cast_slice(&verts);
@@ -370,25 +315,6 @@ impl Planes {
                 .write_buffer(self.vertices.as_ref().expect("allocated"), 0, bytes);
         }
         eye_lit
-    }
-
-    /// Shadow volumes around the eye: light-facing caster triangles the segment light → eye crosses.
-    fn eye_count(&self, frame: &FrameState, light: Vec3, eye: Vec3) -> u32 {
-        let mut n = 0;
-        for (k, m) in &self.casters {
-            let w = frame.world_from_local[*k];
-            for t in &m.triangles {
-                let [a, b, c] = t.map(|i| w.transform_point3(m.positions[i as usize]));
-                let normal = (b - a).cross(c - a);
-                if normal.dot(light - a) <= 0.0 {
-                    continue;
-                }
-                if segment_hits(light, eye, a, b, c) {
-                    n += 1;
-                }
-            }
-        }
-        n
     }
 
     /// The depth, count, lit-surface and plane passes of every light into `acc_view`.
@@ -508,27 +434,4 @@ impl Planes {
             }
         }
     }
-}
-
-/// Does the segment p → q cross triangle (a, b, c)? (Möller–Trumbore, open interval.)
-fn segment_hits(p: Vec3, q: Vec3, a: Vec3, b: Vec3, c: Vec3) -> bool {
-    let d = q - p;
-    let (e1, e2) = (b - a, c - a);
-    let h = d.cross(e2);
-    let det = e1.dot(h);
-    if det.abs() < 1e-12 {
-        return false;
-    }
-    let s = p - a;
-    let u = s.dot(h) / det;
-    if !(0.0..=1.0).contains(&u) {
-        return false;
-    }
-    let qv = s.cross(e1);
-    let v = d.dot(qv) / det;
-    if v < 0.0 || u + v > 1.0 {
-        return false;
-    }
-    let t = e2.dot(qv) / det;
-    t > 0.0 && t < 1.0
 }

@@ -7,6 +7,7 @@ pub mod patterns;
 pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;
+pub mod shadow_planes;
 pub mod silhouette;
 pub mod tables;
 pub mod uniforms;
