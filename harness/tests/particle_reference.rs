@@ -211,3 +211,52 @@ fn reference_converges_on_particle_scenes() {
         assert!(img.inscatter.pixels.iter().flatten().all(|v| v.is_finite()));
     }
 }
+
+/// Not a check: times the reference on `SB_PROFILE_SCENES` (comma-separated, default the
+/// particle scenes) at `SB_PROFILE_RES` (default 32) and, with `SB_PROFILE_COMPARE=DIR`,
+/// reports the relative RMSE and largest relative difference against DIR/<scene>/*.exr
+/// (e.g. what `scatterbench reference --out DIR/<scene>` wrote with an older build).
+/// `cargo test --release -p harness --test particle_reference profile -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn profile_reference() {
+    let names = std::env::var("SB_PROFILE_SCENES")
+        .unwrap_or_else(|_| "cloud-8000,cloud-plane,smoke-point".into());
+    let res: u32 = std::env::var("SB_PROFILE_RES")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(32);
+    let compare = std::env::var("SB_PROFILE_COMPARE").ok();
+    let mut total = 0.0;
+    for name in names.split(',') {
+        let s = lib(name);
+        let img = render(&s, 0, res, res, Settings::default(), &|_| {}).unwrap();
+        total += img.stats.seconds;
+        let mut line = format!("{name} {res}²: {:.3} s", img.stats.seconds);
+        if let Some(dir) = &compare {
+            for (aov, got) in [("inscatter", &img.inscatter), ("total", &img.total)] {
+                let path = Path::new(dir).join(name).join(format!("{aov}.exr"));
+                let Ok(want) = harness::image::io::read_exr(&path) else {
+                    continue;
+                };
+                let (mut se, mut mean, mut worst) = (0.0f64, 0.0f64, 0.0f64);
+                for (a, b) in got.pixels.iter().zip(&want.pixels) {
+                    for c in 0..3 {
+                        let (a, b) = (a[c] as f64, b[c] as f64);
+                        se += (a - b).powi(2);
+                        mean += b;
+                        worst = worst.max((a - b).abs() / b.abs().max(1e-6));
+                    }
+                }
+                let n = 3.0 * got.pixels.len() as f64;
+                line += &format!(
+                    ", {aov} rel RMSE {:.2e} max rel {:.2e}",
+                    (se / n).sqrt() / (mean / n).max(1e-300),
+                    worst
+                );
+            }
+        }
+        println!("{line}");
+    }
+    println!("total {total:.3} s");
+}

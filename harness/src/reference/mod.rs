@@ -8,11 +8,13 @@
 //! them), the camera ray cut into constant-density pieces, single scattering with
 //! self-shadowing, the sky behind.
 //!
-//! Not yet supported (a clear error, never a wrong image): Biri 2006's indirect single
-//! scattering term (it lands with the `biri-shadow-volumes` method).
+//! Biri 2006's indirect single scattering ([`indirect`]), where a scene enables it, is added to
+//! the `surface` AOV (and `total`); point lights in a homogeneous medium only (a clear error
+//! otherwise, never a wrong image).
 
 pub mod bvh;
 pub mod cache;
+pub mod indirect;
 pub mod integrate;
 pub mod particles;
 pub mod shadow;
@@ -77,18 +79,13 @@ fn tracer_for<'a>(
         eps: 1e-7 * scale,
         sun_distance: 10.0 * scale.max(far),
         particles,
+        indirect: scene.desc.indirect_single_scattering,
     }
 }
 
 /// Rejects what the reference cannot compute yet, rather than rendering it wrong.
 pub fn check_supported(scene: &Scene) -> Result<(), String> {
-    if scene.desc.indirect_single_scattering {
-        return Err(format!(
-            "scene '{}': the reference does not compute indirect single scattering yet",
-            scene.name
-        ));
-    }
-    Ok(())
+    indirect::check(scene)
 }
 
 /// Traces the given pixels of frame `frame` at `width`×`height`, in parallel.
