@@ -193,6 +193,12 @@ pub trait Method {
         let _ = case;
         None
     }
+
+    /// The method's per-phase GPU timer, if it keeps one (`gpu::PhaseTimer`): after each frame
+    /// the runner stores its phases as counters `gpu_ms_<phase>`. Default: none.
+    fn phase_timer(&self) -> Option<&crate::gpu::PhaseTimer> {
+        None
+    }
 }
 
 /// A registry entry: the id and a constructor.

@@ -1,61 +1,140 @@
 //! GPU tests of `biri-shadow-volumes` (lavapipe in CI): eq. 7 from the Γ table against the
-//! reference on the unshadowed `clear-fog`, and the shadow planes on `sphere-point`.
+//! reference on the unshadowed `clear-fog`, the shadow planes (both resolves, the stencil rules,
+//! the unorm8 target) on `sphere-point` and `overlap-point`, and the per-triangle fallback for
+//! open and non-manifold casters.
 //!
 //! Without an adapter these tests skip with a message — except when `CI` is set, where a missing
 //! adapter is a failure.
 
 use harness::Gpu;
+use harness::image::Image;
 use harness::image::metrics::{ToneMap, compare};
-use harness::method::{Method, ParamValue, PrepareContext, resolve_params};
+use harness::method::{FrameReport, Method, ParamValue, PrepareContext, resolve_params};
 use harness::reference::{self, Settings};
 use harness::runner::{AovTargets, render_frame};
 use harness::testing::{gpu_or_skip as gpu, knobs};
 use methods::biri_shadow_volumes::BiriShadowVolumes;
+use scenes::Scene;
 
-/// In-scatter rel RMSE of biri-shadow-volumes against the reference on `scene`, frame 0.
-fn error(gpu: &Gpu, scene: &str, res: u32, list: &[(&str, ParamValue)]) -> f64 {
-    let s = scenes::library::resolve(scene).unwrap();
-    let mut m = BiriShadowVolumes::default();
-    let params = resolve_params(&m.params(), &knobs(list)).unwrap();
-    m.prepare(&PrepareContext {
-        gpu,
-        scene: &s,
-        params: &params,
-        width: res,
-        height: res,
-        no_skip: false,
-    })
-    .unwrap();
-    let aovs = AovTargets::new(gpu, res, res);
-    render_frame(gpu, &mut m, &s, 0, &aovs, None).unwrap();
-    let [ins, _, _] = aovs.read(gpu).unwrap();
-    let refimg = reference::render(&s, 0, res, res, Settings::default(), &|_| {}).unwrap();
-    // BIRI_DUMP=dir writes the image, the reference and an error map (for debugging, not asserted).
-    if let Some(dir) = std::env::var_os("BIRI_DUMP") {
-        let dir = std::path::PathBuf::from(dir);
-        let t = ToneMap { exposure: 0.0 };
-        harness::image::io::write_png(&dir.join(format!("{scene}-biri.png")), &ins, &t).unwrap();
-        harness::image::io::write_png(&dir.join(format!("{scene}-ref.png")), &refimg.inscatter, &t)
-            .unwrap();
-        let em = harness::image::colormap::error_map(&ins, &refimg.inscatter, 0.1);
-        harness::image::io::write_png_ldr(&dir.join(format!("{scene}-err.png")), &em).unwrap();
+/// A scene and its reference in-scatter at `res`².
+struct Case {
+    name: String,
+    scene: Scene,
+    res: u32,
+    reference: Image,
+}
+
+impl Case {
+    fn new(scene: Scene, res: u32) -> Case {
+        let r = reference::render(&scene, 0, res, res, Settings::default(), &|_| {}).unwrap();
+        Case {
+            name: scene.name.clone(),
+            scene,
+            res,
+            reference: r.inscatter,
+        }
     }
-    compare(&ins, &refimg.inscatter, &ToneMap { exposure: 0.0 })
-        .unwrap()
-        .rel_rmse
+
+    fn library(name: &str, res: u32) -> Case {
+        Case::new(scenes::library::resolve(name).unwrap(), res)
+    }
+
+    /// In-scatter rel RMSE of biri-shadow-volumes against the reference, frame 0, and the report
+    /// of the last of `frames` frames (counters read back a frame late need two).
+    fn error_frames(
+        &self,
+        gpu: &Gpu,
+        list: &[(&str, ParamValue)],
+        frames: u32,
+    ) -> (f64, FrameReport) {
+        let (e, _, report) = self.errors(gpu, list, frames);
+        (e, report)
+    }
+
+    /// (rel RMSE, 99th percentile of |error| / mean reference, report of the last frame).
+    fn errors(
+        &self,
+        gpu: &Gpu,
+        list: &[(&str, ParamValue)],
+        frames: u32,
+    ) -> (f64, f64, FrameReport) {
+        let mut m = BiriShadowVolumes::default();
+        let params = resolve_params(&m.params(), &knobs(list)).unwrap();
+        m.prepare(&PrepareContext {
+            gpu,
+            scene: &self.scene,
+            params: &params,
+            width: self.res,
+            height: self.res,
+            no_skip: false,
+        })
+        .unwrap();
+        let aovs = AovTargets::new(gpu, self.res, self.res);
+        let mut report = FrameReport::default();
+        for _ in 0..frames {
+            report = render_frame(gpu, &mut m, &self.scene, 0, &aovs, None)
+                .unwrap()
+                .report;
+        }
+        let [ins, _, _] = aovs.read(gpu).unwrap();
+        // BIRI_DUMP=dir writes the image, the reference and an error map (for debugging, not asserted).
+        if let Some(dir) = std::env::var_os("BIRI_DUMP") {
+            let dir = std::path::PathBuf::from(dir);
+            let tag: String = list
+                .iter()
+                .map(|(k, v)| format!("-{k}={v:?}"))
+                .collect::<String>()
+                .replace(['"', '(', ')', ' '], "");
+            let t = ToneMap { exposure: 0.0 };
+            let stem = format!("{}{tag}", self.name);
+            harness::image::io::write_png(&dir.join(format!("{stem}-biri.png")), &ins, &t).unwrap();
+            harness::image::io::write_png(
+                &dir.join(format!("{}-ref.png", self.name)),
+                &self.reference,
+                &t,
+            )
+            .unwrap();
+            let em = harness::image::colormap::error_map(&ins, &self.reference, 0.1);
+            harness::image::io::write_png_ldr(&dir.join(format!("{stem}-err.png")), &em).unwrap();
+        }
+        let m = compare(&ins, &self.reference, &ToneMap { exposure: 0.0 }).unwrap();
+        let mean = if m.rel_rmse > 0.0 {
+            m.rmse / m.rel_rmse
+        } else {
+            1.0
+        };
+        (m.rel_rmse, m.p99_abs / mean, report)
+    }
+
+    fn error(&self, gpu: &Gpu, list: &[(&str, ParamValue)]) -> f64 {
+        self.error_frames(gpu, list, 1).0
+    }
+}
+
+fn text(s: &str) -> ParamValue {
+    ParamValue::Text(s.into())
+}
+
+/// The knobs of the stencil resolve with or without the step-5 rules.
+fn stencil(rules: bool) -> Vec<(&'static str, ParamValue)> {
+    vec![
+        ("resolve", text("stencil")),
+        ("stencil_rules", ParamValue::Bool(rules)),
+    ]
 }
 
 /// On clear-fog (a point light, nothing casts a volumetric shadow) every pixel's in-scatter is
 /// eq. 7: two Γ lookups per channel. It matches the reference's quadrature of the integral to
 /// under 0.5% rel RMSE at 96² (measured: see the eprintln; the rest is the table's bilinear
 /// interpolation and f32). The paper's 1/4π left in is 12.6× off; a missing 1/h or e^(−σ_t t)
-/// is tens of percents at least; a table of 16² is visibly worse, which the second assertion
+/// is tens of percents at least; a table of 8² is visibly worse, which the second assertion
 /// checks (the table resolution matters, so the lookups are really used).
 #[test]
 fn ldss_matches_reference_on_clear_fog() {
     let Some(gpu) = gpu() else { return };
-    let e = error(&gpu, "clear-fog", 96, &[]);
-    let coarse = error(&gpu, "clear-fog", 96, &[("table", ParamValue::Int(8))]);
+    let case = Case::library("clear-fog", 96);
+    let e = case.error(&gpu, &[]);
+    let coarse = case.error(&gpu, &[("table", ParamValue::Int(8))]);
     eprintln!("clear-fog 96² in-scatter rel RMSE: table 256² {e:.3e}, table 8² {coarse:.3e}");
     assert!(e < 0.005, "in-scatter rel RMSE: {e}");
     assert!(
@@ -64,31 +143,144 @@ fn ldss_matches_reference_on_clear_fog() {
     );
 }
 
-/// Shadow planes on sphere-point (one convex caster, Wyman & Ramsey's sphere) at 64². With every
-/// crossing counted (`stencil_rules = false`, exact for one convex volume) the z-pass count,
-/// lit-surface term and signed plane terms reproduce the reference to < 1e-3 rel RMSE (measured
-/// 2.8e-5): the Γ terms, signs, facing and eye term are right. With the paper's step-5 rules
-/// (`stencil_rules = true`) the measured error is 3.3e-2: rays ending in shadow lose their entering plane's
-/// term because the stencil there is ≥ 2, not 1 (an open defect, see the README); the bound 0.05
-/// is below the 5.8e-2 of no plane terms at all.
+/// Shadow planes on sphere-point (one convex caster, Wyman & Ramsey's sphere) at 64²: one
+/// volume, so every resolve is exact up to rasterisation and the table. The per-pixel resolve,
+/// the stencil resolve with step 5's rules and the stencil resolve counting every crossing all
+/// reproduce the reference to < 1e-3 rel RMSE (measured: see the eprintln); no plane terms at all
+/// would be 5.8e-2. The rules' old defect (stencil ops on planes behind the visible point) lost
+/// the entering term of rays ending in shadow: 3.3e-2.
 #[test]
 fn shadow_planes_match_reference_on_sphere_point() {
     let Some(gpu) = gpu() else { return };
-    let every = error(
-        &gpu,
-        "sphere-point",
-        64,
-        &[("stencil_rules", ParamValue::Bool(false))],
-    );
-    let rules = error(
-        &gpu,
-        "sphere-point",
-        64,
-        &[("stencil_rules", ParamValue::Bool(true))],
-    );
+    let case = Case::library("sphere-point", 64);
+    let pixel = case.error(&gpu, &[("resolve", text("per-pixel"))]);
+    let rules = case.error(&gpu, &stencil(true));
+    let every = case.error(&gpu, &stencil(false));
     eprintln!(
-        "sphere-point 64² in-scatter rel RMSE: every crossing {every:.3e}, paper stencil rules {rules:.3e}"
+        "sphere-point 64² in-scatter rel RMSE: per-pixel {pixel:.3e}, stencil rules {rules:.3e}, every crossing {every:.3e}"
     );
+    assert!(pixel < 1e-3, "per-pixel: {pixel}");
+    assert!(rules < 1e-3, "stencil rules: {rules}");
     assert!(every < 1e-3, "every crossing: {every}");
-    assert!(rules < 0.05, "stencil rules: {rules}");
+}
+
+/// overlap-point: the lower sphere partly in the upper's shadow (volumes overlap in view) and the
+/// eye inside the slab's shadow volume. Counting every crossing double-counts the overlap (the
+/// first assertion shows the scene really tests it). The per-pixel resolve sorts each pixel's
+/// crossings exactly and starts the walk from the eye's count, so what is left is the Γ table and
+/// rasterisation at the volumes' edges, as on sphere-point: bound 2e-3 (measured: eprintln).
+/// The stencil rules depend on the CPU's back-to-front order of whole planes (by edge midpoint),
+/// which is not every pixel's order where planes of the two spheres interleave: measured, bounded
+/// loosely (below counting every crossing), and explained in the README.
+#[test]
+fn per_pixel_resolve_handles_overlap_and_eye_in_shadow() {
+    let Some(gpu) = gpu() else { return };
+    let case = Case::library("overlap-point", 64);
+    // Three frames: the list counters are read back two frames late.
+    let (pixel, pixel99, report) = case.errors(&gpu, &[("resolve", text("per-pixel"))], 3);
+    let (rules, rules99, _) = case.errors(&gpu, &stencil(true), 1);
+    let (every, every99, _) = case.errors(&gpu, &stencil(false), 1);
+    eprintln!(
+        "overlap-point 64² in-scatter rel RMSE / p99 |error| over mean: per-pixel {pixel:.3e} / {pixel99:.3e}, stencil rules {rules:.3e} / {rules99:.3e}, every crossing {every:.3e} / {every99:.3e}; counters {:?}",
+        report.counters
+    );
+    // One pixel (at a shaft's corner, where a pixel centre grazes a silhouette vertex's extruded
+    // edge) is wrong in every resolve alike and dominates the RMSE (5e-2); the 99th percentile
+    // shows the rest.
+    assert!(pixel99 < 2e-3, "per-pixel p99: {pixel99}");
+    assert!(pixel < 0.08, "per-pixel: {pixel}");
+    assert!(
+        every99 > 10.0 * pixel99.max(1e-4),
+        "every crossing {every99} vs per-pixel {pixel99}"
+    );
+    assert!(
+        rules99 > 10.0 * pixel99.max(1e-4),
+        "stencil rules {rules99} vs per-pixel {pixel99}"
+    );
+    assert_eq!(report.counters.get("crossing_overflows"), Some(&0.0));
+    // The Table-1 phases, where the device has timestamps inside encoders (the runner's
+    // render_frame stores them from the method's PhaseTimer).
+    let stamps = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+    if gpu.features().contains(stamps) {
+        for phase in [
+            "first_pass",
+            "second_pass_surfaces",
+            "second_pass_volumes",
+            "resolve",
+        ] {
+            let ms = report.counters[&format!("gpu_ms_{phase}")];
+            assert!(ms.is_finite() && ms >= 0.0, "{phase}: {ms}");
+        }
+    }
+    assert!(report.counters["max_crossings"] >= 2.0);
+}
+
+/// The per-pixel lists are bounded: a capacity of 1 crossing overflows (counted, not silent) and
+/// is visibly wrong.
+#[test]
+fn per_pixel_overflow_is_counted() {
+    let Some(gpu) = gpu() else { return };
+    let case = Case::library("overlap-point", 32);
+    let (e, report) = case.error_frames(&gpu, &[("crossings", ParamValue::Int(1))], 3);
+    eprintln!(
+        "overlap-point 32², 1 crossing per pixel: rel RMSE {e:.3e}, {:?}",
+        report.counters
+    );
+    assert!(report.counters["crossing_overflows"] > 0.0);
+}
+
+/// `accumulate: unorm8` (the paper's 8-bit target): the in-scatter is quantised to 1/255 and
+/// clamped to [0, 1] per blend, so it is measurably worse than float on sphere-point (measured:
+/// eprintln) while still the right image (not off by a constant factor: < 0.5).
+#[test]
+fn unorm8_shows_quantisation() {
+    let Some(gpu) = gpu() else { return };
+    let case = Case::library("sphere-point", 64);
+    let mut list = stencil(true);
+    let float = case.error(&gpu, &list);
+    list.push(("accumulate", text("unorm8")));
+    let unorm8 = case.error(&gpu, &list);
+    eprintln!("sphere-point 64² in-scatter rel RMSE: float {float:.3e}, unorm8 {unorm8:.3e}");
+    assert!(unorm8 > 10.0 * float, "unorm8 {unorm8} vs float {float}");
+    assert!(unorm8 < 1.0, "unorm8 {unorm8}");
+}
+
+/// Open and non-manifold casters fall back to per-triangle shadow planes (recorded): a single
+/// quad (open: its border edges have one face) and the fence (touching bars: edges with four
+/// faces) under a point light render within 1e-2 of the reference with the per-pixel resolve
+/// (overlapping per-triangle volumes need exact shadow in shadow), no panic.
+#[test]
+fn open_and_nonmanifold_casters_fall_back_to_triangles() {
+    let Some(gpu) = gpu() else { return };
+    let text_scene = r#"{
+      "description": "open and non-manifold casters",
+      "camera": { "position": [0.0, 2.0, 7.0], "look_at": [0.0, 1.3, 0.0], "fov_y_deg": 45, "near": 0.1, "far": 40 },
+      "medium": { "kind": "homogeneous", "sigma_a": [0.01, 0.01, 0.01], "sigma_s": [0.08, 0.08, 0.08] },
+      "lights": [ { "kind": "point", "position": [0.3, 5.0, -2.5], "intensity": [60, 60, 60] } ],
+      "objects": [
+        { "name": "floor", "shape": { "kind": "plane", "size": [14, 14] }, "casts_volumetric_shadow": false },
+        { "name": "card", "shape": { "kind": "plane", "size": [1.2, 0.8] },
+          "transform": { "translation": [-1.0, 3.0, -1.5] } },
+        { "name": "fence", "shape": { "kind": "fence", "width": 2.0, "height": 1.2, "posts": 4, "rails": 2, "bar": 0.1 },
+          "transform": { "translation": [0.8, 2.0, -1.2], "rotation_deg": [90, 0, 0] } }
+      ] }"#;
+    let scene =
+        scenes::load::parse_scene(text_scene, "open.json", "open", std::path::Path::new("."))
+            .expect("scene");
+    let case = Case::new(scene, 48);
+    let (pixel, report) = case.error_frames(&gpu, &[("crossings", ParamValue::Int(64))], 3);
+    let rules = case.error(&gpu, &stencil(true));
+    eprintln!(
+        "open casters 48² in-scatter rel RMSE: per-pixel {pixel:.3e}, stencil rules {rules:.3e}; counters {:?}",
+        report.counters
+    );
+    assert_eq!(report.counters["nonmanifold_casters"], 2.0);
+    assert!(
+        report.skipped.iter().any(|s| s.pass.contains("card")),
+        "{:?}",
+        report.skipped
+    );
+    assert_eq!(report.counters["crossing_overflows"], 0.0);
+    assert!(pixel < 1e-2, "per-pixel: {pixel}");
+    assert!(rules < 1e-2, "stencil rules: {rules}");
 }

@@ -34,7 +34,7 @@ fn lib(name: &str) -> Scene {
 #[test]
 fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     let names = library::names();
-    assert_eq!(names.len(), 11, "{names:?}");
+    assert_eq!(names.len(), 13, "{names:?}");
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);
@@ -211,6 +211,20 @@ fn library_features_match_what_the_files_say() {
             particles: 0,
         },
         Want {
+            name: "overlap-point",
+            kinds: &["point"],
+            lights: 1,
+            phase: "isotropic",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
             name: "clear-fog",
             kinds: &["point"],
             lights: 1,
@@ -280,6 +294,20 @@ fn library_features_match_what_the_files_say() {
             medium: "particles",
             particles: 3000,
         },
+        Want {
+            name: "indirect-point",
+            kinds: &["point"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: true,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
     ];
     assert_eq!(
         table.len(),
@@ -312,7 +340,7 @@ fn library_features_match_what_the_files_say() {
         assert!(f.scattering, "{n}: every library scene scatters");
         assert!(!f.ambient, "{n}: no library scene has ambient light");
         assert!(f.surfaces, "{n}: every library scene has a floor");
-        assert!(!f.indirect_single_scattering, "{n}");
+        assert_eq!(f.indirect_single_scattering, n == "indirect-point", "{n}");
         assert_eq!(
             f.triangles,
             s.meshes.iter().map(|m| m.indices.len()).sum::<usize>(),

@@ -3,6 +3,7 @@
 //! queries, float32 blending) requested when the adapter has them. Every wgpu error the device
 //! raises is collected, so the runner can record a method that caused one as failed.
 
+mod phases;
 mod readback;
 mod timer;
 
@@ -12,6 +13,7 @@ use std::sync::{Arc, Mutex};
 use serde::{Deserialize, Serialize};
 
 pub use readback::{map_read, read_r32f, read_rgba32f};
+pub use phases::PhaseTimer;
 pub use timer::GpuTimer;
 
 /// What adapter a result was measured on (DESIGN §4: every record carries the machine).

@@ -18,20 +18,41 @@
 //! shader, per-channel σ_t. Surface lighting (step 2) is the shared surface pass, whose shadows
 //! come from shadow maps rather than the paper's stencil shadow volumes. Shadow planes
 //! (`planes.rs`): silhouettes from `common::silhouette` (recomputed only when a light or caster
-//! moved), quads sorted back to front by edge-midpoint distance, the visible point's shadow
-//! count by a z-pass stencil count seeded with the eye's count (CPU segment test), the lit
-//! surfaces' term where the count is 0, then the planes with signed float accumulation (front
-//! faces +, back faces −; the paper's reverse-subtract on 8-bit targets is not needed) and, with
-//! `stencil_rules = true`, the step-5 stencil rules. The eye's term is subtracted in the resolve.
+//! moved; open or non-manifold casters fall back to per-triangle planes, counted in
+//! `nonmanifold_casters` and recorded as a skipped "silhouette of <name>"), extruded past the far
+//! plane. Two resolves (knob `resolve`):
+//! - `per-pixel` (default, modern): per light, a pass appends every plane fragment in front of
+//!   the visible surface to its pixel's crossing list (signed distance; capacity knob
+//!   `crossings`, overflow counted in `crossing_overflows`), and a compute pass sorts each list
+//!   and sums L_dss over the lit intervals only, walking from the eye's count (`pixel.rs`). Exact
+//!   shadow in shadow and eye in shadow, no CPU sort.
+//! - `stencil` (the paper's steps 4–5): quads sorted back to front by edge-midpoint distance, the
+//!   visible point's count by a z-pass stencil count seeded with the eye's count, the lit
+//!   surfaces' term where it is 0, then the planes one by one with step 5's rules
+//!   (`stencil_rules`, default true): a plane's colour under the stencil test (front = 1, back =
+//!   0), then a second draw that steps the stencil only where the plane passes the depth test —
+//!   the paper's "own depth test", needed because a stencil op on a failed stencil test also
+//!   hits planes behind the visible point. Signed float accumulation by default; `accumulate =
+//!   unorm8` reproduces the paper's 8-bit target (each plane writes L_dss from the eye, front
+//!   faces add, back faces reverse-subtract; values clamp to [0, 1] and quantise to 1/255).
 //!
-//! Status and limits: `stencil_rules = true` is defective (rays ending in shadow find a stencil
-//! ≥ 2 and lose their entering term: sphere-point 3.3e-2 vs 2.8e-5 without the rules), so the
-//! default counts every crossing, which is exact for non-overlapping volumes only. Not
-//! implemented: the per-pixel resolve, the unorm8 knob, indirect single scattering (§III.C;
-//! `Partial`), planes clipped by the near plane (a camera within `near` of a plane). Point lights
-//! only (the method assumes isotropic point sources); spot and directional lights are declined.
+//! Status and limits: the stencil rules are exact only where the CPU's order of whole planes is
+//! every pixel's order along the ray; long extruded planes of different casters interleave (e.g.
+//! `overlap-point`, with the eye in a shadow), so there the per-pixel resolve is the exact one.
+//! Not implemented: planes clipped by the near plane (a camera within `near` of a plane). Point
+//! lights only (the method assumes isotropic point sources); spot and directional lights are
+//! declined. GPU time per phase (Table 1) via `harness::gpu::PhaseTimer`: counters
+//! `gpu_ms_first_pass`, `gpu_ms_second_pass_surfaces`, `gpu_ms_second_pass_volumes`,
+//! `gpu_ms_resolve`, with the CPU's `silhouette_ms` and `sort_ms`.
+//!
+//! Indirect single scattering (§III.C, Fig. 8; scenes with `indirect_single_scattering`, knob
+//! `indirect`): `indirect.rs` tabulates Γ_L(λ, φ_n) (the hemisphere integral, 2-D where the
+//! paper's full-sphere version is 1-D) and Γ_P(λ, ψ_s) per shininess, and a second draw of the
+//! scene over the surface pass's depth adds the term to the `surface` AOV.
 
 mod gamma;
+pub mod indirect;
+mod pixel;
 mod planes;
 
 pub use gamma::{GammaTable, gamma_direct, gamma_of_w, w_of_gamma};
@@ -73,8 +94,11 @@ struct State {
     renderer: SceneRenderer,
     resolve: ResolvePass,
     planes: planes::Planes,
+    indirect: Option<indirect::IndirectPass>,
     _table: wgpu::Texture,
     table_view: wgpu::TextureView,
+    /// GPU time per phase (Table 1's breakdown), when the device has timestamps in encoders.
+    timer: Option<harness::gpu::PhaseTimer>,
 }
 
 /// Uploads a Γ table as an R32Float texture (w along x, λ along y).
@@ -101,11 +125,46 @@ impl Method for BiriShadowVolumes {
                 meaning: "Γ(λ, γ) table size per side (λ rows × γ columns)",
             },
             ParamSpec {
+                name: "resolve",
+                default: ParamValue::Text("per-pixel".into()),
+                sweep: vec![ParamValue::Text("stencil".into())],
+                choices: vec!["per-pixel", "stencil"],
+                meaning: "per-pixel: crossing lists sorted and walked on the GPU (exact shadow in shadow); stencil: the paper's steps 4-5 (CPU-sorted planes, stencil counting)",
+            },
+            ParamSpec {
                 name: "stencil_rules",
-                default: ParamValue::Bool(false),
-                sweep: vec![ParamValue::Bool(true)],
+                default: ParamValue::Bool(true),
+                sweep: vec![ParamValue::Bool(false)],
                 choices: vec![],
-                meaning: "step 5's stencil rules (skip crossings inside another shadow; currently defective, see README); false: every crossing counts",
+                meaning: "resolve=stencil: step 5's stencil rules (draw only the lit/shadow boundaries, in the CPU order); false: every crossing counts (exact without overlapping volumes)",
+            },
+            ParamSpec {
+                name: "accumulate",
+                default: ParamValue::Text("float".into()),
+                sweep: vec![ParamValue::Text("unorm8".into())],
+                choices: vec!["float", "unorm8"],
+                meaning: "resolve=stencil: crossing accumulation target; unorm8 is the paper's 8-bit target with reverse-subtract blending (clamps and quantises)",
+            },
+            ParamSpec {
+                name: "crossings",
+                default: ParamValue::Int(16),
+                sweep: vec![ParamValue::Int(8), ParamValue::Int(32)],
+                choices: vec![],
+                meaning: "resolve=per-pixel: crossing-list capacity per pixel (4 bytes each; overflow counted in crossing_overflows)",
+            },
+            ParamSpec {
+                name: "indirect",
+                default: ParamValue::Bool(true),
+                sweep: vec![ParamValue::Bool(false)],
+                choices: vec![],
+                meaning: "scenes with indirect_single_scattering: add §III.C's term (Γ_L, Γ_P tables, the Fig. 8 pass); false skips it",
+            },
+            ParamSpec {
+                name: "indirect_table",
+                default: ParamValue::Int(64),
+                sweep: [16, 32, 128].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "Γ_L(λ, φ_n) and Γ_P(λ, ψ_s) table size per side",
             },
             ParamSpec {
                 name: "shadow_map",
@@ -117,15 +176,15 @@ impl Method for BiriShadowVolumes {
         ]
     }
 
-    fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {
+    fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
         if let Some(why) = unsupported(scene) {
             return Support::No(why);
         }
         if scene.light_kinds.iter().any(|k| *k != "point") {
             return Support::No("Biri et al.'s Γ table assumes isotropic point lights; spot and directional lights are not implemented".into());
         }
-        if scene.indirect_single_scattering {
-            return Support::Partial(vec!["indirect_single_scattering".into()]);
+        if scene.indirect_single_scattering && !indirect::device_can(device) {
+            return Support::Partial(vec!["indirect_single_scattering (needs FLOAT32_BLENDABLE)".into()]);
         }
         Support::Full
     }
@@ -149,18 +208,49 @@ impl Method for BiriShadowVolumes {
             Some(std::mem::size_of::<ConfigUniform>() as u64),
             2,
         );
-        let rules = ctx
-            .params
-            .get("stencil_rules")
-            .and_then(ParamValue::as_bool)
-            .unwrap_or(false);
-        let planes = planes::Planes::new(ctx, &renderer, rules);
+        let text = |k: &str| ctx.params.get(k).and_then(ParamValue::as_str).unwrap_or("");
+        let mode = match text("resolve") {
+            "stencil" => planes::Resolve::Stencil,
+            "per-pixel" => planes::Resolve::PerPixel,
+            other => anyhow::bail!("resolve = {other:?}: expected per-pixel or stencil"),
+        };
+        let unorm8 = match text("accumulate") {
+            "float" => false,
+            "unorm8" => true,
+            other => anyhow::bail!("accumulate = {other:?}: expected float or unorm8"),
+        };
+        if unorm8 && mode != planes::Resolve::Stencil {
+            anyhow::bail!(
+                "accumulate = unorm8 is the paper's blended stencil target: it needs resolve = stencil"
+            );
+        }
+        let crossings = get("crossings");
+        if !(1..=256).contains(&crossings) {
+            anyhow::bail!("crossings = {crossings}: expected 1 to 256");
+        }
+        let options = planes::Options {
+            resolve: mode,
+            rules: ctx
+                .params
+                .get("stencil_rules")
+                .and_then(ParamValue::as_bool)
+                .unwrap_or(true),
+            unorm8,
+            crossings: crossings as u32,
+        };
+        let planes = planes::Planes::new(ctx, &renderer, options);
+        let want_iss = ctx.params.get("indirect").and_then(ParamValue::as_bool) != Some(false);
+        let indirect = (features.indirect_single_scattering && want_iss)
+            .then(|| indirect::IndirectPass::new(ctx, &renderer, get("indirect_table").clamp(4, 1024) as u32))
+            .transpose()?;
         self.state = Some(State {
             renderer,
             resolve,
             planes,
+            indirect,
             _table: texture,
             table_view,
+            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 4 + 3 * features.lights as u32),
         });
         Ok(())
     }
@@ -180,7 +270,8 @@ impl Method for BiriShadowVolumes {
         st.renderer.update(gpu, frame);
         let shadowed = st.renderer.scene.features().volumetric_occluders;
         let eye_lit = if shadowed {
-            st.planes.update(gpu, frame, &mut report)
+            let lit = st.planes.update(gpu, frame, &mut report);
+            if st.planes.eye_term() { lit } else { 0 }
         } else {
             0
         };
@@ -193,13 +284,36 @@ impl Method for BiriShadowVolumes {
                 }),
             );
         }
+        if let Some(t) = st.timer.as_mut() {
+            t.mark(enc, "first_pass");
+        }
         st.renderer.encode_shadows(enc, &mut report);
         st.renderer.encode_surface(enc, targets, &mut report);
+        match &st.indirect {
+            Some(pass) => {
+                pass.encode(enc, &st.renderer, targets);
+                report.ran("indirect");
+            }
+            None if st.renderer.scene.desc.indirect_single_scattering => {
+                report.skip("indirect", "knob indirect = false")
+            }
+            None => {}
+        }
         if shadowed {
-            st.planes.encode(gpu, enc, &st.renderer, &st.table_view);
+            st.planes.encode(
+                gpu,
+                enc,
+                &st.renderer,
+                &st.table_view,
+                &mut report,
+                &mut st.timer,
+            );
             report.ran("shadow-planes");
         } else {
             report.skip("shadow-planes", "no object casts a volumetric shadow");
+        }
+        if let Some(t) = st.timer.as_mut() {
+            t.mark(enc, "resolve");
         }
         st.resolve.encode_with(
             gpu,
@@ -208,7 +322,14 @@ impl Method for BiriShadowVolumes {
             targets,
             &[&st.table_view, &st.planes.acc_view],
         );
+        if let Some(t) = st.timer.as_mut() {
+            t.finish(enc);
+        }
         report.ran("ldss");
         Ok(report)
+    }
+
+    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+        self.state.as_ref()?.timer.as_ref()
     }
 }

@@ -1,6 +1,8 @@
 //! Shadow planes (steps 1, 4, 5 of Biri et al.): silhouettes per light on the CPU
-//! (`common::silhouette`), quads sorted back to front, the stencil count of shadow volumes at
-//! each visible point, and the signed L_dss crossing terms accumulated into a float target.
+//! (`common::shadow_planes`), quads sorted back to front, the scene depth, then either the
+//! stencil resolve (z-pass count of the volumes at each visible point, lit surfaces' term, the
+//! planes one by one under step 5's rules, in float or the paper's unorm8) or the per-pixel
+//! resolve (`pixel.rs`), into `acc_view`.
 
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
@@ -11,32 +13,89 @@ use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::wgsl;
 
-pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
-const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
-/// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
-const SLOT: u64 = 256;
+use harness::gpu::PhaseTimer;
 
-/// The composed WGSL of the plane passes.
+use super::pixel::PixelPass;
+
+/// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
+/// need), and the shadow planes (stencil count and plane passes, or the per-pixel passes).
+pub const SURFACES: &str = "second_pass_surfaces";
+pub const VOLUMES: &str = "second_pass_volumes";
+
+pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
+pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
+pub(super) const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+/// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
+pub(super) const SLOT: u64 = 256;
+/// Plane vertices: world positions.
+pub(super) const PLANE_LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    array_stride: 12,
+    step_mode: wgpu::VertexStepMode::Vertex,
+    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+};
+
+/// The composed WGSL of the plane passes (stencil and per-pixel).
 pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
-        &format!("{}\n{PLANES_WGSL}", super::LDSS_WGSL),
+        &format!("{}\n{PLANES_WGSL}\n{PIXEL_WGSL}", super::LDSS_WGSL),
     )
+}
+
+/// How the plane crossings become in-scatter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resolve {
+    /// Steps 4–5: planes sorted on the CPU, drawn with stencil counting.
+    Stencil,
+    /// Per-pixel crossing lists sorted and walked on the GPU (`pixel.rs`).
+    PerPixel,
+}
+
+/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`, `crossings`).
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    pub resolve: Resolve,
+    /// Step 5's stencil rules (stencil resolve only).
+    pub rules: bool,
+    /// The paper's 8-bit target with reverse-subtract blending (stencil resolve only).
+    pub unorm8: bool,
+    /// Per-pixel list capacity.
+    pub crossings: u32,
+}
+
+/// One light's planes in the vertex buffer and the eye's shadow count.
+#[derive(Clone, Copy, Debug)]
+pub struct LightRange {
+    pub first: u32,
+    pub end: u32,
+    pub eye_count: u32,
+}
+
+/// The plane pipelines of the stencil resolve.
+struct StencilPipes {
+    count: wgpu::RenderPipeline,
+    surface: wgpu::RenderPipeline,
+    /// Float, every crossing: all planes in one draw.
+    all: wgpu::RenderPipeline,
+    /// Per-plane draws: the colour pipelines (one, or front/back for unorm8) ...
+    color: Vec<wgpu::RenderPipeline>,
+    /// ... and, with the rules, the stencil step after each plane's colour.
+    step: Option<wgpu::RenderPipeline>,
 }
 
 pub struct Planes {
     casters: ShadowCasters,
+    opts: Options,
     depth_view: wgpu::TextureView,
     pub acc_view: wgpu::TextureView,
     layout: wgpu::BindGroupLayout,
     uniform: wgpu::Buffer,
     depth_pipe: wgpu::RenderPipeline,
-    count_pipe: wgpu::RenderPipeline,
-    surface_pipe: wgpu::RenderPipeline,
-    plane_pipe: wgpu::RenderPipeline,
+    stencil: StencilPipes,
+    pixel: Option<PixelPass>,
     vertices: Option<wgpu::Buffer>,
-    /// Per light: vertex range (sorted back to front) and the eye's shadow count.
-    ranges: Vec<(u32, u32, u32)>,
+    /// Per light, planes sorted back to front.
+    ranges: Vec<LightRange>,
 }
 
 fn stencil_face(
@@ -53,38 +112,31 @@ fn stencil_face(
 }
 
 impl Planes {
-    /// `rules`: the paper's step-5 stencil rules (drop crossings inside another shadow); false:
-    /// every crossing counts (exact only where shadow volumes do not overlap).
-    pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, rules: bool) -> Planes {
+    pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, opts: Options) -> Planes {
         let gpu = ctx.gpu;
         let scene = ctx.scene;
         let casters = ShadowCasters::new(scene);
-        let size = wgpu::Extent3d {
-            width: ctx.width,
-            height: ctx.height,
-            depth_or_array_layers: 1,
-        };
-        let tex = |label, format, usage| {
-            gpu.texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let tex =
+            |label, format, usage| gpu.texture_2d(label, ctx.width, ctx.height, format, usage);
         let depth = tex(
             "biri depth-stencil",
             DEPTH,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
+        let acc_format = if opts.unorm8 {
+            wgpu::TextureFormat::Rgba8Unorm
+        } else {
+            wgpu::TextureFormat::Rgba32Float
+        };
+        let storage = if opts.resolve == Resolve::PerPixel {
+            wgpu::TextureUsages::STORAGE_BINDING
+        } else {
+            wgpu::TextureUsages::empty()
+        };
         let acc = tex(
             "biri crossings",
-            wgpu::TextureFormat::Rgba32Float,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            acc_format,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | storage,
         );
         let texture_entry = |binding| wgpu::BindGroupLayoutEntry {
             binding,
@@ -121,14 +173,6 @@ impl Planes {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let slots: Vec<u8> = (0..crate::common::uniforms::MAX_LIGHTS as u32)
-            .flat_map(|k| {
-                let mut v = vec![0u8; SLOT as usize];
-                v[..4].copy_from_slice(&k.to_le_bytes());
-                v
-            })
-            .collect();
-        gpu.queue.write_buffer(&uniform, 0, &slots);
         let module = wgsl::module(&gpu.device, "biri planes", &source());
         let pl = gpu
             .device
@@ -137,7 +181,7 @@ impl Planes {
                 bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
                 immediate_size: 0,
             });
-        use wgpu::{CompareFunction as C, StencilOperation as S};
+        use wgpu::{BlendOperation as B, CompareFunction as C, StencilOperation as S};
         let depth_state = |compare, write, front, back| wgpu::DepthStencilState {
             format: DEPTH,
             depth_write_enabled: Some(write),
@@ -151,28 +195,27 @@ impl Planes {
             bias: Default::default(),
         };
         let keep = stencil_face(C::Always, S::Keep, S::Keep);
-        let plane_layout = wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-        };
-        let additive = wgpu::BlendState {
+        let blend = |operation| wgpu::BlendState {
             color: wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
                 dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
+                operation,
             },
             alpha: wgpu::BlendComponent::REPLACE,
         };
-        let color = [Some(wgpu::ColorTargetState {
-            format: wgpu::TextureFormat::Rgba32Float,
-            blend: Some(additive),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
+        let color = |op, writes| {
+            [Some(wgpu::ColorTargetState {
+                format: acc_format,
+                blend: Some(blend(op)),
+                write_mask: writes,
+            })]
+        };
         let pipe = |label,
                     vs,
                     vbuf: Option<wgpu::VertexBufferLayout>,
                     fs: Option<&str>,
+                    targets: &[Option<wgpu::ColorTargetState>],
+                    cull_mode,
                     depth: wgpu::DepthStencilState| {
             gpu.device
                 .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -187,7 +230,7 @@ impl Planes {
                     // silhouette::extrude winds quads outward in a right-handed sense, which wgpu's
                     // y-up clip space rasterises clockwise: "front" (entering a shadow) is Cw here.
                     primitive: wgpu::PrimitiveState {
-                        cull_mode: None,
+                        cull_mode,
                         front_face: wgpu::FrontFace::Cw,
                         ..Default::default()
                     },
@@ -197,7 +240,7 @@ impl Planes {
                         module: &module,
                         entry_point: Some(fs),
                         compilation_options: Default::default(),
-                        targets: &color,
+                        targets,
                     }),
                     multiview_mask: None,
                     cache: None,
@@ -208,13 +251,17 @@ impl Planes {
             "vs_scene",
             Some(Vertex::LAYOUT),
             None,
+            &[],
+            None,
             depth_state(C::Less, true, keep, keep),
         );
         // z-pass count: entering a volume (front face) +1, leaving (back face) −1.
-        let count_pipe = pipe(
+        let count = pipe(
             "biri plane count",
             "vs_plane",
-            Some(plane_layout.clone()),
+            Some(PLANE_LAYOUT),
+            None,
+            &[],
             None,
             depth_state(
                 C::Less,
@@ -223,54 +270,131 @@ impl Planes {
                 stencil_face(C::Always, S::DecrementWrap, S::Keep),
             ),
         );
+        let all_writes = wgpu::ColorWrites::ALL;
         // Lit ray ends: stencil == reference 0.
-        let surface_pipe = pipe(
+        let equal = stencil_face(C::Equal, S::Keep, S::Keep);
+        let surface = pipe(
             "biri lit surfaces",
             "vs_fullscreen",
             None,
-            Some("fs_surface"),
-            depth_state(
-                C::Always,
-                false,
-                stencil_face(C::Equal, S::Keep, S::Keep),
-                stencil_face(C::Equal, S::Keep, S::Keep),
-            ),
+            Some(if opts.unorm8 {
+                "fs_surface_full"
+            } else {
+                "fs_surface"
+            }),
+            &color(B::Add, all_writes),
+            None,
+            depth_state(C::Always, false, equal, equal),
         );
-        // Step 5 with reference 1: front faces pass on stencil == 1, back faces on stencil == 0
-        // (1 > stencil); front faces always decrement, back faces always increment.
-        let plane_pipe = pipe(
+        // Every crossing, float: one draw, order irrelevant.
+        let all = pipe(
             "biri planes",
             "vs_plane",
-            Some(plane_layout),
+            Some(PLANE_LAYOUT),
             Some("fs_plane"),
-            depth_state(
-                C::Less,
-                false,
-                stencil_face(
-                    if rules { C::Equal } else { C::Always },
-                    S::DecrementWrap,
-                    S::DecrementWrap,
-                ),
-                stencil_face(
-                    if rules { C::Greater } else { C::Always },
-                    S::IncrementWrap,
-                    S::IncrementWrap,
-                ),
-            ),
+            &color(B::Add, all_writes),
+            None,
+            depth_state(C::Less, false, keep, keep),
         );
+        // Step 5 with reference 1: a front face (its far side, where the walk from the visible
+        // point towards the eye comes from, is in shadow) counts on stencil == 1, a back face on
+        // stencil == 0 (1 > stencil). The stencil itself is stepped by a second draw of the same
+        // plane (`step`), because a stencil op on a failed stencil test cannot be told apart from
+        // one on a plane behind the visible point (the test comes before the depth test).
+        let test = |cmp| {
+            if opts.rules {
+                stencil_face(cmp, S::Keep, S::Keep)
+            } else {
+                keep
+            }
+        };
+        let tested = depth_state(C::Less, false, test(C::Equal), test(C::Greater));
+        let color_pipes = if opts.unorm8 {
+            // The paper's blending: front faces add, back faces reverse-subtract, L_dss from the eye.
+            vec![
+                pipe(
+                    "biri planes front",
+                    "vs_plane",
+                    Some(PLANE_LAYOUT),
+                    Some("fs_plane_full"),
+                    &color(B::Add, all_writes),
+                    Some(wgpu::Face::Back),
+                    tested.clone(),
+                ),
+                pipe(
+                    "biri planes back",
+                    "vs_plane",
+                    Some(PLANE_LAYOUT),
+                    Some("fs_plane_full"),
+                    &color(B::ReverseSubtract, all_writes),
+                    Some(wgpu::Face::Front),
+                    tested,
+                ),
+            ]
+        } else {
+            vec![pipe(
+                "biri planes",
+                "vs_plane",
+                Some(PLANE_LAYOUT),
+                Some("fs_plane"),
+                &color(B::Add, all_writes),
+                None,
+                tested,
+            )]
+        };
+        // Walking from the visible point towards the eye: a front face leaves a volume (−1),
+        // a back face enters one (+1); planes behind the visible point fail the depth test.
+        let step = opts.rules.then(|| {
+            pipe(
+                "biri plane stencil step",
+                "vs_plane",
+                Some(PLANE_LAYOUT),
+                Some("fs_plane"),
+                &color(B::Add, wgpu::ColorWrites::empty()),
+                None,
+                depth_state(
+                    C::Less,
+                    false,
+                    stencil_face(C::Always, S::DecrementWrap, S::Keep),
+                    stencil_face(C::Always, S::IncrementWrap, S::Keep),
+                ),
+            )
+        });
+        let pixel = (opts.resolve == Resolve::PerPixel).then(|| {
+            PixelPass::new(
+                gpu,
+                renderer,
+                &module,
+                ctx.width,
+                ctx.height,
+                opts.crossings,
+            )
+        });
         Planes {
             casters,
+            opts,
             depth_view: depth.create_view(&Default::default()),
             acc_view: acc.create_view(&Default::default()),
             layout,
             uniform,
             depth_pipe,
-            count_pipe,
-            surface_pipe,
-            plane_pipe,
+            stencil: StencilPipes {
+                count,
+                surface,
+                all,
+                color: color_pipes,
+                step,
+            },
+            pixel,
             vertices: None,
             ranges: Vec::new(),
         }
+    }
+
+    /// Whether the resolve must add the eye's term −CΓ(w(0)) for lights that see the eye (the
+    /// float stencil path; the unorm8 and per-pixel paths include it).
+    pub fn eye_term(&self) -> bool {
+        self.opts.resolve == Resolve::Stencil && !self.opts.unorm8
     }
 
     /// Steps 1 and 4 on the CPU: silhouettes (only when a light or caster moved), the quads
@@ -288,14 +412,24 @@ impl Planes {
         let mut verts: Vec<[f32; 3]> = Vec::new();
         self.ranges.clear();
         let mut eye_lit = 0u32;
+        let mut slots = vec![0u8; SLOT as usize * crate::common::uniforms::MAX_LIGHTS];
         for (k, light) in planes.iter().enumerate() {
             let first = verts.len() as u32;
             verts.extend(light.quads.iter().flat_map(|q| q.map(|p| p.to_array())));
             if light.eye_count == 0 {
                 eye_lit |= 1 << k;
             }
-            self.ranges.push((first, verts.len() as u32, light.eye_count));
+            self.ranges.push(LightRange {
+                first,
+                end: verts.len() as u32,
+                eye_count: light.eye_count,
+            });
+            if k < crate::common::uniforms::MAX_LIGHTS {
+                let cfg = [k as u32, light.eye_count, self.opts.crossings, 0];
+                slots[k * SLOT as usize..][..16].copy_from_slice(bytemuck::cast_slice(&cfg));
+            }
         }
+        gpu.queue.write_buffer(&self.uniform, 0, &slots);
         report.count("shadow_planes", (verts.len() / 6) as f64);
         if !verts.is_empty() {
             let bytes: &[u8] = bytemuck::cast_slice(&verts);
@@ -317,14 +451,23 @@ impl Planes {
         eye_lit
     }
 
-    /// The depth, count, lit-surface and plane passes of every light into `acc_view`.
+    /// The scene depth pass, then per light either the stencil passes (count, lit surfaces,
+    /// planes) or the per-pixel gather and walk, into `acc_view`.
     pub fn encode(
-        &self,
+        &mut self,
         gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
         table: &wgpu::TextureView,
+        report: &mut FrameReport,
+        timer: &mut Option<PhaseTimer>,
     ) {
+        let mut mark = |enc: &mut wgpu::CommandEncoder, phase| {
+            if let Some(t) = timer.as_mut() {
+                t.mark(enc, phase);
+            }
+        };
+        mark(enc, SURFACES);
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("biri planes"),
             layout: &self.layout,
@@ -347,9 +490,9 @@ impl Planes {
                 },
             ],
         });
-        let ds = |depth: wgpu::LoadOp<f32>, stencil: wgpu::LoadOp<u32>| {
+        let ds = |view, depth: wgpu::LoadOp<f32>, stencil: wgpu::LoadOp<u32>| {
             wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth_view,
+                view,
                 depth_ops: Some(wgpu::Operations {
                     load: depth,
                     store: wgpu::StoreOp::Store,
@@ -364,6 +507,7 @@ impl Planes {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("biri scene depth"),
                 depth_stencil_attachment: Some(ds(
+                    &self.depth_view,
                     wgpu::LoadOp::Clear(1.0),
                     wgpu::LoadOp::Clear(0),
                 )),
@@ -381,24 +525,45 @@ impl Planes {
                 pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
             }
         }
+        if let Some(pixel) = &mut self.pixel {
+            mark(enc, VOLUMES);
+            pixel.encode(
+                gpu,
+                enc,
+                renderer,
+                self.vertices.as_ref(),
+                &self.ranges,
+                table,
+                &self.uniform,
+                &self.depth_view,
+                &self.acc_view,
+                report,
+            );
+            return;
+        }
+        let st = &self.stencil;
+        let per_plane = self.opts.rules || self.opts.unorm8;
         let mut first_color = true;
-        for (k, &(a, b, count)) in self.ranges.iter().enumerate() {
+        for (k, r) in self.ranges.iter().enumerate() {
             let offset = [(k as u64 * SLOT) as u32];
+            let planes = self.vertices.as_ref().filter(|_| r.end > r.first);
+            mark(enc, VOLUMES);
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("biri plane count"),
                     depth_stencil_attachment: Some(ds(
+                        &self.depth_view,
                         wgpu::LoadOp::Load,
-                        wgpu::LoadOp::Clear(count),
+                        wgpu::LoadOp::Clear(r.eye_count),
                     )),
                     ..Default::default()
                 });
-                if b > a {
-                    pass.set_pipeline(&self.count_pipe);
+                if let Some(v) = planes {
+                    pass.set_pipeline(&st.count);
                     pass.set_bind_group(0, &renderer.frame_bind, &[]);
                     pass.set_bind_group(1, &bind, &offset);
-                    pass.set_vertex_buffer(0, self.vertices.as_ref().expect("planes").slice(..));
-                    pass.draw(a..b, 0..1);
+                    pass.set_vertex_buffer(0, v.slice(..));
+                    pass.draw(r.first..r.end, 0..1);
                 }
             }
             let load = if first_color {
@@ -407,30 +572,63 @@ impl Planes {
                 wgpu::LoadOp::Load
             };
             first_color = false;
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("biri ldss planes"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &self.acc_view,
+            let acc_view = &self.acc_view;
+            let depth_view = &self.depth_view;
+            let begin = |enc: &mut wgpu::CommandEncoder, label, load| {
+                let color = [Some(wgpu::RenderPassColorAttachment {
+                    view: acc_view,
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
                         load,
                         store: wgpu::StoreOp::Store,
                     },
-                })],
-                depth_stencil_attachment: Some(ds(wgpu::LoadOp::Load, wgpu::LoadOp::Load)),
-                ..Default::default()
-            });
+                })];
+                enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(label),
+                    color_attachments: &color,
+                    depth_stencil_attachment: Some(ds(
+                        depth_view,
+                        wgpu::LoadOp::Load,
+                        wgpu::LoadOp::Load,
+                    )),
+                    ..Default::default()
+                })
+                .forget_lifetime()
+            };
+            // Step 3 (lit surfaces) in its own pass so the phase timer can tell it apart.
+            mark(enc, SURFACES);
+            {
+                let mut pass = begin(enc, "biri lit surfaces", load);
+                pass.set_bind_group(0, &renderer.frame_bind, &[]);
+                pass.set_bind_group(1, &bind, &offset);
+                pass.set_pipeline(&st.surface);
+                pass.set_stencil_reference(0);
+                pass.draw(0..3, 0..1);
+            }
+            let Some(v) = planes else { continue };
+            mark(enc, VOLUMES);
+            let mut pass = begin(enc, "biri ldss planes", wgpu::LoadOp::Load);
             pass.set_bind_group(0, &renderer.frame_bind, &[]);
             pass.set_bind_group(1, &bind, &offset);
-            pass.set_pipeline(&self.surface_pipe);
-            pass.set_stencil_reference(0);
-            pass.draw(0..3, 0..1);
-            if b > a {
-                pass.set_pipeline(&self.plane_pipe);
-                pass.set_stencil_reference(1);
-                pass.set_vertex_buffer(0, self.vertices.as_ref().expect("planes").slice(..));
-                pass.draw(a..b, 0..1);
+            pass.set_stencil_reference(1);
+            pass.set_vertex_buffer(0, v.slice(..));
+            if !per_plane {
+                pass.set_pipeline(&st.all);
+                pass.draw(r.first..r.end, 0..1);
+                continue;
+            }
+            // Back to front, one plane at a time: its colour under the stencil test, then its
+            // stencil step, so each plane sees the stencil the planes behind it left.
+            for q in (r.first..r.end).step_by(6) {
+                for c in &st.color {
+                    pass.set_pipeline(c);
+                    pass.draw(q..q + 6, 0..1);
+                }
+                if let Some(step) = &st.step {
+                    pass.set_pipeline(step);
+                    pass.draw(q..q + 6, 0..1);
+                }
             }
         }
     }

@@ -42,3 +42,19 @@ fn fs_surface(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let d = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
     return vec4<f32>(ldss_term(gamma_table, cfg.light.x, dir, d), 0.0);
 }
+
+// `accumulate: unorm8` (the paper's 8-bit target): every crossing writes the whole L_dss from the
+// eye to it, front faces added and back faces reverse-subtracted by the blend state, so the
+// eye's term cancels and each value is ≥ 0 as the paper's Fig. 7 shader outputs.
+@fragment
+fn fs_plane_full(v: PlaneOut) -> @location(0) vec4<f32> {
+    let dir = camera_ray_dir(camera, v.clip.xy);
+    return vec4<f32>(ldss(gamma_table, cfg.light.x, dir, length(v.world - camera.position.xyz)), 0.0);
+}
+
+@fragment
+fn fs_surface_full(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let dir = camera_ray_dir(camera, frag.xy);
+    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
+    return vec4<f32>(ldss(gamma_table, cfg.light.x, dir, d), 0.0);
+}

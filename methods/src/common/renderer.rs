@@ -29,7 +29,8 @@ pub struct SceneRenderer {
     pub frame_layout: wgpu::BindGroupLayout,
     pub frame_bind: wgpu::BindGroup,
     surface_pipeline: wgpu::RenderPipeline,
-    depth_view: wgpu::TextureView,
+    /// The surface pass's depth (Depth32Float): later passes over the visible surfaces test against it.
+    pub depth_view: wgpu::TextureView,
     pub distance: wgpu::Texture,
     pub distance_view: wgpu::TextureView,
     /// Whether shadow maps are rendered this run.

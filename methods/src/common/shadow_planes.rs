@@ -33,6 +33,10 @@ pub struct LightPlanes {
 pub struct ShadowCasters {
     /// (object index, its edge mesh in local space).
     casters: Vec<(usize, EdgeMesh)>,
+    /// Per caster: whether it is a closed 2-manifold (silhouette planes), else per-triangle
+    /// planes, with the object's name for the recorded warning.
+    closed: Vec<bool>,
+    names: Vec<String>,
     /// Light positions/directions and caster transforms the silhouettes were built for.
     built_for: Option<(Vec<LightPos>, Vec<Mat4>)>,
     silhouettes: Vec<Vec<[Vec3; 2]>>,
@@ -50,7 +54,7 @@ pub fn light_pos(light: &LightState) -> LightPos {
 impl ShadowCasters {
     /// Every object with `casts_volumetric_shadow`.
     pub fn new(scene: &Scene) -> ShadowCasters {
-        let casters = scene
+        let casters: Vec<(usize, EdgeMesh)> = scene
             .desc
             .objects
             .iter()
@@ -59,6 +63,14 @@ impl ShadowCasters {
             .map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k])))
             .collect();
         ShadowCasters {
+            closed: casters
+                .iter()
+                .map(|(_, m)| m.is_closed_manifold())
+                .collect(),
+            names: casters
+                .iter()
+                .map(|(k, _)| scene.desc.objects[*k].name.clone())
+                .collect(),
             casters,
             built_for: None,
             silhouettes: Vec::new(),
@@ -70,7 +82,9 @@ impl ShadowCasters {
     }
 
     /// Silhouettes (cached), extrusion `reach` metres past each edge, ordering, eye counts.
-    /// Counters: `silhouettes_recomputed`, `silhouette_ms`, `sort_ms`, `silhouette_edges`.
+    /// Counters: `silhouettes_recomputed`, `silhouette_ms`, `sort_ms`, `silhouette_edges`,
+    /// `nonmanifold_casters` (open or non-manifold casters, whose every triangle casts its own
+    /// planes instead; each is also recorded as a skipped "silhouette of <name>").
     pub fn planes(
         &mut self,
         frame: &FrameState,
@@ -94,13 +108,29 @@ impl ShadowCasters {
                 .map(|l| {
                     self.casters
                         .iter()
-                        .flat_map(|(k, m)| m.silhouette(&frame.world_from_local[*k], *l))
+                        .zip(&self.closed)
+                        .flat_map(|((k, m), closed)| {
+                            let w = &frame.world_from_local[*k];
+                            if *closed {
+                                m.silhouette(w, *l)
+                            } else {
+                                m.triangle_edges(w, *l)
+                            }
+                        })
                         .collect()
                 })
                 .collect();
             self.built_for = Some(key);
         }
         report.count("silhouettes_recomputed", moved as u32 as f64);
+        let open = self.closed.iter().filter(|c| !**c).count();
+        report.count("nonmanifold_casters", open as f64);
+        for (name, _) in self.names.iter().zip(&self.closed).filter(|(_, c)| !**c) {
+            report.skip(
+                &format!("silhouette of {name}"),
+                "open or non-manifold mesh: per-triangle shadow planes instead",
+            );
+        }
         report.count("silhouette_ms", t0.elapsed().as_secs_f64() * 1e3);
         let t1 = Instant::now();
         let out: Vec<LightPlanes> = lights
@@ -137,12 +167,13 @@ impl ShadowCasters {
             LightPos::Direction(d) => eye - d * (2.0 * frame.camera.far + 1e4),
         };
         let mut n = 0;
-        for (k, m) in &self.casters {
+        for ((k, m), closed) in self.casters.iter().zip(&self.closed) {
             let w = frame.world_from_local[*k];
             for t in &m.triangles {
                 let [a, b, c] = t.map(|i| w.transform_point3(m.positions[i as usize]));
                 let normal = (b - a).cross(c - a);
-                if normal.dot(source - a) <= 0.0 {
+                // Per-triangle (two-sided) volumes of open casters: every crossed triangle.
+                if *closed && normal.dot(source - a) <= 0.0 {
                     continue;
                 }
                 if segment_hits(source, eye, a, b, c) {
@@ -200,9 +231,18 @@ mod tests {
         let light = light_pos(&frame.lights[0]);
         // Off the poles' axis: a segment through a shared vertex counts every triangle there
         // (a known degenerate case of the triangle count, as with any z-pass seed).
-        assert_eq!(casters.eye_count(&frame, light, Vec3::new(0.07, 0.2, 0.03)), 2);
-        assert_eq!(casters.eye_count(&frame, light, Vec3::new(3.0, 0.2, 0.0)), 0);
-        assert_eq!(casters.eye_count(&frame, light, Vec3::new(0.07, 3.0, 0.03)), 1);
+        assert_eq!(
+            casters.eye_count(&frame, light, Vec3::new(0.07, 0.2, 0.03)),
+            2
+        );
+        assert_eq!(
+            casters.eye_count(&frame, light, Vec3::new(3.0, 0.2, 0.0)),
+            0
+        );
+        assert_eq!(
+            casters.eye_count(&frame, light, Vec3::new(0.07, 3.0, 0.03)),
+            1
+        );
     }
 
     #[test]

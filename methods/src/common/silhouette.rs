@@ -74,14 +74,26 @@ impl EdgeMesh {
         self.edges.len()
     }
 
-    /// Silhouette edges in world space, each oriented as its light-facing face winds it.
-    pub fn silhouette(&self, world_from_local: &Mat4, light: LightPos) -> Vec<[Vec3; 2]> {
+    /// Whether every edge has exactly two faces, traversing it in opposite directions: a closed,
+    /// consistently wound 2-manifold, which silhouette shadow volumes need (Biri et al. §IV.B).
+    pub fn is_closed_manifold(&self) -> bool {
+        let forward = |f: u32, a: u32, b: u32| {
+            let t = self.triangles[f as usize];
+            (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b)
+        };
+        self.edges.iter().all(|(a, b, faces)| {
+            faces.len() == 2 && forward(faces[0], *a, *b) != forward(faces[1], *a, *b)
+        })
+    }
+
+    /// World positions and, per triangle, its normal · direction to the light (> 0: lit side).
+    fn world_facing(&self, world_from_local: &Mat4, light: LightPos) -> (Vec<Vec3>, Vec<f32>) {
         let world: Vec<Vec3> = self
             .positions
             .iter()
             .map(|p| world_from_local.transform_point3(*p))
             .collect();
-        let facing: Vec<bool> = self
+        let facing = self
             .triangles
             .iter()
             .map(|t| {
@@ -95,9 +107,35 @@ impl EdgeMesh {
                     LightPos::Point(l) => l - (a + b + c) / 3.0,
                     LightPos::Direction(d) => -d,
                 };
-                n.dot(to_light) > 0.0
+                n.dot(to_light)
             })
             .collect();
+        (world, facing)
+    }
+
+    /// The fallback for open or non-manifold meshes: every triangle casts its own shadow volume,
+    /// two-sided (an open surface shadows from either side), so its three edges are returned,
+    /// oriented as its light-facing side winds them. Triangles edge-on to the light cast nothing.
+    pub fn triangle_edges(&self, world_from_local: &Mat4, light: LightPos) -> Vec<[Vec3; 2]> {
+        let (world, facing) = self.world_facing(world_from_local, light);
+        let mut out = Vec::with_capacity(3 * self.triangles.len());
+        for (t, f) in self.triangles.iter().zip(facing) {
+            if f == 0.0 {
+                continue;
+            }
+            let p = t.map(|i| world[i as usize]);
+            for k in 0..3 {
+                let (a, b) = (p[k], p[(k + 1) % 3]);
+                out.push(if f > 0.0 { [a, b] } else { [b, a] });
+            }
+        }
+        out
+    }
+
+    /// Silhouette edges in world space, each oriented as its light-facing face winds it.
+    pub fn silhouette(&self, world_from_local: &Mat4, light: LightPos) -> Vec<[Vec3; 2]> {
+        let (world, facing) = self.world_facing(world_from_local, light);
+        let facing: Vec<bool> = facing.into_iter().map(|f| f > 0.0).collect();
         let mut out = Vec::new();
         for (a, b, faces) in &self.edges {
             let lit = faces.iter().filter(|f| facing[**f as usize]).count();
@@ -167,6 +205,23 @@ mod tests {
         for [p, q] in sil {
             assert!(p.y == q.y, "silhouette edges are horizontal");
         }
+    }
+
+    /// Procedural closed shapes are closed 2-manifolds once welded; a plane (open border) and
+    /// the fence (touching bars share edges among four faces) are not.
+    #[test]
+    fn closed_manifold_detection() {
+        use scenes::mesh::procedural as p;
+        assert!(EdgeMesh::new(&p::sphere(1.0, 24, 12)).is_closed_manifold());
+        assert!(EdgeMesh::new(&p::cuboid(Vec3::ONE)).is_closed_manifold());
+        assert!(EdgeMesh::new(&p::cylinder(0.5, 2.0, 16)).is_closed_manifold());
+        assert!(EdgeMesh::new(&p::pencil(0.05, 1.0, 0.1)).is_closed_manifold());
+        assert!(!EdgeMesh::new(&p::plane(2.0, 2.0)).is_closed_manifold());
+        assert!(!EdgeMesh::new(&p::fence(2.0, 1.0, 3, 2, 0.1)).is_closed_manifold());
+        let quad = EdgeMesh::new(&p::plane(2.0, 2.0));
+        let edges =
+            quad.triangle_edges(&Mat4::IDENTITY, LightPos::Point(Vec3::new(0.0, -3.0, 0.0)));
+        assert_eq!(edges.len(), 6, "two triangles, lit from below (two-sided)");
     }
 
     /// Extruded quads point away from the light and start at the edge.
