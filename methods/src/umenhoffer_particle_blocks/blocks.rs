@@ -1,0 +1,441 @@
+//! CPU side of the particle hierarchy: the scene's particles grouped into `blocks` spatial
+//! clusters (balanced k-d splits), and what the GPU draws from them — one *primitive* per block
+//! (or per particle, unblocked), the impostor *tiles* and the particles rendered into them.
+//!
+//! Two ways to map clusters to impostors (the knob `instancing`):
+//! - `prototype` (the paper): ONE block of b = N/blocks particles — the cluster nearest the
+//!   cloud's centre, recentred — is rendered into one impostor per direction (light, camera) and
+//!   instanced at every cluster's centroid, scaled to the cluster's spread (RMS radius) and with
+//!   its extinction scaled so the instance's optical mass Σ τ·V equals the cluster's. Cost:
+//!   b impostor splats + N/b block splats. The geometry is approximate (every block looks alike);
+//!   that error is part of what is measured.
+//! - `clusters`: every cluster gets its own impostor pair from its own particles (exact
+//!   geometry up to impostor resolution); cost N impostor splats + N/b block splats.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use scenes::particles::Particle;
+
+/// One billboard the light pass and the final gathering draw. Mirrors `Prim` in common.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct Prim {
+    /// xyz: centre (m); w: half-size of the billboard (m) — the block's (or sphere's) bounding radius.
+    pub center: [f32; 4],
+    /// rgb: albedo; w: τ (1/m) of an analytic sphere, or the extinction multiplier of an instance.
+    pub albedo: [f32; 4],
+    /// x: instance scale (world m per prototype m); y: light tile (−1: analytic sphere);
+    /// z: camera tile; w: unused.
+    pub extra: [f32; 4],
+}
+
+/// One particle splatted into an impostor tile. Mirrors `ImpParticle` in common.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct ImpParticle {
+    /// xyz: centre relative to its block's centroid (prototype metres); w: radius.
+    pub pos: [f32; 4],
+    /// x: τ (1/m); y: light tile; z: camera tile; w: unused.
+    pub data: [f32; 4],
+}
+
+/// An impostor tile's orthographic frame for this frame. Mirrors `Tile` in common.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct Tile {
+    /// xyz: right; w: half-extent h of the tile (prototype metres).
+    pub right: [f32; 4],
+    /// xyz: up.
+    pub up: [f32; 4],
+    /// xyz: forward (the direction the impostor is rendered along).
+    pub fwd: [f32; 4],
+}
+
+/// How clusters become impostors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Instancing {
+    Prototype,
+    Clusters,
+}
+
+/// Which way a tile looks, decided per frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TileView {
+    /// Along the light, toward this anchor (a cluster centroid or the cloud's centroid).
+    Light(Vec3),
+    /// Along the camera ray toward this anchor.
+    Camera(Vec3),
+}
+
+/// Everything the passes draw, built once in `prepare`.
+pub struct BlockSet {
+    /// Unsorted; the gather sorts them back to front each frame.
+    pub prims: Vec<Prim>,
+    pub imp: Vec<ImpParticle>,
+    /// One per tile: its direction rule and half-extent.
+    pub tiles: Vec<(TileView, f32)>,
+    /// Particles per block (mean), for the report.
+    pub per_block: f64,
+    /// Centroid of all particles.
+    pub centroid: Vec3,
+}
+
+/// A stable orthonormal (right, up) pair perpendicular to `dir`; the same rule as `basis_of`
+/// in common.wgsl, so a cluster's tile and its billboard share their orientation.
+pub fn basis_of(dir: Vec3) -> (Vec3, Vec3) {
+    let up_ref = if dir.y.abs() > 0.99 { Vec3::X } else { Vec3::Y };
+    let right = dir.cross(up_ref).normalize();
+    (right, right.cross(dir))
+}
+
+/// Splits particle indices into `k` spatial clusters of (nearly) equal counts: recursive
+/// median-style splits along the longest axis of the centres' bounds, each side receiving a
+/// share of the clusters proportional to its share of the particles. Deterministic.
+pub fn kd_clusters(ps: &[Particle], k: usize) -> Vec<Vec<usize>> {
+    let mut out = Vec::with_capacity(k);
+    let mut idx: Vec<usize> = (0..ps.len()).collect();
+    split(ps, &mut idx, k.clamp(1, ps.len().max(1)), &mut out);
+    out
+}
+
+/// k-d clusters refined by `iters` Lloyd (k-means) steps: k-d cells are boxes and slabs, whose
+/// shapes differ from cell to cell; Voronoi cells of a uniform cloud are rounder and alike,
+/// which is what instancing one prototype block assumes. Clusters that empty are dropped.
+pub fn clusters(ps: &[Particle], k: usize, iters: usize) -> Vec<Vec<usize>> {
+    let mut cl = kd_clusters(ps, k);
+    for _ in 0..iters {
+        let cents: Vec<Vec3> = cl
+            .iter()
+            .map(|c| c.iter().map(|&i| ps[i].center).sum::<Vec3>() / c.len().max(1) as f32)
+            .collect();
+        let mut next: Vec<Vec<usize>> = vec![Vec::new(); cents.len()];
+        for (i, p) in ps.iter().enumerate() {
+            let mut best = (f32::INFINITY, 0);
+            for (j, c) in cents.iter().enumerate() {
+                let d = (p.center - *c).length_squared();
+                if d < best.0 {
+                    best = (d, j);
+                }
+            }
+            next[best.1].push(i);
+        }
+        next.retain(|c| !c.is_empty());
+        cl = next;
+    }
+    cl
+}
+
+fn split(ps: &[Particle], idx: &mut [usize], k: usize, out: &mut Vec<Vec<usize>>) {
+    if k <= 1 || idx.len() <= 1 {
+        out.push(idx.to_vec());
+        return;
+    }
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for &i in idx.iter() {
+        lo = lo.min(ps[i].center);
+        hi = hi.max(ps[i].center);
+    }
+    let ext = hi - lo;
+    let axis = if ext.x >= ext.y && ext.x >= ext.z {
+        0
+    } else if ext.y >= ext.z {
+        1
+    } else {
+        2
+    };
+    let k_left = k / 2;
+    let n_left = (idx.len() * k_left / k).clamp(1, idx.len() - 1);
+    idx.select_nth_unstable_by(n_left, |a, b| {
+        ps[*a].center[axis].total_cmp(&ps[*b].center[axis])
+    });
+    let (l, r) = idx.split_at_mut(n_left);
+    split(ps, l, k_left, out);
+    split(ps, r, k - k_left, out);
+}
+
+/// Centroid, RMS spread about it, optical mass Σ τ r³ and mass-weighted albedo of a cluster.
+struct Stats {
+    centroid: Vec3,
+    rms: f32,
+    mass: f64,
+    albedo: Vec3,
+    /// max |p − centroid| + r.
+    bound: f32,
+}
+
+fn stats(ps: &[Particle], members: &[usize]) -> Stats {
+    let n = members.len().max(1) as f32;
+    let centroid = members.iter().map(|&i| ps[i].center).sum::<Vec3>() / n;
+    let rms = (members
+        .iter()
+        .map(|&i| (ps[i].center - centroid).length_squared())
+        .sum::<f32>()
+        / n)
+        .sqrt();
+    let mass: f64 = members
+        .iter()
+        .map(|&i| ps[i].density as f64 * (ps[i].radius as f64).powi(3))
+        .sum();
+    let albedo = if mass > 0.0 {
+        members
+            .iter()
+            .map(|&i| ps[i].albedo * (ps[i].density * ps[i].radius.powi(3)))
+            .sum::<Vec3>()
+            / mass as f32
+    } else {
+        members.iter().map(|&i| ps[i].albedo).sum::<Vec3>() / n
+    };
+    let bound = members
+        .iter()
+        .map(|&i| (ps[i].center - centroid).length() + ps[i].radius)
+        .fold(0.0f32, f32::max);
+    Stats {
+        centroid,
+        rms,
+        mass,
+        albedo,
+        bound,
+    }
+}
+
+/// One primitive per particle: the unblocked splat (analytic spheres, no impostors).
+pub fn unblocked(ps: &[Particle]) -> BlockSet {
+    let prims = ps
+        .iter()
+        .map(|p| Prim {
+            center: [p.center.x, p.center.y, p.center.z, p.radius],
+            albedo: [p.albedo.x, p.albedo.y, p.albedo.z, p.density],
+            extra: [1.0, -1.0, -1.0, 0.0],
+        })
+        .collect();
+    BlockSet {
+        prims,
+        imp: Vec::new(),
+        tiles: Vec::new(),
+        per_block: 1.0,
+        centroid: centroid(ps),
+    }
+}
+
+fn centroid(ps: &[Particle]) -> Vec3 {
+    ps.iter().map(|p| p.center).sum::<Vec3>() / ps.len().max(1) as f32
+}
+
+/// Lloyd steps after the k-d split.
+pub const LLOYD_STEPS: usize = 4;
+
+/// `blocks` clusters as impostor-backed primitives (see the module doc).
+pub fn blocked(ps: &[Particle], blocks: usize, mode: Instancing) -> BlockSet {
+    let clusters = clusters(ps, blocks, LLOYD_STEPS);
+    let all = centroid(ps);
+    let st: Vec<Stats> = clusters.iter().map(|c| stats(ps, c)).collect();
+    let per_block = ps.len() as f64 / clusters.len().max(1) as f64;
+    let mut prims = Vec::with_capacity(clusters.len());
+    let mut imp = Vec::new();
+    let mut tiles = Vec::new();
+    // Padding so rasterised particle quads never spill over a tile's border.
+    const PAD: f32 = 1.02;
+    match mode {
+        Instancing::Clusters => {
+            for (c, s) in clusters.iter().zip(&st) {
+                let (tl, tc) = (tiles.len() as f32, tiles.len() as f32 + 1.0);
+                tiles.push((TileView::Light(s.centroid), s.bound * PAD));
+                tiles.push((TileView::Camera(s.centroid), s.bound * PAD));
+                for &i in c {
+                    let p = &ps[i];
+                    let d = p.center - s.centroid;
+                    imp.push(ImpParticle {
+                        pos: [d.x, d.y, d.z, p.radius],
+                        data: [p.density, tl, tc, 0.0],
+                    });
+                }
+                prims.push(Prim {
+                    center: [s.centroid.x, s.centroid.y, s.centroid.z, s.bound * PAD],
+                    albedo: [s.albedo.x, s.albedo.y, s.albedo.z, 1.0],
+                    extra: [1.0, tl, tc, 0.0],
+                });
+            }
+        }
+        Instancing::Prototype => {
+            // The most representative block: the cluster whose centroid is nearest the cloud's.
+            let proto = (0..clusters.len())
+                .min_by(|&a, &b| {
+                    (st[a].centroid - all)
+                        .length_squared()
+                        .total_cmp(&(st[b].centroid - all).length_squared())
+                })
+                .unwrap_or(0);
+            let ps_proto = &st[proto];
+            tiles.push((TileView::Light(all), ps_proto.bound * PAD));
+            tiles.push((TileView::Camera(all), ps_proto.bound * PAD));
+            for &i in &clusters[proto] {
+                let p = &ps[i];
+                let d = p.center - ps_proto.centroid;
+                imp.push(ImpParticle {
+                    pos: [d.x, d.y, d.z, p.radius],
+                    data: [p.density, 0.0, 1.0, 0.0],
+                });
+            }
+            let rms_p = ps_proto.rms.max(1e-6);
+            for s in &st {
+                // A one-particle prototype has no spread: scale by size instead of by spread.
+                let scale = if clusters[proto].len() > 1 && s.rms > 0.0 {
+                    s.rms / rms_p
+                } else {
+                    s.bound / ps_proto.bound.max(1e-6)
+                };
+                let tau_mul = if ps_proto.mass > 0.0 {
+                    (s.mass / (ps_proto.mass * (scale as f64).powi(3))) as f32
+                } else {
+                    0.0
+                };
+                prims.push(Prim {
+                    center: [
+                        s.centroid.x,
+                        s.centroid.y,
+                        s.centroid.z,
+                        ps_proto.bound * PAD * scale,
+                    ],
+                    albedo: [s.albedo.x, s.albedo.y, s.albedo.z, tau_mul],
+                    extra: [scale, 0.0, 1.0, 0.0],
+                });
+            }
+        }
+    }
+    BlockSet {
+        prims,
+        imp,
+        tiles,
+        per_block,
+        centroid: all,
+    }
+}
+
+/// This frame's tile frames: light tiles look along the light (directional: its propagation
+/// direction; local: from the light to the anchor), camera tiles from the eye to the anchor.
+pub fn tile_frames(
+    tiles: &[(TileView, f32)],
+    eye: Vec3,
+    light_dir: Option<Vec3>,
+    light_pos: Option<Vec3>,
+) -> Vec<Tile> {
+    tiles
+        .iter()
+        .map(|&(view, h)| {
+            let fwd = match view {
+                TileView::Camera(a) => (a - eye).try_normalize().unwrap_or(Vec3::Z),
+                TileView::Light(a) => match (light_dir, light_pos) {
+                    (Some(d), _) => d,
+                    (None, Some(p)) => (a - p).try_normalize().unwrap_or(Vec3::NEG_Y),
+                    (None, None) => Vec3::NEG_Y,
+                },
+            };
+            let (r, u) = basis_of(fwd);
+            Tile {
+                right: [r.x, r.y, r.z, h],
+                up: [u.x, u.y, u.z, 0.0],
+                fwd: [fwd.x, fwd.y, fwd.z, 0.0],
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(n: usize) -> Vec<Particle> {
+        (0..n)
+            .map(|i| Particle {
+                center: Vec3::new((i % 10) as f32, ((i / 10) % 10) as f32, (i / 100) as f32),
+                radius: 0.3 + 0.01 * (i % 7) as f32,
+                density: 1.0 + (i % 3) as f32,
+                albedo: Vec3::splat(0.9),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn clusters_partition_the_particles_into_balanced_groups() {
+        let ps = grid(1000);
+        for k in [1usize, 7, 40, 400, 1000, 5000] {
+            let cl = kd_clusters(&ps, k);
+            assert_eq!(cl.len(), k.min(1000), "k = {k}");
+            let mut seen: Vec<usize> = cl.iter().flatten().copied().collect();
+            seen.sort();
+            assert_eq!(seen, (0..1000).collect::<Vec<_>>());
+            let (lo, hi) = (
+                cl.iter().map(Vec::len).min().unwrap(),
+                cl.iter().map(Vec::len).max().unwrap(),
+            );
+            assert!(hi <= lo + 2 + hi / 4, "k = {k}: sizes {lo}..{hi}");
+        }
+    }
+
+    #[test]
+    fn clusters_are_spatially_compact() {
+        // 40 clusters of a 10×10×10 grid: each should span far less than the whole grid, and
+        // the Lloyd steps keep every particle exactly once.
+        let ps = grid(1000);
+        let cl = clusters(&ps, 40, LLOYD_STEPS);
+        let mut seen: Vec<usize> = cl.iter().flatten().copied().collect();
+        seen.sort();
+        assert_eq!(seen, (0..1000).collect::<Vec<_>>());
+        for c in cl {
+            let s = stats(&ps, &c);
+            assert!(s.bound < 4.5, "cluster bound {}", s.bound);
+        }
+    }
+
+    #[test]
+    fn prototype_instances_preserve_each_clusters_optical_mass() {
+        let ps = grid(1000);
+        let set = blocked(&ps, 40, Instancing::Prototype);
+        assert_eq!(set.prims.len(), 40);
+        assert_eq!(set.tiles.len(), 2);
+        let proto_mass: f64 = set
+            .imp
+            .iter()
+            .map(|q| q.data[0] as f64 * (q.pos[3] as f64).powi(3))
+            .sum();
+        let clusters = clusters(&ps, 40, LLOYD_STEPS);
+        let mut total_inst = 0.0;
+        for p in &set.prims {
+            let (k, s) = (p.albedo[3] as f64, p.extra[0] as f64);
+            total_inst += k * s.powi(3) * proto_mass;
+        }
+        let total: f64 = clusters.iter().map(|c| stats(&ps, c).mass).sum();
+        assert!(
+            (total_inst / total - 1.0).abs() < 1e-4,
+            "{total_inst} vs {total}"
+        );
+    }
+
+    #[test]
+    fn cluster_mode_keeps_every_particle_exactly() {
+        let ps = grid(300);
+        let set = blocked(&ps, 20, Instancing::Clusters);
+        assert_eq!(set.imp.len(), 300);
+        assert_eq!(set.tiles.len(), 40);
+        // Every impostor particle lies inside its tile's extent.
+        for q in &set.imp {
+            let h = set.tiles[q.data[1] as usize].1;
+            let d = Vec3::new(q.pos[0], q.pos[1], q.pos[2]).length() + q.pos[3];
+            assert!(d <= h, "{d} > {h}");
+        }
+    }
+
+    #[test]
+    fn basis_is_orthonormal_and_perpendicular() {
+        for d in [
+            Vec3::X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::new(0.3, -1.0, 0.2).normalize(),
+        ] {
+            let (r, u) = basis_of(d);
+            assert!((r.length() - 1.0).abs() < 1e-5 && (u.length() - 1.0).abs() < 1e-5);
+            assert!(r.dot(d).abs() < 1e-5 && u.dot(d).abs() < 1e-5 && r.dot(u).abs() < 1e-5);
+        }
+    }
+}

@@ -1,0 +1,292 @@
+// Shared by every pass of umenhoffer-particle-blocks and particle-splat: the method's bindings
+// (group 1; each pass's layout holds only the bindings its entry points use), billboard frames,
+// the light map's projection, impostor-tile and analytic-sphere intervals, the slice lookup
+// (Umenhoffer et al. §2.3) and the light's radiance arriving at a point. Needs PRELUDE.
+
+struct Pb {
+    // xyz: light-map right axis; w: projection (0 orthographic / directional, 1 perspective)
+    light_u: vec4<f32>,
+    // xyz: light-map up axis; w: light-map resolution (texels)
+    light_v: vec4<f32>,
+    // xyz: light-map axis (directional: the propagation direction); w: 1 if the scene has a light
+    light_w: vec4<f32>,
+    // xyz: map centre (orthographic) or light position (perspective);
+    // w: half extent (m, orthographic) or tan of the half angle (perspective)
+    light_p: vec4<f32>,
+    // depths of slices 0..3 and 4..7 along the light (m)
+    slices_a: vec4<f32>,
+    slices_b: vec4<f32>,
+    // x: depth where the cloud starts along the light; y: where it ends; z: slice count S (4 or 8);
+    // w: forward-scattering approximation (0/1)
+    range: vec4<f32>,
+    // x: tile columns; y: tile resolution (texels); z: impostor particles per direction; w: atlas size
+    atlas: vec4<f32>,
+    // x: clip_fix (0/1); y: background-medium march steps (0: none); z, w: unused
+    flags: vec4<f32>,
+    // rgb: sky radiance
+    sky: vec4<f32>,
+};
+
+struct Prim {
+    // xyz: centre (m); w: billboard half-size (m)
+    center: vec4<f32>,
+    // rgb: albedo; w: τ of an analytic sphere (1/m) or an instance's extinction multiplier
+    albedo: vec4<f32>,
+    // x: instance scale; y: light tile (< 0: analytic sphere); z: camera tile; w: unused
+    extra: vec4<f32>,
+};
+
+struct Tile {
+    // xyz: right; w: half-extent (prototype m)
+    right: vec4<f32>,
+    up: vec4<f32>,
+    fwd: vec4<f32>,
+};
+
+struct ImpParticle {
+    // xyz: offset from the block centroid (prototype m); w: radius
+    pos: vec4<f32>,
+    // x: τ; y: light tile; z: camera tile; w: unused
+    data: vec4<f32>,
+};
+
+@group(1) @binding(0) var<uniform> pb: Pb;
+@group(1) @binding(1) var<storage, read> prims: array<Prim>;
+@group(1) @binding(2) var<storage, read> tiles: array<Tile>;
+@group(1) @binding(3) var<storage, read> imp: array<ImpParticle>;
+// Impostor atlas: r = min front depth, g = min(−back depth), a = Σ τ·chord (prototype units).
+@group(1) @binding(4) var atlas: texture_2d<f32>;
+// Light slices: accumulated particle optical depth up to slice depths 0..3 and 4..7.
+@group(1) @binding(5) var slices0: texture_2d<f32>;
+@group(1) @binding(6) var slices1: texture_2d<f32>;
+@group(1) @binding(7) var ray_distance: texture_2d<f32>;
+// rgb: the cloud's in-scatter; a: its accumulated opacity.
+@group(1) @binding(8) var gathered: texture_2d<f32>;
+// The shared surface pass's output (mesh shadows, background attenuation; no particle shadows).
+@group(1) @binding(9) var surface_in: texture_2d<f32>;
+
+// Corner v (0..5) of a quad of two triangles, in [−1, 1]².
+fn quad_corner(v: u32) -> vec2<f32> {
+    let x = select(-1.0, 1.0, v == 1u || v == 2u || v == 4u);
+    let y = select(-1.0, 1.0, v == 2u || v == 4u || v == 5u);
+    return vec2<f32>(x, y);
+}
+
+// How much larger than its bounding radius R a billboard at distance d from a perspective
+// viewer must be: the bounding sphere's silhouette cone meets the billboard plane at radius
+// R/√(1 − R²/d²). Capped at 4 (a viewer inside the bounds cannot be covered by a billboard).
+fn grow_for(radius: f32, d: f32) -> f32 {
+    let s = clamp(radius / max(d, 1e-6), 0.0, 0.97);
+    return min(1.0 / sqrt(1.0 - s * s), 4.0);
+}
+
+struct Basis {
+    right: vec3<f32>,
+    up: vec3<f32>,
+};
+
+// Same rule as blocks::basis_of in Rust.
+fn basis_of(dir: vec3<f32>) -> Basis {
+    var up_ref = vec3<f32>(0.0, 1.0, 0.0);
+    if (abs(dir.y) > 0.99) { up_ref = vec3<f32>(1.0, 0.0, 0.0); }
+    let right = normalize(cross(dir, up_ref));
+    return Basis(right, cross(right, dir));
+}
+
+fn is_perspective() -> bool {
+    return pb.light_u.w > 0.5;
+}
+
+// Clip position of world point x in the light map.
+fn light_clip(x: vec3<f32>) -> vec4<f32> {
+    let q = x - pb.light_p.xyz;
+    if (is_perspective()) {
+        let z = dot(q, pb.light_w.xyz);
+        return vec4<f32>(dot(q, pb.light_u.xyz) / pb.light_p.w, dot(q, pb.light_v.xyz) / pb.light_p.w, 0.0, z);
+    }
+    return vec4<f32>(dot(q, pb.light_u.xyz) / pb.light_p.w, dot(q, pb.light_v.xyz) / pb.light_p.w, 0.0, 1.0);
+}
+
+struct LightCoord {
+    uv: vec2<f32>,
+    // depth along the light: x·dir (directional) or the distance to the light (m)
+    depth: f32,
+    // metres per unit of uv at x
+    span: f32,
+    ok: bool,
+};
+
+fn light_coord(x: vec3<f32>) -> LightCoord {
+    let c = light_clip(x);
+    if (c.w <= 1e-6) { return LightCoord(vec2<f32>(0.0), 0.0, 1.0, false); }
+    let ndc = c.xy / c.w;
+    let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    let inside = all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
+    if (is_perspective()) {
+        return LightCoord(uv, length(x - pb.light_p.xyz), 2.0 * c.w * pb.light_p.w, inside);
+    }
+    return LightCoord(uv, dot(x, pb.light_w.xyz), 2.0 * pb.light_p.w, inside);
+}
+
+// The ray along which the light map sees world point x: origin at depth 0, unit direction.
+struct Ray {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+};
+
+fn light_ray(x: vec3<f32>) -> Ray {
+    if (is_perspective()) {
+        return Ray(pb.light_p.xyz, normalize(x - pb.light_p.xyz));
+    }
+    let d = pb.light_w.xyz;
+    return Ray(x - d * dot(x, d), d);
+}
+
+// A primitive's extent along a ray: [near, far] (ray parameter, m), its optical depth, and the
+// ray parameter of its billboard plane (what plain billboard clipping compares with).
+struct Interval {
+    near: f32,
+    far: f32,
+    tau: f32,
+    plane: f32,
+    ok: bool,
+};
+
+// Bilinear optical depth and the min front / max back depth of the non-empty texels around
+// quad coordinate q of a tile.
+struct TileSample {
+    front: f32,
+    back: f32,
+    tau: f32,
+};
+
+fn sample_tile(tile: u32, q: vec2<f32>) -> TileSample {
+    let cols = u32(pb.atlas.x);
+    let res = pb.atlas.y;
+    let origin = vec2<f32>(f32(tile % cols), f32(tile / cols)) * res;
+    let f = vec2<f32>(0.5 + 0.5 * q.x, 0.5 - 0.5 * q.y) * res - 0.5;
+    let i0 = floor(f);
+    let w = f - i0;
+    var s = TileSample(1e30, -1e30, 0.0);
+    for (var k = 0u; k < 4u; k++) {
+        let hx = (k & 1u) == 1u;
+        let hy = (k >> 1u) == 1u;
+        let o = vec2<f32>(select(0.0, 1.0, hx), select(0.0, 1.0, hy));
+        let ij = clamp(i0 + o, vec2<f32>(0.0), vec2<f32>(res - 1.0));
+        let t = textureLoad(atlas, vec2<i32>(origin + ij), 0);
+        let wk = select(1.0 - w.x, w.x, hx) * select(1.0 - w.y, w.y, hy);
+        if (t.a > 0.0) {
+            s.tau += wk * t.a;
+            s.front = min(s.front, t.r);
+            s.back = max(s.back, -t.g);
+        }
+    }
+    return s;
+}
+
+// Primitive p along ray r. Analytic spheres use the exact chord; blocks read their impostor
+// tile (`tile`) at the ray's perpendicular offset from the block centre, in a frame
+// perpendicular to the ray itself — not at the billboard-plane intersection — so a perspective
+// ray sees the orthographic impostor as if it were rendered along that ray (exact for a sphere;
+// the plane intersection overstates the offset by 1/cos of the ray's angle to the axis).
+fn prim_interval(p: Prim, tile: f32, r: Ray) -> Interval {
+    let oc = p.center.xyz - r.origin;
+    let tc = dot(oc, r.dir);
+    let off = r.dir * tc - oc;
+    let b = basis_of(r.dir);
+    let q = vec2<f32>(dot(off, b.right), dot(off, b.up)) / p.center.w;
+    if (tile < 0.0) {
+        let rad = p.center.w;
+        let h2 = rad * rad - (dot(oc, oc) - tc * tc);
+        if (h2 <= 0.0) { return Interval(0.0, 0.0, 0.0, tc, false); }
+        let h = sqrt(h2);
+        return Interval(tc - h, tc + h, p.albedo.w * 2.0 * h, tc, true);
+    }
+    if (any(abs(q) > vec2<f32>(1.0))) { return Interval(0.0, 0.0, 0.0, tc, false); }
+    let s = sample_tile(u32(tile), q);
+    if (s.tau <= 0.0) { return Interval(0.0, 0.0, 0.0, tc, false); }
+    let scale = p.extra.x;
+    return Interval(tc + s.front * scale, tc + s.back * scale, s.tau * scale * p.albedo.w, tc, true);
+}
+
+// The light-map texel values of both slice textures around uv (bilinear, by hand: Rgba32Float
+// is not filterable everywhere).
+struct Slices {
+    a: vec4<f32>,
+    b: vec4<f32>,
+};
+
+fn load_slices(uv: vec2<f32>) -> Slices {
+    let res = pb.light_v.w;
+    let f = uv * res - 0.5;
+    let i0 = floor(f);
+    let w = f - i0;
+    var s = Slices(vec4<f32>(0.0), vec4<f32>(0.0));
+    for (var k = 0u; k < 4u; k++) {
+        let hx = (k & 1u) == 1u;
+        let hy = (k >> 1u) == 1u;
+        let o = vec2<f32>(select(0.0, 1.0, hx), select(0.0, 1.0, hy));
+        let ij = vec2<i32>(clamp(i0 + o, vec2<f32>(0.0), vec2<f32>(res - 1.0)));
+        let wk = select(1.0 - w.x, w.x, hx) * select(1.0 - w.y, w.y, hy);
+        s.a += wk * textureLoad(slices0, ij, 0);
+        s.b += wk * textureLoad(slices1, ij, 0);
+    }
+    return s;
+}
+
+// Optical depth at light depth d, linear between the enclosing slices (§2.3): a sum of ramps,
+// one per slice interval, so no component is indexed dynamically.
+fn depth_from_slices(v: Slices, d: f32) -> f32 {
+    let a = pb.slices_a;
+    let lo = vec4<f32>(pb.range.x, a.x, a.y, a.z);
+    let r0 = clamp((vec4<f32>(d) - lo) / max(a - lo, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
+    var tau = dot(r0, v.a - vec4<f32>(0.0, v.a.x, v.a.y, v.a.z));
+    if (pb.range.z > 4.5) {
+        let b = pb.slices_b;
+        let lo2 = vec4<f32>(a.w, b.x, b.y, b.z);
+        let r1 = clamp((vec4<f32>(d) - lo2) / max(b - lo2, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
+        tau += dot(r1, v.b - vec4<f32>(v.a.w, v.b.x, v.b.y, v.b.z));
+    }
+    return tau;
+}
+
+// Particle optical depth between the light and x. With the forward-scattering approximation
+// the transmittance is averaged over a cone of taps around the light ray, widening with the
+// depth travelled in the cloud (light scattered slightly forward fills in shadows).
+fn light_optical_depth(x: vec3<f32>) -> f32 {
+    if (pb.light_w.w < 0.5) { return 0.0; }
+    let c = light_coord(x);
+    if (!c.ok) { return 0.0; }
+    if (pb.range.w < 0.5) {
+        return depth_from_slices(load_slices(c.uv), c.depth);
+    }
+    let radius = 0.2 * max(c.depth - pb.range.x, 0.0) / c.span;
+    var t = exp(-depth_from_slices(load_slices(c.uv), c.depth));
+    t += exp(-depth_from_slices(load_slices(c.uv + vec2<f32>(radius, 0.0)), c.depth));
+    t += exp(-depth_from_slices(load_slices(c.uv - vec2<f32>(radius, 0.0)), c.depth));
+    t += exp(-depth_from_slices(load_slices(c.uv + vec2<f32>(0.0, radius)), c.depth));
+    t += exp(-depth_from_slices(load_slices(c.uv - vec2<f32>(0.0, radius)), c.depth));
+    return -log(max(t / 5.0, 1e-30));
+}
+
+// p(θ) · I(ω) · V (· e^(−σt r) / r² for local lights) at x, toward the eye along `to_eye`,
+// without the particles' shadow. Light 0 only (the method's limit).
+fn light_radiance(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
+    if (lights.count.x == 0u) { return vec3<f32>(0.0); }
+    let vis = shadow_visibility(0u, x);
+    if (light_kind(0u) == LIGHT_DIRECTIONAL) {
+        let l = lights.lights[0].direction.xyz;
+        return lights.lights[0].intensity.rgb * (phase(medium, dot(l, to_eye)) * vis);
+    }
+    let w = x - lights.lights[0].position.xyz;
+    let r2 = max(dot(w, w), 1e-12);
+    let r = sqrt(r2);
+    return light_intensity(0u, w) * transmittance(medium, r) * (phase(medium, dot(w / r, to_eye)) * vis / r2);
+}
+
+// What σ_s multiplies in DESIGN §1's L_in at x: the light's radiance times the particles'
+// transmittance toward the light (from the slices).
+fn incident(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
+    if (lights.count.x == 0u) { return vec3<f32>(0.0); }
+    return light_radiance(x, to_eye) * exp(-light_optical_depth(x));
+}

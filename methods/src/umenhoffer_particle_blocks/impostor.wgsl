@@ -1,0 +1,45 @@
+// Depth impostors (Umenhoffer et al. §2.1): the particles of a block rendered orthographically
+// into its tile, one pass computing three things with one blend state — front depth (min),
+// back depth (min of its negation) and optical depth Σ τ·chord (additive alpha, the
+// separate-alpha blend). Instance i < M draws particle i into its light tile, i ≥ M into its
+// camera tile. Needs PRELUDE and common.wgsl.
+
+struct ImpOut {
+    @builtin(position) clip: vec4<f32>,
+    // quad coordinate in units of the particle radius
+    @location(0) q: vec2<f32>,
+    // x: radius; y: τ; z: the centre's depth along the tile's forward axis
+    @location(1) @interpolate(flat) data: vec3<f32>,
+};
+
+@vertex
+fn vs_impostor(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> ImpOut {
+    let m = u32(pb.atlas.z);
+    let e = imp[i % m];
+    let tile = u32(select(e.data.y, e.data.z, i >= m));
+    let t = tiles[tile];
+    let h = t.right.w;
+    let corner = quad_corner(v);
+    let p = e.pos.xyz;
+    let r = e.pos.w;
+    let local = (vec2<f32>(dot(p, t.right.xyz), dot(p, t.up.xyz)) + corner * r) / h;
+    let cols = u32(pb.atlas.x);
+    let res = pb.atlas.y;
+    let origin = vec2<f32>(f32(tile % cols), f32(tile / cols)) * res;
+    let texel = origin + vec2<f32>(0.5 + 0.5 * local.x, 0.5 - 0.5 * local.y) * res;
+    let size = pb.atlas.w;
+    let ndc = vec2<f32>(2.0 * texel.x / size - 1.0, 1.0 - 2.0 * texel.y / size);
+    var out: ImpOut;
+    out.clip = vec4<f32>(ndc, 0.0, 1.0);
+    out.q = corner;
+    out.data = vec3<f32>(r, e.data.x, dot(p, t.fwd.xyz));
+    return out;
+}
+
+@fragment
+fn fs_impostor(in: ImpOut) -> @location(0) vec4<f32> {
+    let rho2 = 1.0 - dot(in.q, in.q);
+    if (rho2 <= 0.0) { discard; }
+    let hc = in.data.x * sqrt(rho2);
+    return vec4<f32>(in.data.z - hc, -(in.data.z + hc), 0.0, in.data.y * 2.0 * hc);
+}

@@ -1,0 +1,553 @@
+//! `umenhoffer-particle-blocks` and its baseline `particle-splat`: particle media rendered as
+//! billboards with a light pass and back-to-front final gathering, the method grouping the
+//! particles into blocks replaced by depth impostors.
+//!
+//! Algorithm (Umenhoffer, Szirmay-Kalos, Szijártó — *Participating media as hierarchies of
+//! particle blocks*, 2006): the scene's N particles are grouped into `blocks` spatial clusters.
+//! Each block is a *depth impostor* per direction (light, camera): a small tile holding, per
+//! texel, the block's front depth, back depth and accumulated optical depth, made in ONE pass
+//! with min blending for the depths and separate additive alpha (§2.1). The light pass draws
+//! every block as a billboard facing the light and adds its optical depth to S *slices* (the
+//! RGBA channels of one or two targets; slice s holds the optical depth accumulated up to
+//! depth d_s along the light, each block contributing the fraction of its depth interval in
+//! front of d_s) (§2.2). Final gathering sorts the blocks back to front and composites each
+//! impostor texel as a "super-particle": opacity α = 1 − e^(−τ), in-scattered radiance
+//! a·p(θ)·I·T_light·α with T_light interpolated linearly between the slices enclosing the
+//! texel's depth (§2.3). Objects inside the cloud (§2.4): the interval
+//! [front, back] along the pixel's ray is compared with the visible surface's distance and τ
+//! is scaled by the fraction in front of it (`clip_fix`); without it the billboard plane
+//! decides alone — the paper's clipping artefact, kept as a knob to measure it.
+//!
+//! **How the scene's particles become blocks** (the design decision of issue 8). The scene's
+//! particles are explicit and the reference renders exactly them, while the paper's speed comes
+//! from instancing ONE block N/b times. `instancing = prototype` (default) is the paper: the
+//! particles are split into `blocks` clusters (balanced k-d split, then 4 Lloyd steps so the
+//! cells are round and alike); the cluster nearest the cloud's
+//! centre, recentred, is the prototype block, rendered into one light and one camera impostor
+//! per frame, and instanced at every cluster's centroid, scaled to the cluster's RMS spread with
+//! its extinction scaled so the optical mass Σ τ·r³ matches the cluster's. Cost per frame:
+//! b = N/blocks impostor splats + 2·blocks billboards — the b + N/b of the paper, so `blocks`
+//! moves cost as in Fig. 5 — and the geometry error of "every block looks alike" is part of the
+//! measured error. `instancing = clusters` gives every cluster its own impostor pair from its
+//! own particles (exact geometry up to impostor resolution, N impostor splats per frame): it
+//! measures how much of the error is the hierarchy's shape approximation and how much the
+//! slices/impostor resolution. Prototype is the default because the knob `blocks` must mean
+//! what Fig. 5 means (cost b + N/b); clusters is the accuracy upper bound.
+//!
+//! `particle-splat` (the paper's "no block" row): every particle its own billboard with the
+//! exact sphere chord per fragment, through the same slice light pass and gathering — so the
+//! ratio measured between them isolates the hierarchy. (The paper's 8 fps baseline also read
+//! the frame buffer back per particle in its light pass [Harris 2002]; this one does not, so its
+//! speed-up is expected to be smaller than the paper's 25×.)
+//!
+//! Faithful: impostors with front/back depth and opacity in one min/max + separate-alpha pass;
+//! S = 4 or 8 slices in RGBA channels with linear interpolation; back-to-front gathering;
+//! depth-interval opacity scaling at objects; the paper's forward-scattering approximation as a
+//! knob (`forward_scattering`, off by default since the reference is single scattering: the
+//! slice lookup is averaged over a cone of taps widening with depth in the cloud).
+//! Modernised: float targets; optical depth accumulated additively instead of 8-bit opacity
+//! (the same product Π(1 − α_j)); impostors sampled bilinearly at the ray's perpendicular
+//! offset from the block centre (exact for a sphere under perspective); each block pixel's
+//! light transmittance from the slices at both ends of its depth interval, averaged in closed
+//! form (the paper: one lookup per block pixel); DESIGN §1 radiometry (phase
+//! normalised to 1, irradiance E for the sun not attenuated outside the cloud, 1/r² and
+//! e^(−σt r) of a background medium for local lights); objects shadow the cloud through the
+//! shared shadow maps; the cloud shadows surfaces through the slices.
+//!
+//! Limits: one light (a second light needs a second light pass and its own surface shadow);
+//! a local light must see the whole cloud within an 80° cone from outside every block's bounds
+//! (else prepare/render fails with that reason); a block is one uniform-density interval per
+//! pixel (gaps between its particles along a ray are filled, overlapping blocks are ordered by
+//! centre); a viewer inside a block's bounds is not covered by its billboard; the background
+//! medium's in-scatter is marched (32 steps, angle variable for local lights) in the resolve
+//! pass without the cloud's attenuation on the eye leg; homogeneous-medium scenes are refused.
+//! Measured on lavapipe (256², cloud-8000): unblocked 2.1 s vs 40 blocks 0.50 s (4.2×), far
+//! from the paper's 25× — the baseline has no per-particle read-back, block billboards cover
+//! their bounding spheres (total area falls only as b^(−1/3)) and the frame's fixed passes
+//! (shadow map, surface, resolve) are included; see README.md.
+
+pub mod blocks;
+pub mod passes;
+
+use anyhow::{Result, bail};
+use glam::Vec3;
+use harness::method::PrepareContext;
+use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use scenes::{FrameState, LightState, SceneFeatures};
+
+use crate::common::renderer::{SceneRenderer, renderer_limits};
+use blocks::{BlockSet, Instancing, Prim};
+use passes::{Passes, PbUniform, Sizes};
+
+/// The largest atlas side (texels); tiles shrink to fit when there are many blocks.
+const ATLAS_MAX: u32 = 2048;
+/// Steps of the background medium's march in the resolve pass (only if it scatters).
+const BACKGROUND_STEPS: f32 = 32.0;
+
+#[derive(Default)]
+pub struct UmenhofferParticleBlocks {
+    state: Option<State>,
+}
+
+/// The unblocked baseline: every particle its own analytic billboard.
+#[derive(Default)]
+pub struct ParticleSplat {
+    state: Option<State>,
+}
+
+struct State {
+    renderer: SceneRenderer,
+    passes: Passes,
+    set: BlockSet,
+    clip_fix: bool,
+    forward_scattering: bool,
+    slices: u32,
+    blocked: bool,
+    sky: Vec3,
+    background_scatters: bool,
+}
+
+fn knob_i(ctx: &PrepareContext, k: &str, default: i64) -> i64 {
+    ctx.params
+        .get(k)
+        .and_then(ParamValue::as_i64)
+        .unwrap_or(default)
+}
+
+fn knob_b(ctx: &PrepareContext, k: &str, default: bool) -> bool {
+    ctx.params
+        .get(k)
+        .and_then(ParamValue::as_bool)
+        .unwrap_or(default)
+}
+
+/// Knobs shared by both ids.
+fn shared_params() -> Vec<ParamSpec> {
+    vec![
+        ParamSpec {
+            name: "slices",
+            default: ParamValue::Int(4),
+            sweep: vec![ParamValue::Int(8)],
+            choices: vec![],
+            meaning: "light-pass depth slices stored in RGBA channels (4 or 8)",
+        },
+        ParamSpec {
+            name: "clip_fix",
+            default: ParamValue::Bool(true),
+            sweep: vec![ParamValue::Bool(false)],
+            choices: vec![],
+            meaning: "objects in the cloud: depth-interval opacity scaling (§2.4); false = plain billboard clipping",
+        },
+        ParamSpec {
+            name: "forward_scattering",
+            default: ParamValue::Bool(false),
+            sweep: vec![],
+            choices: vec![],
+            meaning: "the paper's multiple forward-scattering approximation (cone-averaged slice lookups); the reference is single scattering",
+        },
+        ParamSpec {
+            name: "light_res",
+            default: ParamValue::Int(256),
+            sweep: vec![],
+            choices: vec![],
+            meaning: "light-map (slice texture) resolution, texels",
+        },
+        ParamSpec {
+            name: "shadow_map",
+            default: ParamValue::Int(1024),
+            sweep: vec![],
+            choices: vec![],
+            meaning: "resolution of the objects' shadow maps (objects shadowing the cloud), texels",
+        },
+    ]
+}
+
+fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
+    if scene.medium != "particles" {
+        return Support::No(
+            "homogeneous media are not supported (this method renders particle media only)".into(),
+        );
+    }
+    if let Some(why) = renderer_limits(scene) {
+        return Support::No(why);
+    }
+    if scene.lights > 1 {
+        return Support::No(format!(
+            "{} lights; this implementation runs one light pass (one light)",
+            scene.lights
+        ));
+    }
+    if !device.contains(wgpu::Features::FLOAT32_BLENDABLE) {
+        return Support::No("needs FLOAT32_BLENDABLE (additive slices, gather compositing)".into());
+    }
+    if scene.indirect_single_scattering {
+        return Support::Partial(vec!["indirect_single_scattering".into()]);
+    }
+    Support::Full
+}
+
+fn prepare_state(
+    ctx: &PrepareContext,
+    blocked_mode: Option<(usize, Instancing, u32)>,
+) -> Result<State> {
+    let medium = ctx.scene.medium();
+    let Some(particles) = medium.particles() else {
+        bail!("scene '{}' has no particle medium", ctx.scene.name);
+    };
+    if ctx.scene.desc.lights.len() > 1 {
+        bail!(
+            "one light at most (the scene has {})",
+            ctx.scene.desc.lights.len()
+        );
+    }
+    let slices = knob_i(ctx, "slices", 4);
+    if slices != 4 && slices != 8 {
+        bail!("slices must be 4 or 8 (got {slices})");
+    }
+    let light_res = knob_i(ctx, "light_res", 256);
+    if !(8..=4096).contains(&light_res) {
+        bail!("light_res must be in 8..=4096 (got {light_res})");
+    }
+    let ps = &particles.particles;
+    let (set, tile_res_knob) = match blocked_mode {
+        None => (blocks::unblocked(ps), 1),
+        Some((b, mode, res)) => (blocks::blocked(ps, b, mode), res),
+    };
+    let tiles = set.tiles.len() as u32;
+    let cols = (tiles as f64).sqrt().ceil().max(1.0) as u32;
+    let tile_res = if tiles == 0 {
+        1
+    } else {
+        tile_res_knob.min(ATLAS_MAX / cols).max(4)
+    };
+    let renderer = SceneRenderer::new(
+        ctx,
+        knob_i(ctx, "shadow_map", 1024).clamp(16, 8192) as u32,
+        64,
+    )?;
+    let passes = Passes::new(
+        ctx.gpu,
+        &renderer,
+        Sizes {
+            prims: set.prims.len(),
+            imp: set.imp.len(),
+            tiles: set.tiles.len(),
+            atlas: cols * tile_res,
+            cols,
+            tile_res,
+            light_res: light_res as u32,
+            slices: slices as u32,
+        },
+    );
+    if !set.imp.is_empty() {
+        ctx.gpu
+            .queue
+            .write_buffer(&passes.imp, 0, bytemuck::cast_slice(&set.imp));
+    }
+    let bg = particles.background;
+    Ok(State {
+        renderer,
+        passes,
+        blocked: blocked_mode.is_some(),
+        set,
+        clip_fix: knob_b(ctx, "clip_fix", true),
+        forward_scattering: knob_b(ctx, "forward_scattering", false),
+        slices: slices as u32,
+        sky: particles.sky,
+        background_scatters: bg.sigma_s.max_element() > 0.0,
+    })
+}
+
+/// The light map for this frame: its projection, the depth range the primitives span along the
+/// light and the slice depths. Errors if a local light sits inside a primitive's bounds or
+/// would need more than an 80° half-angle cone.
+fn light_frame(st: &State, frame: &FrameState, u: &mut PbUniform) -> Result<bool> {
+    let prims = &st.set.prims;
+    let Some(light) = frame.lights.first() else {
+        return Ok(false);
+    };
+    if prims.is_empty() {
+        return Ok(false);
+    }
+    let centre = |p: &Prim| Vec3::new(p.center[0], p.center[1], p.center[2]);
+    let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
+    match light {
+        LightState::Directional { direction, .. } => {
+            let l = direction.normalize();
+            let (r, up) = blocks::basis_of(l);
+            let (mut lo, mut hi) = (
+                glam::Vec2::splat(f32::INFINITY),
+                glam::Vec2::splat(f32::NEG_INFINITY),
+            );
+            for p in prims {
+                let c = centre(p);
+                let h = p.center[3] * 1.2;
+                let a = glam::Vec2::new(c.dot(r), c.dot(up));
+                lo = lo.min(a - h);
+                hi = hi.max(a + h);
+                dmin = dmin.min(c.dot(l) - h);
+                dmax = dmax.max(c.dot(l) + h);
+            }
+            let mid = (lo + hi) * 0.5;
+            let ext = ((hi - lo) * 0.5).max_element().max(1e-4);
+            u.light_u = [r.x, r.y, r.z, 0.0];
+            u.light_w = [l.x, l.y, l.z, 1.0];
+            let c = r * mid.x + up * mid.y;
+            u.light_p = [c.x, c.y, c.z, ext];
+            u.light_v = [up.x, up.y, up.z, 0.0];
+        }
+        _ => {
+            let lp = light.position().unwrap_or(Vec3::ZERO);
+            let axis = (st.set.centroid - lp)
+                .try_normalize()
+                .ok_or_else(|| anyhow::anyhow!("the light sits at the cloud's centroid"))?;
+            let mut half = 0.0f32;
+            for p in prims {
+                let w = centre(p) - lp;
+                let (d, h) = (w.length(), p.center[3] * 1.2);
+                if d <= h * 1.01 {
+                    bail!(
+                        "the local light lies inside a block's bounds (a perspective light map cannot see it)"
+                    );
+                }
+                let ang = (w / d).dot(axis).clamp(-1.0, 1.0).acos() + (h / d).asin();
+                half = half.max(ang);
+                dmin = dmin.min(d - h);
+                dmax = dmax.max(d + h);
+            }
+            if half > 80f32.to_radians() {
+                bail!(
+                    "the cloud spans {:.0}° around the local light (at most 80° for one light map)",
+                    half.to_degrees()
+                );
+            }
+            let (r, up) = blocks::basis_of(axis);
+            u.light_u = [r.x, r.y, r.z, 1.0];
+            u.light_v = [up.x, up.y, up.z, 0.0];
+            u.light_w = [axis.x, axis.y, axis.z, 1.0];
+            u.light_p = [lp.x, lp.y, lp.z, half.tan() * 1.01];
+            dmin = dmin.max(0.0);
+        }
+    }
+    u.light_v[3] = st.passes.sizes.light_res as f32;
+    let s = st.slices as usize;
+    let mut d = [0.0f32; 8];
+    for (k, v) in d.iter_mut().enumerate() {
+        // Slices beyond S repeat the last depth (unused).
+        *v = dmin + (dmax - dmin) * ((k.min(s - 1) + 1) as f32 / s as f32);
+    }
+    u.slices_a = [d[0], d[1], d[2], d[3]];
+    u.slices_b = [d[4], d[5], d[6], d[7]];
+    u.range = [dmin, dmax, s as f32, st.forward_scattering as u32 as f32];
+    Ok(true)
+}
+
+fn render_state(
+    state: &mut Option<State>,
+    gpu: &Gpu,
+    frame: &FrameState,
+    targets: &Targets,
+    enc: &mut wgpu::CommandEncoder,
+) -> Result<FrameReport> {
+    let st = state
+        .as_mut()
+        .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+    let mut report = FrameReport::default();
+    st.renderer.update(gpu, frame);
+    let eye = frame.camera.position;
+    let mut u = PbUniform::default();
+    let lit = light_frame(st, frame, &mut u)?;
+    let sz = &st.passes.sizes;
+    u.atlas = [
+        sz.cols as f32,
+        sz.tile_res as f32,
+        st.set.imp.len() as f32,
+        sz.atlas as f32,
+    ];
+    u.flags = [
+        st.clip_fix as u32 as f32,
+        if st.background_scatters && lit {
+            BACKGROUND_STEPS
+        } else {
+            0.0
+        },
+        0.0,
+        0.0,
+    ];
+    u.sky = [st.sky.x, st.sky.y, st.sky.z, 0.0];
+    // Back to front from the eye (the gather composites "over").
+    let mut order: Vec<(f32, usize)> = st
+        .set
+        .prims
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let c = Vec3::new(p.center[0], p.center[1], p.center[2]);
+            (-(c - eye).length_squared(), i)
+        })
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let sorted: Vec<Prim> = order.iter().map(|&(_, i)| st.set.prims[i]).collect();
+    let (ldir, lpos) = match frame.lights.first() {
+        Some(LightState::Directional { direction, .. }) => (Some(direction.normalize()), None),
+        Some(l) => (None, l.position()),
+        None => (None, None),
+    };
+    let tiles = blocks::tile_frames(&st.set.tiles, eye, ldir, lpos);
+    gpu.queue
+        .write_buffer(&st.passes.uniform, 0, bytemuck::bytes_of(&u));
+    if !sorted.is_empty() {
+        gpu.queue
+            .write_buffer(&st.passes.prims, 0, bytemuck::cast_slice(&sorted));
+    }
+    if !tiles.is_empty() {
+        gpu.queue
+            .write_buffer(&st.passes.tiles, 0, bytemuck::cast_slice(&tiles));
+    }
+    st.renderer.encode_shadows(enc, &mut report);
+    let surface_targets = Targets {
+        inscatter: targets.inscatter,
+        surface: &st.passes.surface_view,
+        total: targets.total,
+        width: targets.width,
+        height: targets.height,
+    };
+    st.renderer
+        .encode_surface(enc, &surface_targets, &mut report);
+    if st.blocked {
+        st.passes.encode_impostors(enc, &st.renderer);
+        report.ran("impostors");
+        report.count("impostor_splats", 2.0 * st.set.imp.len() as f64);
+    }
+    st.passes.encode_light(enc, &st.renderer, lit);
+    if lit {
+        report.ran("light-slices");
+    } else {
+        report.skip("light-slices", "no light or no particles");
+    }
+    st.passes.encode_gather(enc, &st.renderer);
+    report.ran("gather");
+    st.passes.encode_resolve(enc, &st.renderer, targets);
+    report.ran("resolve");
+    report.count("blocks", st.set.prims.len() as f64);
+    report.count("particles_per_block", st.set.per_block);
+    Ok(report)
+}
+
+impl Method for UmenhofferParticleBlocks {
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            id: "umenhoffer-particle-blocks",
+            paper: "Umenhoffer, Szirmay-Kalos, Szijártó, Participating media as hierarchies of particle blocks (2006)",
+            summary: "Particle blocks as depth impostors; RGBA light slices; back-to-front gathering; depth-interval opacity at objects",
+        }
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        let mut v = vec![
+            ParamSpec {
+                name: "blocks",
+                default: ParamValue::Int(40),
+                sweep: [1, 20, 40, 400, 800, 1600].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "number of particle blocks (Fig. 5: 20…1600; N = one particle per block, no hierarchy)",
+            },
+            ParamSpec {
+                name: "instancing",
+                default: ParamValue::Text("prototype".into()),
+                sweep: vec![ParamValue::Text("clusters".into())],
+                choices: vec!["prototype", "clusters"],
+                meaning: "prototype: one block impostor instanced per cluster (the paper); clusters: each cluster its own impostor (exact geometry)",
+            },
+            ParamSpec {
+                name: "impostor_res",
+                default: ParamValue::Int(64),
+                sweep: vec![],
+                choices: vec![],
+                meaning: "impostor tile resolution, texels (shrunk to fit a 2048² atlas in clusters mode)",
+            },
+        ];
+        v.extend(shared_params());
+        v
+    }
+
+    fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
+        support_for(scene, device)
+    }
+
+    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
+        let blocks = knob_i(ctx, "blocks", 40);
+        if blocks < 1 {
+            bail!("blocks must be ≥ 1 (got {blocks})");
+        }
+        let mode = match ctx.params.get("instancing").and_then(ParamValue::as_str) {
+            None | Some("prototype") => Instancing::Prototype,
+            Some("clusters") => Instancing::Clusters,
+            Some(other) => bail!("instancing must be prototype or clusters (got '{other}')"),
+        };
+        let res = knob_i(ctx, "impostor_res", 64);
+        if !(4..=1024).contains(&res) {
+            bail!("impostor_res must be in 4..=1024 (got {res})");
+        }
+        self.state = None;
+        self.state = Some(prepare_state(
+            ctx,
+            Some((blocks as usize, mode, res as u32)),
+        )?);
+        Ok(())
+    }
+
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        render_state(&mut self.state, gpu, frame, targets, enc)
+    }
+}
+
+impl Method for ParticleSplat {
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            id: "particle-splat",
+            paper: "baseline: per-particle billboards with a slice light pass and back-to-front gathering (the \"no block\" row of Umenhoffer et al. 2006, Fig. 5)",
+            summary: "Every particle splatted with its exact sphere chord; no blocks",
+        }
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        shared_params()
+    }
+
+    fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
+        support_for(scene, device)
+    }
+
+    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
+        self.state = None;
+        self.state = Some(prepare_state(ctx, None)?);
+        Ok(())
+    }
+
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        render_state(&mut self.state, gpu, frame, targets, enc)
+    }
+}
+
+/// Every composed WGSL module of both methods, for naga validation.
+pub fn shader_sources() -> Vec<(&'static str, String)> {
+    vec![
+        ("umenhoffer/impostor", passes::source(passes::IMPOSTOR_WGSL)),
+        ("umenhoffer/light", passes::source(passes::LIGHT_WGSL)),
+        ("umenhoffer/gather", passes::source(passes::GATHER_WGSL)),
+        ("umenhoffer/resolve", passes::source(passes::RESOLVE_WGSL)),
+    ]
+}

@@ -1,0 +1,457 @@
+//! GPU side: the impostor atlas, the light slices, the gather target, the four pipelines
+//! (impostor, light, gather, resolve) and their bind groups. Every pass uses the shared frame
+//! bind group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
+
+use bytemuck::{Pod, Zeroable};
+use harness::method::AOV_FORMAT;
+use harness::{Gpu, Targets};
+
+use super::blocks::{ImpParticle, Prim, Tile};
+use crate::common::renderer::{DISTANCE_FORMAT, SceneRenderer};
+use crate::common::wgsl;
+
+/// Mirrors `Pb` in common.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct PbUniform {
+    pub light_u: [f32; 4],
+    pub light_v: [f32; 4],
+    pub light_w: [f32; 4],
+    pub light_p: [f32; 4],
+    pub slices_a: [f32; 4],
+    pub slices_b: [f32; 4],
+    pub range: [f32; 4],
+    pub atlas: [f32; 4],
+    pub flags: [f32; 4],
+    pub sky: [f32; 4],
+}
+
+pub const COMMON_WGSL: &str = include_str!("common.wgsl");
+pub const IMPOSTOR_WGSL: &str = include_str!("impostor.wgsl");
+pub const LIGHT_WGSL: &str = include_str!("light.wgsl");
+pub const GATHER_WGSL: &str = include_str!("gather.wgsl");
+pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
+
+/// A pass's composed source: PRELUDE, FULLSCREEN, common.wgsl, then its own.
+pub fn source(own: &str) -> String {
+    let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
+    shared.push(wgsl::FULLSCREEN);
+    shared.push(COMMON_WGSL);
+    wgsl::compose(&shared, own)
+}
+
+/// Impostor atlas texels: min-blendable, and 16-bit floats are ample for depths within a block.
+pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Slices and the gather target accumulate many small terms: 32-bit floats.
+pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+pub struct Sizes {
+    pub prims: usize,
+    pub imp: usize,
+    pub tiles: usize,
+    /// Atlas side (texels), tile columns and tile resolution.
+    pub atlas: u32,
+    pub cols: u32,
+    pub tile_res: u32,
+    pub light_res: u32,
+    pub slices: u32,
+}
+
+pub struct Passes {
+    pub uniform: wgpu::Buffer,
+    pub prims: wgpu::Buffer,
+    pub tiles: wgpu::Buffer,
+    pub imp: wgpu::Buffer,
+    atlas_view: wgpu::TextureView,
+    slice_views: [wgpu::TextureView; 2],
+    gather_view: wgpu::TextureView,
+    pub surface_view: wgpu::TextureView,
+    impostor: wgpu::RenderPipeline,
+    light: wgpu::RenderPipeline,
+    gather: wgpu::RenderPipeline,
+    resolve: wgpu::RenderPipeline,
+    total: wgpu::RenderPipeline,
+    bind_impostor: wgpu::BindGroup,
+    bind_light: wgpu::BindGroup,
+    bind_gather: wgpu::BindGroup,
+    bind_resolve: wgpu::BindGroup,
+    pub sizes: Sizes,
+}
+
+fn storage(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
+    gpu.buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(64) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Binding `b` of common.wgsl's group 1, as a layout entry.
+fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
+    let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    let ty = match b {
+        0 => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        1..=3 => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        _ => wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+    };
+    wgpu::BindGroupLayoutEntry {
+        binding: b,
+        visibility: vf,
+        ty,
+        count: None,
+    }
+}
+
+impl Passes {
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes) -> Passes {
+        let dev = &gpu.device;
+        let uniform = gpu.buffer(&wgpu::BufferDescriptor {
+            label: Some("particle blocks uniform"),
+            size: std::mem::size_of::<PbUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let prims = storage(gpu, "primitives", sizes.prims * std::mem::size_of::<Prim>());
+        let tiles = storage(
+            gpu,
+            "impostor tiles",
+            sizes.tiles * std::mem::size_of::<Tile>(),
+        );
+        let imp = storage(
+            gpu,
+            "impostor particles",
+            sizes.imp * std::mem::size_of::<ImpParticle>(),
+        );
+        let tex = |label: &str, w: u32, h: u32, format: wgpu::TextureFormat| {
+            gpu.texture_2d(
+                label,
+                w.max(1),
+                h.max(1),
+                format,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
+            .create_view(&Default::default())
+        };
+        // Splat mode has no tiles: a 1×1 atlas keeps the bindings valid.
+        let atlas_view = tex("impostor atlas", sizes.atlas, sizes.atlas, ATLAS_FORMAT);
+        let slice_views = [
+            tex(
+                "light slices 0-3",
+                sizes.light_res,
+                sizes.light_res,
+                ACCUM_FORMAT,
+            ),
+            tex(
+                "light slices 4-7",
+                sizes.light_res,
+                sizes.light_res,
+                ACCUM_FORMAT,
+            ),
+        ];
+        let gather_view = tex("gather", renderer.width, renderer.height, ACCUM_FORMAT);
+        let surface_view = tex(
+            "surface (unshadowed)",
+            renderer.width,
+            renderer.height,
+            AOV_FORMAT,
+        );
+
+        let layout = |label: &str, bindings: &[u32]| {
+            let entries: Vec<_> = bindings.iter().map(|&b| entry(b)).collect();
+            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            })
+        };
+        let distance_view = &renderer.distance_view;
+        let resource = |b: u32| -> wgpu::BindingResource {
+            match b {
+                0 => uniform.as_entire_binding(),
+                1 => prims.as_entire_binding(),
+                2 => tiles.as_entire_binding(),
+                3 => imp.as_entire_binding(),
+                4 => wgpu::BindingResource::TextureView(&atlas_view),
+                5 => wgpu::BindingResource::TextureView(&slice_views[0]),
+                6 => wgpu::BindingResource::TextureView(&slice_views[1]),
+                7 => wgpu::BindingResource::TextureView(distance_view),
+                8 => wgpu::BindingResource::TextureView(&gather_view),
+                _ => wgpu::BindingResource::TextureView(&surface_view),
+            }
+        };
+        let make = |label: &'static str,
+                    bindings: &[u32],
+                    own: &str,
+                    vs: &str,
+                    fs: &str,
+                    targets: &[Option<wgpu::ColorTargetState>]| {
+            let bgl = layout(label, bindings);
+            let entries: Vec<_> = bindings
+                .iter()
+                .map(|&b| wgpu::BindGroupEntry {
+                    binding: b,
+                    resource: resource(b),
+                })
+                .collect();
+            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &bgl,
+                entries: &entries,
+            });
+            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&bgl)],
+                immediate_size: 0,
+            });
+            let module = wgsl::module(dev, label, &source(own));
+            let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            (pipeline, bind)
+        };
+        let one = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let target = |format, blend| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        };
+        // Front/back depths by min blending, optical depth by additive alpha (§2.1, one pass).
+        let minmax = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                operation: wgpu::BlendOperation::Min,
+                ..one
+            },
+            alpha: one,
+        };
+        let (impostor, bind_impostor) = make(
+            "particle impostors",
+            &[0, 2, 3],
+            IMPOSTOR_WGSL,
+            "vs_impostor",
+            "fs_impostor",
+            &[target(ATLAS_FORMAT, Some(minmax))],
+        );
+        let additive = Some(wgpu::BlendState {
+            color: one,
+            alpha: one,
+        });
+        let eight = sizes.slices > 4;
+        let light_targets = [
+            target(ACCUM_FORMAT, additive),
+            target(ACCUM_FORMAT, additive),
+        ];
+        let (light, bind_light) = make(
+            "particle light pass",
+            &[0, 1, 2, 4],
+            LIGHT_WGSL,
+            "vs_light",
+            if eight { "fs_light8" } else { "fs_light4" },
+            &light_targets[..if eight { 2 } else { 1 }],
+        );
+        // Premultiplied "over", back to front; alpha accumulates the opacity.
+        let over = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let (gather, bind_gather) = make(
+            "particle gather",
+            &[0, 1, 2, 4, 5, 6, 7],
+            GATHER_WGSL,
+            "vs_gather",
+            "fs_gather",
+            &[target(
+                ACCUM_FORMAT,
+                Some(wgpu::BlendState {
+                    color: over,
+                    alpha: over,
+                }),
+            )],
+        );
+        let (resolve, bind_resolve) = make(
+            "particle resolve",
+            &[0, 5, 6, 7, 8, 9],
+            RESOLVE_WGSL,
+            "vs_fullscreen",
+            "fs_resolve",
+            &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
+        );
+        let (total, _) = make(
+            "particle total",
+            &[0, 5, 6, 7, 8, 9],
+            RESOLVE_WGSL,
+            "vs_fullscreen",
+            "fs_total",
+            &[target(AOV_FORMAT, None)],
+        );
+        let _ = DISTANCE_FORMAT;
+        Passes {
+            uniform,
+            prims,
+            tiles,
+            imp,
+            atlas_view,
+            slice_views,
+            gather_view,
+            surface_view,
+            impostor,
+            light,
+            gather,
+            resolve,
+            total,
+            bind_impostor,
+            bind_light,
+            bind_gather,
+            bind_resolve,
+            sizes,
+        }
+    }
+
+    fn pass<'e>(
+        enc: &'e mut wgpu::CommandEncoder,
+        label: &str,
+        views: &[&wgpu::TextureView],
+        clear: wgpu::Color,
+    ) -> wgpu::RenderPass<'e> {
+        let attachments: Vec<_> = views
+            .iter()
+            .map(|v| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &attachments,
+            ..Default::default()
+        })
+    }
+
+    /// Renders every impostor particle into its light tile and its camera tile.
+    pub fn encode_impostors(&self, enc: &mut wgpu::CommandEncoder, renderer: &SceneRenderer) {
+        // Empty texels: far-away front/back depths and zero optical depth.
+        let empty = wgpu::Color {
+            r: 1e4,
+            g: 1e4,
+            b: 1e4,
+            a: 0.0,
+        };
+        let mut p = Self::pass(enc, "particle impostors", &[&self.atlas_view], empty);
+        p.set_pipeline(&self.impostor);
+        p.set_bind_group(0, &renderer.frame_bind, &[]);
+        p.set_bind_group(1, &self.bind_impostor, &[]);
+        p.draw(0..6, 0..2 * self.sizes.imp as u32);
+    }
+
+    /// The light pass into the slices (cleared to zero optical depth).
+    pub fn encode_light(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        draw: bool,
+    ) {
+        let views: Vec<&wgpu::TextureView> = self.slice_views.iter().collect();
+        let n = if self.sizes.slices > 4 { 2 } else { 1 };
+        let mut p = Self::pass(
+            enc,
+            "particle light pass",
+            &views[..n],
+            wgpu::Color::TRANSPARENT,
+        );
+        if draw {
+            p.set_pipeline(&self.light);
+            p.set_bind_group(0, &renderer.frame_bind, &[]);
+            p.set_bind_group(1, &self.bind_light, &[]);
+            p.draw(0..6, 0..self.sizes.prims as u32);
+        }
+    }
+
+    /// Back-to-front gathering (the primitives buffer holds them in that order).
+    pub fn encode_gather(&self, enc: &mut wgpu::CommandEncoder, renderer: &SceneRenderer) {
+        let mut p = Self::pass(
+            enc,
+            "particle gather",
+            &[&self.gather_view],
+            wgpu::Color::TRANSPARENT,
+        );
+        p.set_pipeline(&self.gather);
+        p.set_bind_group(0, &renderer.frame_bind, &[]);
+        p.set_bind_group(1, &self.bind_gather, &[]);
+        p.draw(0..6, 0..self.sizes.prims as u32);
+    }
+
+    pub fn encode_resolve(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        targets: &Targets,
+    ) {
+        let mut p = Self::pass(
+            enc,
+            "particle resolve",
+            &[targets.inscatter, targets.surface],
+            wgpu::Color::TRANSPARENT,
+        );
+        p.set_pipeline(&self.resolve);
+        p.set_bind_group(0, &renderer.frame_bind, &[]);
+        p.set_bind_group(1, &self.bind_resolve, &[]);
+        p.draw(0..3, 0..1);
+        drop(p);
+        let mut p = Self::pass(
+            enc,
+            "particle total",
+            &[targets.total],
+            wgpu::Color::TRANSPARENT,
+        );
+        p.set_pipeline(&self.total);
+        p.set_bind_group(0, &renderer.frame_bind, &[]);
+        p.set_bind_group(1, &self.bind_resolve, &[]);
+        p.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,75 @@
+// The last pass: the surface under the cloud's shadow (the shared surface pass times the
+// particle transmittance toward the light, from the slices) or the sky, both seen through the
+// gathered opacity; the cloud's in-scatter plus, where the scene has a background medium, its
+// in-scatter marched along the ray (32 steps, in Biri's angle variable for local lights) (shadow map and slices for visibility; the cloud's
+// attenuation of that haze on the eye leg is not modelled). Needs PRELUDE, FULLSCREEN and
+// common.wgsl.
+
+// Two entry points share it: three Rgba32Float targets exceed the 32 bytes per sample a
+// render pass may write, so `inscatter` + `surface` and `total` are written by two passes.
+struct Resolved {
+    inscatter: vec3<f32>,
+    surface: vec3<f32>,
+};
+
+fn resolve(frag: vec4<f32>) -> Resolved {
+    let px = vec2<i32>(frag.xy);
+    let eye = camera.position.xyz;
+    let dir = camera_ray_dir(camera, frag.xy);
+    let hit = textureLoad(ray_distance, px, 0).r;
+    let d = camera_ray_length(camera, dir, hit);
+    let g = textureLoad(gathered, px, 0);
+    var surf = pb.sky.rgb * transmittance(medium, d);
+    if (hit >= 0.0) {
+        surf = textureLoad(surface_in, px, 0).rgb * exp(-light_optical_depth(eye + dir * hit));
+    }
+    surf *= 1.0 - g.a;
+    var l_in = g.rgb;
+    let n = u32(pb.flags.y);
+    if (n > 0u) {
+        // Equal steps in t for the sun; for a local light equal steps in Biri's angle φ
+        // (t = t0 + h tan φ, dt = h dφ / cos² φ), which flattens the 1/r² peak near the light.
+        var t0 = 0.0;
+        var h = 0.0;
+        if (light_kind(0u) != LIGHT_DIRECTIONAL) {
+            let w0 = eye - lights.lights[0].position.xyz;
+            t0 = -dot(w0, dir);
+            h = length(w0 + dir * t0);
+        }
+        let angular = h > 1e-4 * d;
+        let a = select(0.0, atan(-t0 / h), angular);
+        let b = select(d, atan((d - t0) / h), angular);
+        let step = (b - a) / f32(n);
+        var acc = vec3<f32>(0.0);
+        for (var k = 0u; k < n; k++) {
+            let u = a + (f32(k) + 0.5) * step;
+            var t = u;
+            var jac = 1.0;
+            if (angular) {
+                let c = cos(u);
+                t = t0 + h * tan(u);
+                jac = h / (c * c);
+            }
+            acc += incident(eye + dir * t, -dir) * transmittance(medium, t) * jac;
+        }
+        l_in += medium.sigma_s.rgb * acc * step;
+    }
+    return Resolved(l_in, surf);
+}
+
+struct ResolveOut {
+    @location(0) inscatter: vec4<f32>,
+    @location(1) surface: vec4<f32>,
+};
+
+@fragment
+fn fs_resolve(@builtin(position) frag: vec4<f32>) -> ResolveOut {
+    let r = resolve(frag);
+    return ResolveOut(vec4<f32>(r.inscatter, 1.0), vec4<f32>(r.surface, 1.0));
+}
+
+@fragment
+fn fs_total(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let r = resolve(frag);
+    return vec4<f32>(r.inscatter + r.surface, 1.0);
+}
