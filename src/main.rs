@@ -64,6 +64,9 @@ enum Command {
     /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
     /// measured ratio) and the equal-error table.
     Reproduce(cmd::reproduce::ReproduceArgs),
+    /// Frame time vs caster triangles (1k → 1M) and vs resolution (128² → 1024²) for every
+    /// method at default parameters: a results run plus log–log plots with fitted slopes.
+    Scaling(cmd::scaling::ScalingArgs),
 }
 
 fn main() -> ExitCode {
@@ -83,6 +86,7 @@ fn main() -> ExitCode {
         Command::Stress(a) => cmd::stress::run(a),
         Command::Merge(a) => cmd::merge::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a),
+        Command::Scaling(a) => cmd::scaling::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -26,6 +26,7 @@ fn config(out: PathBuf) -> RunConfig {
         reference: Settings::default(),
         cache_dir: None,
         run_id: "shard-test".into(),
+        budget_ms: None,
     }
 }
 

@@ -5,8 +5,9 @@
 //! Protocol (DESIGN §4): per record, `prepare` is timed once; then W warm-up and K timed
 //! frames cycle through the scene's frames (so animated scenes pay their per-frame CPU work);
 //! each timed frame records the `render` call (CPU), encode+submit+wait (wall) and timestamp
-//! queries (GPU). Afterwards frame 0 is rendered once more, read back and scored against the
-//! reference of frame 0.
+//! queries (GPU). Afterwards frame 0 is rendered once more (or, when the last timed frame was
+//! frame 0, its output is kept), read back and scored against the reference of frame 0. With
+//! a time budget (`RunConfig::budget_ms`) slow records get fewer frames ([`another_frame`]).
 //!
 //! The work list (scenes × methods × parameter sets, [`work_list`]) can be cut into shards
 //! ([`run_shard`], `crate::shard`) or replaced by an explicit list ([`run_items`], used by
@@ -49,6 +50,24 @@ pub struct RunConfig {
     /// Where reference images are cached (None: no cache).
     pub cache_dir: Option<PathBuf>,
     pub run_id: String,
+    /// Per-record time budget (ms) for warm-up plus timed frames; None: always W + K frames.
+    /// See [`another_frame`] for the rule.
+    pub budget_ms: Option<f64>,
+}
+
+/// Fewest timed frames a record gets under a time budget (a median needs a few samples).
+pub const MIN_TIMED_FRAMES: u32 = 3;
+
+/// Under a time budget B: warm-up stops after its first frame once warm-up has used B/4,
+/// and timing stops once [`MIN_TIMED_FRAMES`] frames are timed and the timed frames have used
+/// B. Fast methods still get the full W + K frames; a 9 s/frame method gets 1 + 3 instead of
+/// 3 + 10. Returns whether to render another frame of the phase.
+pub fn another_frame(budget_ms: Option<f64>, warmup: bool, done: u32, used_ms: f64) -> bool {
+    match budget_ms {
+        None => true,
+        Some(b) if warmup => done < 1 || used_ms < 0.25 * b,
+        Some(b) => done < MIN_TIMED_FRAMES || used_ms < b,
+    }
 }
 
 /// Events the caller may show (progress bars, log lines).
@@ -575,6 +594,12 @@ pub fn render_frame(
         Some(t) => Some(t.read_ms(gpu)?),
         None => None,
     };
+    let mut report = report;
+    if let Some(phases) = method.phase_timer() {
+        for (name, ms) in phases.read_ms(gpu)? {
+            report.count(&format!("gpu_ms_{name}"), ms);
+        }
+    }
     if gpu.is_lost() {
         return Err(gpu.take_errors().join("; "));
     }
@@ -619,21 +644,43 @@ fn measure(
     let timer = GpuTimer::new(gpu);
     let (mut cpu, mut wall, mut gpu_ms) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = FrameReport::default();
-    for f in 0..cfg.warmup + cfg.frames {
-        let t = render_frame(gpu, method.as_mut(), scene, f, &aovs, timer.as_ref())?;
-        if f >= cfg.warmup {
-            cpu.push(t.cpu_ms);
-            wall.push(t.wall_ms);
-            if let Some(g) = t.gpu_ms {
-                gpu_ms.push(g);
-            }
-            last = t.report;
-        }
+    // Frames cycle through the scene's frames: warm-up first, then the timed ones.
+    let (mut f, mut warm_ms, mut timed_ms) = (0u32, 0.0, 0.0);
+    while f < cfg.warmup && another_frame(cfg.budget_ms, true, f, warm_ms) {
+        warm_ms += render_frame(gpu, method.as_mut(), scene, f, &aovs, timer.as_ref())?.wall_ms;
+        f += 1;
     }
-    // The scored frame.
-    let scored = render_frame(gpu, method.as_mut(), scene, 0, &aovs, None)?;
+    let warmed = f;
+    while f - warmed < cfg.frames && another_frame(cfg.budget_ms, false, f - warmed, timed_ms) {
+        let t = render_frame(gpu, method.as_mut(), scene, f, &aovs, timer.as_ref())?;
+        timed_ms += t.wall_ms;
+        cpu.push(t.cpu_ms);
+        wall.push(t.wall_ms);
+        if let Some(g) = t.gpu_ms {
+            gpu_ms.push(g);
+        }
+        last = t.report;
+        f += 1;
+    }
+    if cfg.budget_ms.is_some() {
+        last.count("warmup_frames", warmed as f64);
+        last.count("timed_frames", (f - warmed) as f64);
+    }
+    // The scored frame: frame 0 once more — unless the last timed frame was frame 0 (always,
+    // in a static scene): its output is still in the AOVs, the same inputs rendered by the same
+    // method, so rendering it again would only cost a frame.
+    let reuse = f > warmed && (f - 1) % scene.frame_count().max(1) == 0;
+    let scored = if reuse {
+        None
+    } else {
+        Some(render_frame(gpu, method.as_mut(), scene, 0, &aovs, None)?.report)
+    };
     let images = aovs.read(gpu)?;
-    let report = if cfg.frames > 0 { last } else { scored.report };
+    let report = if cfg.frames > 0 {
+        last
+    } else {
+        scored.unwrap_or_default()
+    };
     let record = Record {
         scene: scene.name.clone(),
         method: entry.id.to_string(),
@@ -657,4 +704,38 @@ fn measure(
         images: Default::default(),
     };
     Ok((record, images))
+}
+
+#[cfg(test)]
+mod budget_tests {
+    use super::*;
+
+    /// Simulates the frame loop of `measure` for a method taking `frame_ms` a frame.
+    fn frames(budget: Option<f64>, warmup: u32, timed: u32, frame_ms: f64) -> (u32, u32) {
+        let (mut w, mut used) = (0, 0.0);
+        while w < warmup && another_frame(budget, true, w, used) {
+            w += 1;
+            used += frame_ms;
+        }
+        let (mut k, mut used) = (0, 0.0);
+        while k < timed && another_frame(budget, false, k, used) {
+            k += 1;
+            used += frame_ms;
+        }
+        (w, k)
+    }
+
+    #[test]
+    fn budget_cuts_only_slow_records_and_keeps_the_minimums() {
+        // No budget: always W + K.
+        assert_eq!(frames(None, 3, 10, 9000.0), (3, 10));
+        // Fast methods are untouched by an 8 s budget (10 × 0.5 s = 5 s < 8 s).
+        assert_eq!(frames(Some(8000.0), 3, 10, 500.0), (3, 10));
+        // 1 s/frame: warm-up stops at 2 s (B/4), timing at 8 s.
+        assert_eq!(frames(Some(8000.0), 3, 10, 1000.0), (2, 8));
+        // 9 s/frame: one warm-up frame, the minimum of timed frames.
+        assert_eq!(frames(Some(8000.0), 3, 10, 9000.0), (1, MIN_TIMED_FRAMES));
+        // A budget never asks for more than requested.
+        assert_eq!(frames(Some(8000.0), 0, 2, 9000.0), (0, 2));
+    }
 }

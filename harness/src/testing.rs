@@ -46,6 +46,7 @@ pub fn run_config(out: PathBuf, res: u32, frames: u32) -> RunConfig {
         reference: Settings::default(),
         cache_dir: None,
         run_id: "test".into(),
+        budget_ms: None,
     }
 }
 

@@ -5,7 +5,10 @@
 //! scene share the tone map the runner chose from the reference), false-colour error maps
 //! with their colour bar, a table of times and errors, the time-vs-error Pareto plot (PNG
 //! and SVG, drawn with plotters) and the cheapest configuration under 1 %, 5 % and 10 %
-//! in-scatter relative RMSE; then a method × scene summary and the machine and run info.
+//! in-scatter relative RMSE (overall and per method: the equal-error comparison); then a
+//! method × scene summary and the machine and run info. A `scatterbench scaling` run
+//! (a `scaling.json` beside results.json) gets log–log plots of frame time vs triangles and
+//! vs pixels per method with fitted slopes ([`scaling`]).
 //! A `scatterbench stress` run gets the stability table (case × method verdicts,
 //! [`stability`]) first, above all of that.
 //!
@@ -17,6 +20,7 @@
 pub mod analysis;
 pub mod fixture;
 pub mod plot;
+pub mod scaling;
 pub mod stability;
 pub mod view;
 
@@ -96,11 +100,15 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         scenes.push(v);
     }
 
+    // A `scatterbench scaling` run: frame time vs triangles and vs pixels per method.
+    let scaling = scaling::view(run_dir, &results, &plots)?;
+
     let page = view::Page {
         title: format!("scatterbench report — {}", results.run.id),
         counts: view::counts(&results),
         summary: view::summary(&results),
         stability: stability::is_stress(&results).then(|| stability::table(&results)),
+        scaling,
         run: results.run.clone(),
         scenes,
         budgets: analysis::BUDGETS

@@ -205,6 +205,130 @@ where
     Ok(())
 }
 
+/// One line of a log–log scaling plot: measured (x, y) points and an optional power-law fit,
+/// drawn dashed over the points' x range.
+pub struct Line<'a> {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+    pub fit: Option<&'a crate::scaling::Fit>,
+}
+
+/// Draws y vs x on log–log axes (one colour per line, markers at the measurements, the fit
+/// dashed) to `png` and `svg`. Non-positive points are left out; returns how many.
+pub fn loglog(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    lines: &[Line],
+    png: &Path,
+    svg: &Path,
+) -> Result<usize> {
+    register_font();
+    let total: usize = lines.iter().map(|l| l.points.len()).sum();
+    let shown: Vec<Line> = lines
+        .iter()
+        .map(|l| Line {
+            name: l.name.clone(),
+            points: l
+                .points
+                .iter()
+                .copied()
+                .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
+                .collect(),
+            fit: l.fit,
+        })
+        .collect();
+    let kept: usize = shown.iter().map(|l| l.points.len()).sum();
+    {
+        let root = BitMapBackend::new(png, SIZE).into_drawing_area();
+        draw_loglog(root, title, x_label, y_label, &shown)
+            .map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
+    }
+    {
+        let root = SVGBackend::new(svg, SIZE).into_drawing_area();
+        draw_loglog(root, title, x_label, y_label, &shown)
+            .map_err(|e| anyhow!("drawing {}: {e}", svg.display()))?;
+    }
+    Ok(total - kept)
+}
+
+fn draw_loglog<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    lines: &[Line],
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let all = || lines.iter().flat_map(|l| l.points.iter());
+    let (Some(x), Some(y)) = (log_range(all().map(|p| p.0)), log_range(all().map(|p| p.1))) else {
+        root.draw(&Text::new(
+            "no timed record to plot",
+            (20, 40),
+            (FAMILY, 16).into_font(),
+        ))?;
+        root.present()?;
+        return Ok(());
+    };
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FAMILY, 18))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d(
+            (x.0..x.1)
+                .log_scale()
+                .with_key_points(log_ticks(x.0, x.1))
+                .with_light_points(log_minor(x.0, x.1)),
+            (y.0..y.1)
+                .log_scale()
+                .with_key_points(log_ticks(y.0, y.1))
+                .with_light_points(log_minor(y.0, y.1)),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style((FAMILY, 13))
+        .axis_desc_style((FAMILY, 14))
+        .x_label_formatter(&|v| fmt_tick(*v))
+        .y_label_formatter(&|v| fmt_tick(*v))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    for (i, l) in lines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| !l.points.is_empty())
+    {
+        let color = PALETTE[i % PALETTE.len()];
+        let mut pts = l.points.clone();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart
+            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
+            .label(l.name.as_str())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+            });
+        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
+        if let (Some(f), Some(a), Some(b)) = (l.fit, pts.first(), pts.last()) {
+            let fit: Vec<(f64, f64)> = [a.0, b.0].iter().map(|&x| (x, f.eval(x))).collect();
+            chart.draw_series(DashedLineSeries::new(fit, 5, 4, color.stroke_width(1)))?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .label_font((FAMILY, 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
 /// Tick values for a log axis over `[lo, hi]` (0 < lo < hi): 1-2-5 per decade when the range
 /// spans at most three decades, else powers of ten (every k-th one to stay under ~10 labels).
 pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {

@@ -28,6 +28,8 @@ pub struct Page {
     pub summary: Summary,
     /// The stability table, for a stress run only.
     pub stability: Option<crate::stability::Stability>,
+    /// The scaling sweeps, for a `scatterbench scaling` run only.
+    pub scaling: Option<Vec<crate::scaling::SweepView>>,
     pub budgets: Vec<String>,
     pub colorbar: String,
     pub generator: String,
@@ -57,6 +59,15 @@ pub struct SceneView {
     pub plot: Option<PlotLinks>,
     pub plot_note: String,
     pub budget: Vec<BudgetRow>,
+    /// Equal error: each method's cheapest configuration under each budget.
+    pub method_budget: Vec<MethodBudgetRow>,
+}
+
+#[derive(Serialize)]
+pub struct MethodBudgetRow {
+    pub method: String,
+    /// Per budget: "time ms (params, error)", or None when no configuration is within it.
+    pub cells: Vec<Option<String>>,
 }
 
 #[derive(Serialize)]
@@ -361,6 +372,32 @@ fn budget_rows(records: &[&Record], points: &[Point], basis: TimeBasis) -> Vec<B
         .collect()
 }
 
+/// Per method (in order of first appearance): its cheapest ok configuration under each
+/// budget, so methods compare at equal error rather than at their defaults.
+fn method_budget_rows(records: &[&Record], basis: TimeBasis) -> Vec<MethodBudgetRow> {
+    ordered(records.iter().map(|r| r.method.as_str()))
+        .into_iter()
+        .map(|m| {
+            let mine: Vec<&Record> = records.iter().copied().filter(|r| r.method == m).collect();
+            let points = analysis::points(&mine, basis);
+            let cells = BUDGETS
+                .iter()
+                .map(|&b| {
+                    analysis::cheapest_under_budget(&points, b).map(|p| {
+                        format!(
+                            "{} ms ({}; {})",
+                            ms(p.time),
+                            params_text(mine[p.index]),
+                            rel(p.error)
+                        )
+                    })
+                })
+                .collect();
+            MethodBudgetRow { method: m, cells }
+        })
+        .collect()
+}
+
 /// Exposure of the scene's shared tone map, recomputed from the reference EXR the same way
 /// the runner does (auto exposure on the reference total), so the page can state it.
 fn exposure(run_dir: &Path, scene: &str) -> Option<String> {
@@ -446,6 +483,7 @@ pub fn scene_data<'a>(run_dir: &Path, results: &'a Results, scene: &str) -> Scen
         plot: None,
         plot_note,
         budget: budget_rows(&records, &points, basis),
+        method_budget: method_budget_rows(&records, basis),
     };
     SceneData {
         view,

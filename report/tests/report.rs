@@ -558,3 +558,154 @@ fn stress_page_links_resolve() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The equal-error table: per method, its own cheapest configuration under each budget,
+/// worked out by hand from the fixture (sphere-point, GPU times).
+#[test]
+fn per_method_equal_error_table_matches_hand_worked_answers() {
+    let (dir, _, html) = build("method-budget");
+    let doc = parse(&html);
+    let section = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("scene-sphere-point"))
+        .unwrap();
+    let t = section
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "budget-methods"))
+        .expect("per-method budget table");
+    let rows: Vec<(String, Vec<String>)> = t
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .map(|row| {
+            let head = row
+                .children()
+                .find(|c| c.has_tag_name("th"))
+                .map(text)
+                .unwrap();
+            let cells = row
+                .children()
+                .filter(|c| c.has_tag_name("td"))
+                .map(text)
+                .collect();
+            (head, cells)
+        })
+        .collect();
+    let get = |m: &str| {
+        rows.iter()
+            .find(|r| r.0 == m)
+            .unwrap_or_else(|| panic!("{m}"))
+            .1
+            .clone()
+    };
+    // raymarch-brute: 256 steps (0.008) is the only one ≤ 1 %; 64 steps (0.04) is the cheapest
+    // ≤ 5 % and also ≤ 10 % (16 steps is 0.12).
+    let rb = get("raymarch-brute");
+    assert!(rb[0].starts_with("22.0 ms (steps=256;"), "{rb:?}");
+    assert!(rb[1].starts_with("6.00 ms (steps=64;"), "{rb:?}");
+    assert!(rb[2].starts_with("6.00 ms (steps=64;"), "{rb:?}");
+    // epipolar: nothing ≤ 1 %; 256 lines (0.03) ≤ 5 %; 64 lines (0.06, 3 ms) ≤ 10 %.
+    let ep = get("epipolar");
+    assert_eq!(ep[0], "none");
+    assert!(ep[1].starts_with("4.50 ms (lines=256;"), "{ep:?}");
+    assert!(ep[2].starts_with("3.00 ms (lines=64;"), "{ep:?}");
+    // no-scatter (error 1.0), a skipped and a failed method: within no budget.
+    for m in ["no-scatter", "shadow-volumes", "polynomial"] {
+        assert_eq!(get(m), vec!["none"; 3], "{m}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A scaling run (results.json + scaling.json): the page gets the scaling section with one
+/// plot per sweep and a slope per method equal to a fit done here, independently, on the
+/// fixture's times; a method failed at one point is fitted on the rest and says why.
+#[test]
+fn scaling_section_fits_the_slopes_of_the_records() {
+    let dir = tmp("scaling");
+    let mut results = report::fixture::write(&dir, FIXTURE).expect("fixture");
+    // Three triangle-count variants; raymarch-brute's time ∝ x^0.25, epipolar's ∝ x^1 with
+    // its middle point failed.
+    let xs = [1000.0f64, 16000.0, 256000.0];
+    let template = results.records[0].clone();
+    results.records.clear();
+    let mut points = Vec::new();
+    for (i, x) in xs.iter().enumerate() {
+        let scene = format!("sphere-point-tris{x}");
+        points.push(report::scaling::SweepPoint {
+            scene: scene.clone(),
+            x: *x,
+            width: 32,
+            height: 32,
+            triangles: *x as usize,
+        });
+        for (m, t) in [
+            ("raymarch-brute", 2.0 * x.powf(0.25)),
+            ("epipolar", x / 100.0),
+        ] {
+            let mut r = template.clone();
+            r.scene = scene.clone();
+            r.method = m.into();
+            r.params.clear();
+            let timing = r.timing.as_mut().unwrap();
+            timing.gpu_ms.as_mut().unwrap().median = t;
+            if m == "epipolar" && i == 1 {
+                r.status = Status::Failed;
+                r.reason = Some("out of memory".into());
+                r.timing = None;
+            }
+            results.records.push(r);
+        }
+    }
+    results.save(&dir.join("results.json")).unwrap();
+    report::scaling::Spec {
+        base_scene: "sphere-point".into(),
+        sweeps: vec![report::scaling::Sweep {
+            axis: "triangles".into(),
+            label: "caster triangles".into(),
+            note: "at 32×32".into(),
+            points,
+        }],
+    }
+    .save(&dir)
+    .unwrap();
+    let index = report::generate(&dir).expect("report");
+    let html = std::fs::read_to_string(&index).unwrap();
+    let doc = parse(&html);
+    let section = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("scaling"))
+        .expect("scaling section");
+    let img = section
+        .descendants()
+        .find(|n| n.has_tag_name("img"))
+        .and_then(|n| n.attribute("src"))
+        .unwrap();
+    assert!(
+        dir.join("report").join(percent_decode(img)).is_file(),
+        "{img}"
+    );
+    let rows: Vec<Vec<String>> = section
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .map(|r| r.children().filter(|c| c.is_element()).map(text).collect())
+        .collect();
+    // Independent fit: two points suffice for epipolar, slope = Δln t / Δln x = 1.
+    let slope = |a: (f64, f64), b: (f64, f64)| (b.1.ln() - a.1.ln()) / (b.0.ln() - a.0.ln());
+    let rb = rows.iter().find(|r| r[0] == "raymarch-brute").unwrap();
+    let expect = slope(
+        (1000.0, 2.0 * 1000f64.powf(0.25)),
+        (256000.0, 2.0 * 256000f64.powf(0.25)),
+    );
+    assert_eq!(rb[4], format!("{expect:.2}"), "{rb:?}");
+    let ep = rows.iter().find(|r| r[0] == "epipolar").unwrap();
+    assert!(
+        ep[2].contains("failed") && ep[2].contains("out of memory"),
+        "{ep:?}"
+    );
+    assert_eq!(
+        ep[4],
+        format!("{:.2}", slope((1000.0, 10.0), (256000.0, 2560.0)))
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

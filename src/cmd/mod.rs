@@ -5,6 +5,7 @@ pub mod reference;
 pub mod report;
 pub mod reproduce;
 pub mod run;
+pub mod scaling;
 pub mod stress;
 pub mod validate;
 

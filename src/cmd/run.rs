@@ -33,6 +33,12 @@ pub struct RunArgs {
     /// Warm-up frames per record.
     #[arg(long, default_value_t = 3)]
     pub warmup: u32,
+    /// Per-record time budget in seconds (0 = none): warm-up stops after its first frame once
+    /// it has used a quarter of it, timing once 3 frames are timed and they have used it, so
+    /// slow methods on a software adapter get 1 + 3 frames and fast ones the full W + K. The
+    /// counts are recorded in each record's counters (warmup_frames, timed_frames).
+    #[arg(long, default_value_t = 8.0)]
+    pub time_budget: f64,
     /// METHOD.KNOB=VALUE (repeatable).
     #[arg(long = "param")]
     pub params: Vec<String>,
@@ -136,6 +142,9 @@ fn parse_overrides(items: &[String], chosen: &[&Entry]) -> Result<BTreeMap<Strin
 
 pub fn run(a: RunArgs) -> Result<()> {
     let (width, height) = super::parse_res(&a.res)?;
+    if !a.time_budget.is_finite() || a.time_budget < 0.0 {
+        bail!("--time-budget: {} is not a number of seconds ≥ 0", a.time_budget);
+    }
     let chosen = pick_methods(&a.methods)?;
     let scenes = pick_scenes(&a.scenes)?;
     let overrides = parse_overrides(&a.params, &chosen)?;
@@ -175,6 +184,7 @@ pub fn run(a: RunArgs) -> Result<()> {
         reference: Settings::default(),
         cache_dir: Some(a.cache.clone()),
         run_id,
+        budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
     };
     let mut counts = [0usize; 3];
     let results = harness::runner::run_shard(&gpu, &scenes, &chosen, &cfg, shard, &mut |ev| match ev {

@@ -201,6 +201,7 @@ pub fn run(
                         reference: cfg.reference,
                         cache_dir: cfg.cache_dir.clone(),
                         run_id: cfg.run_id.clone(),
+                        budget_ms: None,
                     };
                     let g: &Gpu = gpu;
                     // Swallow the runner's own record events: the judged record is reported below.
