@@ -15,8 +15,10 @@
 //! k_t²Ω/4π · 1/(k_t h) becomes σ_s/h). Modernised: float targets; the table's axes are
 //! u = λ/(1+λ) and w = tan(γ/2+π/4)/(1+tan(γ/2+π/4)) instead of linear λ and γ (w follows the
 //! integrand's e^(−λ tan(γ/2+π/4)) and needs no atan texture), bilinear lookups done in the
-//! shader, per-channel σ_t. Surface lighting (step 2) is the shared surface pass, whose shadows
-//! come from shadow maps rather than the paper's stencil shadow volumes. Shadow planes
+//! shader, per-channel σ_t. Surface lighting (step 2) is the shared surface pass shaded without
+//! shadows, then, per light, the stencil count of its shadow volumes (seeded with the eye's count,
+//! so correct with the camera in a shadow) removes the light where the count is not zero
+//! (`common::stencil_surfaces`; knob `surface_shadows = shadow-map` uses shadow maps instead). Shadow planes
 //! (`planes.rs`): silhouettes from `common::silhouette` (recomputed only when a light or caster
 //! moved; open or non-manifold casters fall back to per-triangle planes, counted in
 //! `nonmanifold_casters` and recorded as a skipped "silhouette of <name>"), extruded past the far
@@ -65,6 +67,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::stencil_surfaces::StencilSurfaceShadows;
 
 pub const LDSS_WGSL: &str = include_str!("ldss.wgsl");
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
@@ -95,6 +98,8 @@ struct State {
     resolve: ResolvePass,
     planes: planes::Planes,
     indirect: Option<indirect::IndirectPass>,
+    /// Step 2's stencil surface shadows (`surface_shadows = stencil`).
+    surface_shadows: Option<StencilSurfaceShadows>,
     _table: wgpu::Texture,
     table_view: wgpu::TextureView,
     /// GPU time per phase (Table 1's breakdown), when the device has timestamps in encoders.
@@ -167,11 +172,18 @@ impl Method for BiriShadowVolumes {
                 meaning: "Γ_L(λ, φ_n) and Γ_P(λ, ψ_s) table size per side",
             },
             ParamSpec {
+                name: "surface_shadows",
+                default: ParamValue::Text("stencil".into()),
+                sweep: vec![],
+                choices: vec!["stencil".into(), "shadow-map".into()],
+                meaning: "surface shadows: the paper's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass",
+            },
+            ParamSpec {
                 name: "shadow_map",
                 default: ParamValue::Int(1024),
                 sweep: vec![],
                 choices: vec![],
-                meaning: "shadow-map resolution per face, texels (surface shadows of the shared surface pass)",
+                meaning: "shadow-map resolution per face, texels (surface_shadows = shadow-map only)",
             },
         ]
     }
@@ -199,7 +211,21 @@ impl Method for BiriShadowVolumes {
         let table = GammaTable::build(&ctx.scene.medium().background().phase, res, res);
         let texture = upload(ctx.gpu, &table);
         let table_view = texture.create_view(&Default::default());
-        let renderer = SceneRenderer::new(ctx, get("shadow_map").clamp(16, 8192) as u32, 16)?;
+        let text = |k: &str| ctx.params.get(k).and_then(ParamValue::as_str).unwrap_or("");
+        let stencil_shadows = match text("surface_shadows") {
+            "stencil" => true,
+            "shadow-map" => false,
+            other => anyhow::bail!("surface_shadows = {other:?}: expected stencil or shadow-map"),
+        };
+        let renderer = SceneRenderer::with_shadow_maps(
+            ctx,
+            get("shadow_map").clamp(16, 8192) as u32,
+            16,
+            !stencil_shadows,
+        )?;
+        let surface_shadows = stencil_shadows.then(|| {
+            StencilSurfaceShadows::new(ctx.gpu, &renderer, planes::DEPTH, features.lights)
+        });
         let resolve = ResolvePass::with_textures(
             ctx.gpu,
             &renderer,
@@ -208,7 +234,6 @@ impl Method for BiriShadowVolumes {
             Some(std::mem::size_of::<ConfigUniform>() as u64),
             2,
         );
-        let text = |k: &str| ctx.params.get(k).and_then(ParamValue::as_str).unwrap_or("");
         let mode = match text("resolve") {
             "stencil" => planes::Resolve::Stencil,
             "per-pixel" => planes::Resolve::PerPixel,
@@ -248,9 +273,10 @@ impl Method for BiriShadowVolumes {
             resolve,
             planes,
             indirect,
+            surface_shadows,
             _table: texture,
             table_view,
-            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 4 + 3 * features.lights as u32),
+            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 5 + 3 * features.lights as u32),
         });
         Ok(())
     }
@@ -309,6 +335,20 @@ impl Method for BiriShadowVolumes {
                 &mut st.timer,
             );
             report.ran("shadow-planes");
+            if let Some(shadows) = &st.surface_shadows {
+                if let Some(t) = st.timer.as_mut() {
+                    t.mark(enc, "first_pass");
+                }
+                st.planes.encode_surface_shadows(
+                    gpu,
+                    enc,
+                    &st.renderer,
+                    &st.table_view,
+                    targets.surface,
+                    shadows,
+                );
+                report.ran("stencil-surface-shadows");
+            }
         } else {
             report.skip("shadow-planes", "no object casts a volumetric shadow");
         }

@@ -11,6 +11,7 @@ use scenes::FrameState;
 use crate::common::gpu_scene::Vertex;
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
+use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::wgsl;
 
 use harness::gpu::PhaseTimer;
@@ -453,22 +454,14 @@ impl Planes {
 
     /// The scene depth pass, then per light either the stencil passes (count, lit surfaces,
     /// planes) or the per-pixel gather and walk, into `acc_view`.
-    pub fn encode(
-        &mut self,
+    /// Group 1 of the plane passes: the Γ table, the per-light uniform slots, the ray distances.
+    fn bind_group(
+        &self,
         gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
         table: &wgpu::TextureView,
-        report: &mut FrameReport,
-        timer: &mut Option<PhaseTimer>,
-    ) {
-        let mut mark = |enc: &mut wgpu::CommandEncoder, phase| {
-            if let Some(t) = timer.as_mut() {
-                t.mark(enc, phase);
-            }
-        };
-        mark(enc, SURFACES);
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+    ) -> wgpu::BindGroup {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("biri planes"),
             layout: &self.layout,
             entries: &[
@@ -489,7 +482,69 @@ impl Planes {
                     resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
                 },
             ],
-        });
+        })
+    }
+
+    /// Step 2's surface shadows from the stencil: per light, the z-pass count of its volumes
+    /// around each visible point (seeded with the eye's count), then the light's contribution
+    /// removed from `surface` wherever that count is not zero. Runs after `encode`, whose depth
+    /// pass left the scene depth in the depth-stencil buffer.
+    pub fn encode_surface_shadows(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        table: &wgpu::TextureView,
+        surface: &wgpu::TextureView,
+        shadows: &StencilSurfaceShadows,
+    ) {
+        let bind = self.bind_group(gpu, renderer, table);
+        for (k, r) in self.ranges.iter().enumerate() {
+            let offset = [(k as u64 * SLOT) as u32];
+            {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("biri surface-shadow count"),
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &self.depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(r.eye_count),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                    }),
+                    ..Default::default()
+                });
+                if let Some(v) = self.vertices.as_ref().filter(|_| r.end > r.first) {
+                    pass.set_pipeline(&self.stencil.count);
+                    pass.set_bind_group(0, &renderer.frame_bind, &[]);
+                    pass.set_bind_group(1, &bind, &offset);
+                    pass.set_vertex_buffer(0, v.slice(..));
+                    pass.draw(r.first..r.end, 0..1);
+                }
+            }
+            shadows.encode(enc, renderer, surface, &self.depth_view, k);
+        }
+    }
+
+    pub fn encode(
+        &mut self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        table: &wgpu::TextureView,
+        report: &mut FrameReport,
+        timer: &mut Option<PhaseTimer>,
+    ) {
+        let mut mark = |enc: &mut wgpu::CommandEncoder, phase| {
+            if let Some(t) = timer.as_mut() {
+                t.mark(enc, phase);
+            }
+        };
+        mark(enc, SURFACES);
+        let bind = self.bind_group(gpu, renderer, table);
         let ds = |view, depth: wgpu::LoadOp<f32>, stencil: wgpu::LoadOp<u32>| {
             wgpu::RenderPassDepthStencilAttachment {
                 view,

@@ -35,6 +35,8 @@ pub struct SceneRenderer {
     pub distance_view: wgpu::TextureView,
     /// Whether shadow maps are rendered this run.
     pub shadows_on: bool,
+    /// False when the method takes surface shadows from stencil volumes instead.
+    shadow_maps_requested: bool,
     pub width: u32,
     pub height: u32,
 }
@@ -68,13 +70,24 @@ impl SceneRenderer {
         shadow_size: u32,
         pattern_size: u32,
     ) -> anyhow::Result<SceneRenderer> {
+        Self::with_shadow_maps(ctx, shadow_size, pattern_size, true)
+    }
+
+    /// `shadow_maps = false`: surfaces are shaded unshadowed (for methods whose surface shadows
+    /// come from stencil shadow volumes, `common::stencil_surfaces`) and no shadow map is drawn.
+    pub fn with_shadow_maps(
+        ctx: &PrepareContext,
+        shadow_size: u32,
+        pattern_size: u32,
+        shadow_maps: bool,
+    ) -> anyhow::Result<SceneRenderer> {
         let gpu = ctx.gpu;
         let scene = ctx.scene.clone();
         if let Some(why) = renderer_limits(&scene.features()) {
             anyhow::bail!(why);
         }
         let gpu_scene = GpuScene::new(gpu, &scene);
-        let shadows_on = ctx.no_skip || gpu_scene.has_casters();
+        let shadows_on = shadow_maps && (ctx.no_skip || gpu_scene.has_casters());
         let frame0 = scene.frame(0);
         let shadows = ShadowMaps::new(gpu, &frame0.lights, shadow_size, shadows_on, &gpu_scene);
         let patterns = PatternTextures::new(gpu, &scene.desc.lights, pattern_size);
@@ -224,6 +237,7 @@ impl SceneRenderer {
             distance,
             distance_view,
             shadows_on,
+            shadow_maps_requested: shadow_maps,
             width: ctx.width,
             height: ctx.height,
         })
@@ -255,7 +269,12 @@ impl SceneRenderer {
             self.shadows.encode(enc, &self.gpu_scene, report);
             report.ran("shadow-maps");
         } else {
-            report.skip("shadow-maps", "no object casts a volumetric shadow");
+            let why = if self.shadow_maps_requested {
+                "no object casts a volumetric shadow"
+            } else {
+                "surface shadows come from stencil shadow volumes"
+            };
+            report.skip("shadow-maps", why);
         }
     }
 

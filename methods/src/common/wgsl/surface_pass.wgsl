@@ -21,42 +21,65 @@ struct FsOut {
     @location(1) distance: vec4<f32>,
 };
 
-// Reflected radiance toward the eye at x (not attenuated on the eye leg).
-fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32> {
-    var n = normalize(n_in);
-    if (!front) {
-        if (o.albedo.w < 0.5) { return vec3<f32>(0.0); }
-        n = -n;
+// Light k's unshadowed reflected radiance toward v at x, with n facing the viewer.
+fn shade_light(k: u32, x: vec3<f32>, n: vec3<f32>, v: vec3<f32>, o: ObjectData) -> vec3<f32> {
+    var to_light: vec3<f32>;
+    var incident: vec3<f32>;
+    if (light_kind(k) == LIGHT_DIRECTIONAL) {
+        to_light = -lights.lights[k].direction.xyz;
+        incident = lights.lights[k].intensity.rgb;
+    } else {
+        let w = x - lights.lights[k].position.xyz;
+        let r = length(w);
+        to_light = -w / r;
+        incident = light_intensity(k, w) * transmittance(medium, r) / (r * r);
     }
+    let cos_l = dot(n, to_light);
+    if (cos_l <= 0.0) { return vec3<f32>(0.0); }
+    var brdf = o.albedo.rgb / PI;
+    if (o.phong.w > 0.0) {
+        let refl = 2.0 * cos_l * n - to_light;
+        brdf += o.phong.rgb * (o.phong.w + 2.0) / (2.0 * PI) * pow(max(dot(refl, v), 0.0), o.phong.w);
+    }
+    return brdf * incident * cos_l;
+}
+
+// The normal facing the viewer, or zero for the back of a one-sided surface.
+fn facing_normal(n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32> {
+    let n = normalize(n_in);
+    if (front) { return n; }
+    return select(-n, vec3<f32>(0.0), o.albedo.w < 0.5);
+}
+
+// Reflected radiance toward the eye at x (not attenuated on the eye leg), shadow-mapped.
+fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32> {
+    let n = facing_normal(n_in, front, o);
+    if (all(n == vec3<f32>(0.0))) { return vec3<f32>(0.0); }
     let v = normalize(camera.position.xyz - x);
     var out = vec3<f32>(0.0);
     for (var k = 0u; k < lights.count.x; k++) {
-        var to_light: vec3<f32>;
-        var incident: vec3<f32>;
-        var r = 0.0;
         let directional = light_kind(k) == LIGHT_DIRECTIONAL;
-        if (directional) {
-            to_light = -lights.lights[k].direction.xyz;
-            incident = lights.lights[k].intensity.rgb;
-        } else {
-            let w = x - lights.lights[k].position.xyz;
-            r = length(w);
-            to_light = -w / r;
-            incident = light_intensity(k, w) * transmittance(medium, r) / (r * r);
-        }
-        let cos_l = dot(n, to_light);
-        if (cos_l <= 0.0) { continue; }
+        let r = length(x - lights.lights[k].position.xyz);
         // Offset along the normal so a surface does not shadow itself.
         let offset = 2.0 * select(r, 1.0, directional) / max(lights.lights[k].shadow.z, 1.0);
-        let vis = shadow_visibility(k, x + n * offset);
-        var brdf = o.albedo.rgb / PI;
-        if (o.phong.w > 0.0) {
-            let refl = 2.0 * cos_l * n - to_light;
-            brdf += o.phong.rgb * (o.phong.w + 2.0) / (2.0 * PI) * pow(max(dot(refl, v), 0.0), o.phong.w);
-        }
-        out += brdf * incident * cos_l * vis;
+        out += shade_light(k, x, n, v, o) * shadow_visibility(k, x + n * offset);
     }
     return out;
+}
+
+// Stencil surface shadows (methods that draw shadow volumes): the light SURFACE_LIGHT's
+// unshadowed contribution, negated, for an additive pass that runs only where the stencil says
+// the visible point is inside one of that light's shadow volumes.
+override SURFACE_LIGHT: u32 = 0u;
+
+@fragment
+fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let o = objects[i.object];
+    let n = facing_normal(i.normal, front, o);
+    let v = normalize(camera.position.xyz - i.world);
+    let d = length(i.world - camera.position.xyz);
+    let l = shade_light(SURFACE_LIGHT, i.world, n, v, o) * transmittance(medium, d);
+    return vec4<f32>(-l, 0.0);
 }
 
 @fragment

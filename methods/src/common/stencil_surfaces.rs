@@ -1,0 +1,160 @@
+//! Surface shadows from stencil shadow volumes (Biri et al.'s step 2; Biri, Michelin & Arquès
+//! §4.3), shared by the methods that already count shadow volumes in a stencil buffer.
+//!
+//! The surfaces are first shaded with every light unshadowed (a `SceneRenderer` built without
+//! shadow maps). Then, per light, once the stencil holds the number of that light's shadow
+//! volumes around each visible point (z-pass count seeded with the eye's count, which stays
+//! correct with the camera inside a shadow), the scene is drawn again over the same depth and
+//! removes the light's contribution wherever the count is not zero. Shadows are therefore exact
+//! per pixel — no shadow-map resolution or bias — and cost one extra scene draw per light.
+
+use harness::Gpu;
+use harness::method::AOV_FORMAT;
+
+use super::gpu_scene::Vertex;
+use super::renderer::{SceneRenderer, surface_source};
+use super::wgsl;
+
+pub struct StencilSurfaceShadows {
+    /// One pipeline per light slot (`override SURFACE_LIGHT`).
+    pipelines: Vec<wgpu::RenderPipeline>,
+}
+
+impl StencilSurfaceShadows {
+    /// Pipelines for `lights` lights drawing over a `depth_format` depth-stencil buffer that
+    /// holds the scene's depth (written with the same vertex transform).
+    pub fn new(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        depth_format: wgpu::TextureFormat,
+        lights: usize,
+    ) -> StencilSurfaceShadows {
+        let module = wgsl::module(&gpu.device, "stencil surface shadows", &surface_source());
+        let layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("stencil surface shadows"),
+                bind_group_layouts: &[Some(&renderer.frame_layout)],
+                immediate_size: 0,
+            });
+        let in_shadow = wgpu::StencilFaceState {
+            compare: wgpu::CompareFunction::NotEqual,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Keep,
+        };
+        let add = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let pipelines = (0..lights)
+            .map(|k| {
+                let constants = [("SURFACE_LIGHT", k as f64)];
+                gpu.device
+                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some("stencil surface shadows"),
+                        layout: Some(&layout),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some("vs"),
+                            compilation_options: Default::default(),
+                            buffers: &[Some(Vertex::LAYOUT)],
+                        },
+                        primitive: wgpu::PrimitiveState {
+                            cull_mode: None,
+                            ..Default::default()
+                        },
+                        depth_stencil: Some(wgpu::DepthStencilState {
+                            format: depth_format,
+                            depth_write_enabled: Some(false),
+                            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                            stencil: wgpu::StencilState {
+                                front: in_shadow,
+                                back: in_shadow,
+                                read_mask: 0xff,
+                                write_mask: 0,
+                            },
+                            // Pulled toward the eye so the visible surface passes LessEqual
+                            // against the depth another vertex shader wrote.
+                            bias: wgpu::DepthBiasState {
+                                constant: -8,
+                                slope_scale: -1.0,
+                                clamp: 0.0,
+                            },
+                        }),
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some("fs_remove_light"),
+                            compilation_options: wgpu::PipelineCompilationOptions {
+                                constants: &constants,
+                                zero_initialize_workgroup_memory: true,
+                            },
+                            targets: &[Some(wgpu::ColorTargetState {
+                                format: AOV_FORMAT,
+                                blend: Some(wgpu::BlendState {
+                                    color: add,
+                                    alpha: add,
+                                }),
+                                write_mask: wgpu::ColorWrites::ALL,
+                            })],
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    })
+            })
+            .collect();
+        StencilSurfaceShadows { pipelines }
+    }
+
+    /// Removes light `k`'s contribution from `surface` where the stencil of `depth_stencil` is
+    /// not zero. The depth-stencil buffer must hold the scene depth and light k's volume count.
+    pub fn encode(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        surface: &wgpu::TextureView,
+        depth_stencil: &wgpu::TextureView,
+        k: usize,
+    ) {
+        let Some(pipeline) = self.pipelines.get(k) else {
+            return;
+        };
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("stencil surface shadows"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: surface,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth_stencil,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+            }),
+            ..Default::default()
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_stencil_reference(0);
+        pass.set_bind_group(0, &renderer.frame_bind, &[]);
+        pass.set_vertex_buffer(0, renderer.gpu_scene.vertices.slice(..));
+        pass.set_index_buffer(
+            renderer.gpu_scene.indices.slice(..),
+            wgpu::IndexFormat::Uint32,
+        );
+        for d in &renderer.gpu_scene.draws {
+            pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
+        }
+    }
+}
