@@ -453,11 +453,22 @@ fn breakdown_text(e: &Experiment, results: &Results) -> String {
         .collect();
     for (_, r) in &recs {
         for k in r.iter().flat_map(|r| r.counters.keys()) {
-            if k.ends_with("_ms") && !names.contains(k) {
+            let timed = k.ends_with("_ms") || k.starts_with("gpu_ms_");
+            if timed && !names.contains(k) {
                 names.push(k.clone());
             }
         }
     }
+    // The paper's column order; anything else after it.
+    const ORDER: [&str; 6] = [
+        "silhouette_ms",
+        "gpu_ms_first_pass",
+        "sort_ms",
+        "gpu_ms_second_pass_surfaces",
+        "gpu_ms_second_pass_volumes",
+        "gpu_ms_resolve",
+    ];
+    names.sort_by_key(|n| ORDER.iter().position(|o| o == n).unwrap_or(ORDER.len()));
     if !names.iter().any(|n| n.starts_with("gpu_ms")) {
         let _ = writeln!(
             t,
