@@ -20,6 +20,7 @@
 pub mod analysis;
 pub mod fixture;
 pub mod plot;
+pub mod knobs;
 pub mod scaling;
 pub mod stability;
 pub mod view;
@@ -102,6 +103,8 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
 
     // A `scatterbench scaling` run: frame time vs triangles and vs pixels per method.
     let scaling = scaling::view(run_dir, &results, &plots)?;
+    // Error vs each numeric knob of a sweep, the other knobs fixed per line.
+    let knobs = knobs::view(&results, &plots)?;
 
     let page = view::Page {
         title: format!("scatterbench report — {}", results.run.id),
@@ -109,6 +112,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         summary: view::summary(&results),
         stability: stability::is_stress(&results).then(|| stability::table(&results)),
         scaling,
+        knobs,
         run: results.run.clone(),
         scenes,
         budgets: analysis::BUDGETS

@@ -30,6 +30,8 @@ pub struct Page {
     pub stability: Option<crate::stability::Stability>,
     /// The scaling sweeps, for a `scatterbench scaling` run only.
     pub scaling: Option<Vec<crate::scaling::SweepView>>,
+    /// Error vs each swept numeric knob (empty without a sweep).
+    pub knobs: Vec<crate::knobs::KnobPlot>,
     pub budgets: Vec<String>,
     pub colorbar: String,
     pub generator: String,

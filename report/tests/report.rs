@@ -196,9 +196,14 @@ fn every_link_resolves_and_nothing_is_remote() {
         .iter()
         .filter(|r| !r.images.is_empty())
         .count();
+    // Plus one knob-response plot per swept numeric knob (section `knobs`).
+    let knob_plots = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("knobs"))
+        .map_or(0, |s| s.descendants().filter(|n| n.has_tag_name("img")).count());
     assert_eq!(
         images,
-        3 * scenes.len() + 5 * with_images + 2 * scenes.len() + scenes.len()
+        3 * scenes.len() + 5 * with_images + 2 * scenes.len() + scenes.len() + knob_plots
     );
     assert!(checked > images, "PNG/SVG download links are checked too");
     // The path with a space and an ampersand was linked (percent-encoded), not reported missing.
