@@ -7,6 +7,7 @@ pub mod common;
 pub mod dobashi_virtual_planes;
 pub mod no_scatter;
 pub mod raymarch_brute;
+pub mod umenhoffer_particle_blocks;
 pub mod wyman_hybrid;
 
 use harness::method::Entry;
@@ -32,6 +33,14 @@ pub const REGISTRY: &[Entry] = &[
     Entry {
         id: "biri-polynomial",
         make: || Box::new(biri_polynomial::BiriPolynomial::default()),
+    },
+    Entry {
+        id: "umenhoffer-particle-blocks",
+        make: || Box::new(umenhoffer_particle_blocks::UmenhofferParticleBlocks::default()),
+    },
+    Entry {
+        id: "particle-splat",
+        make: || Box::new(umenhoffer_particle_blocks::ParticleSplat::default()),
     },
     Entry {
         id: "no-scatter",
@@ -95,8 +104,13 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             biri_shadow_volumes::planes_source(),
         ),
         (
-            "biri-polynomial/fragment",
-            common::resolve::source(&biri_polynomial::fragment_wgsl()),
+            "biri-shadow-volumes/indirect",
+            biri_shadow_volumes::indirect::source(),
         ),
+        ("biri-polynomial/passes", biri_polynomial::passes_source()),
+        ("biri-polynomial/resolve", biri_polynomial::resolve_source()),
     ]
+    .into_iter()
+    .chain(umenhoffer_particle_blocks::shader_sources())
+    .collect()
 }
