@@ -55,6 +55,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::stencil_surfaces::StencilSurfaceShadows;
 
 pub mod geometry;
 #[cfg(test)]
@@ -94,6 +95,8 @@ struct State {
     renderer: SceneRenderer,
     passes: passes::Passes,
     resolve: ResolvePass,
+    /// §4.3's stencil surface shadows (`surface_shadows = stencil`).
+    surface_shadows: Option<StencilSurfaceShadows>,
 }
 
 /// The knobs, parsed and checked.
@@ -209,6 +212,13 @@ impl Method for BiriPolynomial {
                 meaning: "eval = vertex: strips per shadow plane, at (i/n)² of its length (finer near the light), 1…256",
             },
             ParamSpec {
+                name: "surface_shadows",
+                default: ParamValue::Text("stencil".into()),
+                sweep: vec![],
+                choices: vec!["stencil", "shadow-map"],
+                meaning: "surface shadows: §4.3's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass",
+            },
+            ParamSpec {
                 name: "accumulate",
                 default: ParamValue::Text("float".into()),
                 sweep: vec![ParamValue::Text("unorm8".into())],
@@ -266,8 +276,26 @@ impl Method for BiriPolynomial {
                 );
             }
         }
-        let renderer = SceneRenderer::new(ctx, 1024, 16)?;
+        let stencil_shadows = match ctx
+            .params
+            .get("surface_shadows")
+            .and_then(ParamValue::as_str)
+            .unwrap_or("stencil")
+        {
+            "stencil" => true,
+            "shadow-map" => false,
+            e => anyhow::bail!("surface_shadows must be `stencil` or `shadow-map`, not `{e}`"),
+        };
+        let renderer = SceneRenderer::with_shadow_maps(ctx, 1024, 16, !stencil_shadows)?;
         let passes = passes::Passes::new(ctx, &renderer, cfg);
+        let surface_shadows = stencil_shadows.then(|| {
+            StencilSurfaceShadows::new(
+                ctx.gpu,
+                &renderer,
+                passes::DEPTH,
+                ctx.scene.features().lights,
+            )
+        });
         let resolve = ResolvePass::with_textures(
             ctx.gpu,
             &renderer,
@@ -286,6 +314,7 @@ impl Method for BiriPolynomial {
             renderer,
             passes,
             resolve,
+            surface_shadows,
         });
         Ok(())
     }
@@ -306,8 +335,14 @@ impl Method for BiriPolynomial {
         st.passes.update(gpu, frame, &mut report);
         st.renderer.encode_shadows(enc, &mut report);
         st.renderer.encode_surface(enc, targets, &mut report);
-        st.passes
-            .encode(gpu, enc, &st.renderer, targets.surface, &mut report);
+        st.passes.encode(
+            gpu,
+            enc,
+            &st.renderer,
+            targets.surface,
+            st.surface_shadows.as_ref(),
+            &mut report,
+        );
         st.resolve
             .encode_with(gpu, enc, &st.renderer, targets, &[&st.passes.acc_view]);
         report.ran("resolve");

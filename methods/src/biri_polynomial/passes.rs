@@ -15,10 +15,11 @@ use super::geometry::{faces_eye, far_grid, mesh_quad, order_key};
 use crate::common::gpu_scene::{GpuScene, Vertex};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
+use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
-const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
 /// Uniform slot stride (wgpu's guaranteed minimum dynamic-offset alignment).
 const SLOT: u64 = 256;
 
@@ -514,6 +515,7 @@ impl Passes {
         enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
         surface: &wgpu::TextureView,
+        surface_shadows: Option<&StencilSurfaceShadows>,
         report: &mut FrameReport,
     ) {
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -590,6 +592,35 @@ impl Passes {
             pass.set_pipeline(&self.depth_pipe);
             draw_scene(&mut pass);
         }
+        let planes = self.vertices.as_ref();
+        // §4.3's surface shadows: per light, the count of its volumes around each visible point,
+        // then its light removed from the surfaces where the count is not zero.
+        if let Some(shadows) = surface_shadows {
+            for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+                let offset = [(k as u64 * SLOT) as u32];
+                {
+                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("biri-poly surface-shadow count"),
+                        depth_stencil_attachment: Some(ds(
+                            wgpu::LoadOp::Load,
+                            wgpu::LoadOp::Clear(light.eye_count),
+                        )),
+                        ..Default::default()
+                    });
+                    if let Some(v) = planes.filter(|_| !light.runs.is_empty()) {
+                        let whole = light.runs.first().map_or(0, |r| r.0.start)
+                            ..light.runs.last().map_or(0, |r| r.0.end);
+                        pass.set_pipeline(&self.count_pipe);
+                        pass.set_bind_group(0, &renderer.frame_bind, &[]);
+                        pass.set_bind_group(1, &bind, &offset);
+                        pass.set_vertex_buffer(0, v.slice(..));
+                        pass.draw(whole, 0..1);
+                    }
+                }
+                shadows.encode(enc, renderer, surface, &self.depth_view, k);
+            }
+            report.ran("stencil-surface-shadows");
+        }
         // §4.3's first pass (surfaces and ambient fog) into the 8-bit target.
         if self.cfg.accumulate == Accumulate::Unorm8 {
             let attachments = color(clear);
@@ -605,7 +636,6 @@ impl Passes {
             pass.draw(0..3, 0..1);
         }
         let mut first = self.cfg.accumulate == Accumulate::Float;
-        let planes = self.vertices.as_ref();
         for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
             let offset = [(k as u64 * SLOT) as u32];
             let has_planes = !light.runs.is_empty() && planes.is_some();
