@@ -545,13 +545,7 @@ impl Passes {
             ],
         });
         let scene = self.tess.as_ref().unwrap_or(&renderer.gpu_scene);
-        let draw_scene = |pass: &mut wgpu::RenderPass| {
-            pass.set_vertex_buffer(0, scene.vertices.slice(..));
-            pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            for d in &scene.draws {
-                pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
-            }
-        };
+        let draw_scene = |pass: &mut wgpu::RenderPass| scene.draw(pass);
         let ds = |depth: wgpu::LoadOp<f32>, stencil: wgpu::LoadOp<u32>| {
             wgpu::RenderPassDepthStencilAttachment {
                 view: &self.depth_view,

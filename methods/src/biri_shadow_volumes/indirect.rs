@@ -384,12 +384,7 @@ impl IndirectPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &self.bind, &[]);
-        let gs = &renderer.gpu_scene;
-        pass.set_vertex_buffer(0, gs.vertices.slice(..));
-        pass.set_index_buffer(gs.indices.slice(..), wgpu::IndexFormat::Uint32);
-        for d in &gs.draws {
-            pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
-        }
+        renderer.gpu_scene.draw(&mut pass);
     }
 }
 

@@ -50,6 +50,16 @@ pub struct GpuScene {
 }
 
 impl GpuScene {
+    /// Binds the scene's vertex and index buffers and draws every object (pipeline and bind
+    /// groups are the caller's).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        for d in &self.draws {
+            pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
+        }
+    }
+
     pub fn new(gpu: &Gpu, scene: &Scene) -> GpuScene {
         let mut verts = Vec::new();
         let mut idx = Vec::new();

@@ -324,11 +324,7 @@ impl SceneRenderer {
         });
         pass.set_pipeline(&self.surface_pipeline);
         pass.set_bind_group(0, &self.frame_bind, &[]);
-        pass.set_vertex_buffer(0, self.gpu_scene.vertices.slice(..));
-        pass.set_index_buffer(self.gpu_scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-        for d in &self.gpu_scene.draws {
-            pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
-        }
+        self.gpu_scene.draw(&mut pass);
         report.ran("surface");
     }
 }

@@ -148,13 +148,6 @@ impl StencilSurfaceShadows {
         pass.set_pipeline(pipeline);
         pass.set_stencil_reference(0);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
-        pass.set_vertex_buffer(0, renderer.gpu_scene.vertices.slice(..));
-        pass.set_index_buffer(
-            renderer.gpu_scene.indices.slice(..),
-            wgpu::IndexFormat::Uint32,
-        );
-        for d in &renderer.gpu_scene.draws {
-            pass.draw_indexed(d.first_index..d.first_index + d.index_count, 0, 0..1);
-        }
+        renderer.gpu_scene.draw(&mut pass);
     }
 }
