@@ -4,7 +4,8 @@
 # `scatterbench run` (e.g. --res 512 --sweep).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1; then
+# Either directory may be absent; one driver manifest in either is enough.
+if ! compgen -G '/usr/share/vulkan/icd.d/*.json' >/dev/null && ! compgen -G '/etc/vulkan/icd.d/*.json' >/dev/null; then
     echo "no Vulkan driver found: installing mesa-vulkan-drivers (lavapipe)" >&2
     if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
     $SUDO apt-get update -qq

@@ -9,23 +9,16 @@ struct Mode {
     // x: 0 float, 1 unorm8
     mode: vec4<u32>,
 };
-@group(1) @binding(0) var ray_distance: texture_2d<f32>;
-@group(1) @binding(1) var surface: texture_2d<f32>;
 @group(1) @binding(2) var<uniform> mode: Mode;
 @group(1) @binding(3) var accumulated: texture_2d<f32>;
-
-struct Out {
-    @location(0) inscatter: vec4<f32>,
-    @location(1) total: vec4<f32>,
-};
 
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
-    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
+    let d = pixel_ray_length(px, dir);
     let surf = textureLoad(surface, px, 0).rgb;
-    let ambient = medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, d));
+    let ambient = ambient_fog(d);
     let acc = textureLoad(accumulated, px, 0).rgb;
     if (mode.mode.x == 1u) {
         return Out(vec4<f32>(acc - surf - ambient, 1.0), vec4<f32>(acc, 1.0));

@@ -9,22 +9,15 @@ struct Config {
     // x: 1 when binding 4 holds the accumulated crossing terms; y: bit k set when light k sees the eye
     flags: vec4<u32>,
 };
-@group(1) @binding(0) var ray_distance: texture_2d<f32>;
-@group(1) @binding(1) var surface: texture_2d<f32>;
 @group(1) @binding(2) var<uniform> config: Config;
 @group(1) @binding(3) var gamma_table: texture_2d<f32>;
 @group(1) @binding(4) var crossings: texture_2d<f32>;
-
-struct Out {
-    @location(0) inscatter: vec4<f32>,
-    @location(1) total: vec4<f32>,
-};
 
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
-    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
+    let d = pixel_ray_length(px, dir);
     var l_in = vec3<f32>(0.0);
     for (var k = 0u; k < lights.count.x; k++) {
         if (light_kind(k) != LIGHT_POINT) { continue; }
@@ -38,6 +31,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
         l_in = max(l_in + textureLoad(crossings, px, 0).rgb, vec3<f32>(0.0));
     }
     let surf = textureLoad(surface, px, 0).rgb;
-    let ambient = medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, d));
+    let ambient = ambient_fog(d);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient, 1.0));
 }

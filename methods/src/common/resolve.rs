@@ -315,5 +315,8 @@ impl ResolvePass {
 
 /// The composed WGSL of a resolve pass.
 pub fn source(own: &str) -> String {
-    wgsl::compose(&[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(), own)
+    wgsl::compose(&[wgsl::PRELUDE, &[wgsl::FULLSCREEN, RESOLVE_IO]].concat(), own)
 }
+
+/// The bindings 0–1, `Out` and the ray-length and ambient helpers every resolve pass shares.
+const RESOLVE_IO: &str = include_str!("wgsl/resolve_io.wgsl");

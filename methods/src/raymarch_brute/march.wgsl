@@ -6,14 +6,7 @@ struct March {
     // x: steps; y: jitter (0/1); z: frame index; w: unused
     config: vec4<u32>,
 };
-@group(1) @binding(0) var ray_distance: texture_2d<f32>;
-@group(1) @binding(1) var surface: texture_2d<f32>;
 @group(1) @binding(2) var<uniform> march: March;
-
-struct Out {
-    @location(0) inscatter: vec4<f32>,
-    @location(1) total: vec4<f32>,
-};
 
 // Integer hash → [0, 1): decorrelated per pixel and frame (jittered step offsets).
 fn hash01(p: vec2<u32>, f: u32) -> f32 {
@@ -49,7 +42,7 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
-    let d = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
+    let d = pixel_ray_length(px, dir);
     let n = max(march.config.x, 1u);
     let dt = d / f32(n);
     let offset = select(0.5, hash01(vec2<u32>(px), march.config.z), march.config.y != 0u);
@@ -59,6 +52,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     l_in *= dt;
     let surf = textureLoad(surface, px, 0).rgb;
-    let ambient = medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, d));
+    let ambient = ambient_fog(d);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient, 1.0));
 }

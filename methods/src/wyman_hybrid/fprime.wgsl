@@ -3,11 +3,6 @@
 // x samples high; this pipeline writes its light's band and adds zero elsewhere.
 // Needs PRELUDE, FULLSCREEN and airlight.wgsl.
 
-struct Out {
-    @location(0) value: vec4<f32>,
-    @location(1) unused: vec4<f32>,
-};
-
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let ng = hybrid.fprime.y;

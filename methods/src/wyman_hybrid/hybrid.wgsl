@@ -4,8 +4,6 @@
 // Spot lights (§3.2): restricted to the ray's interval inside the cone and integrated by
 // angle-uniform steps (their intensity varies across the beam). Needs PRELUDE and FULLSCREEN.
 
-@group(1) @binding(0) var ray_distance: texture_2d<f32>;
-@group(1) @binding(1) var surface: texture_2d<f32>;
 @group(1) @binding(3) var volume_front: texture_2d<f32>;
 @group(1) @binding(4) var volume_back: texture_2d<f32>;
 @group(1) @binding(6) var f_prime: texture_2d<f32>;
@@ -118,11 +116,6 @@ fn channel(v: vec4<f32>, k: u32) -> f32 {
     return dot(v, vec4<f32>(vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(k)));
 }
 
-struct Out {
-    @location(0) inscatter: vec4<f32>,
-    @location(1) total: vec4<f32>,
-};
-
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     // At 1/scale resolution (§3.3) each fragment stands for the full-resolution pixel at the
@@ -131,7 +124,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let full = floor(frag.xy - 0.5) * scale + floor(0.5 * scale) + 0.5;
     let px = vec2<i32>(full);
     let dir = camera_ray_dir(camera, full);
-    let len = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
+    let len = pixel_ray_length(px, dir);
     let fronts = textureLoad(volume_front, px, 0);
     let backs = textureLoad(volume_back, px, 0);
     let n = max(hybrid.config.x, 1u);
@@ -192,7 +185,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     var base = vec3<f32>(0.0);
     if (LIGHT == 0u) {
-        base = textureLoad(surface, px, 0).rgb + medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, len));
+        base = textureLoad(surface, px, 0).rgb + ambient_fog(len);
     }
     // Alpha carries the ray length for the bilateral upsample (the AOV's alpha is unused).
     return Out(vec4<f32>(l_in, len), vec4<f32>(base + l_in, 1.0));

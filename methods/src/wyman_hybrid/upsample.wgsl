@@ -7,21 +7,14 @@ struct Upsample {
     // x: scale (1, 2, 4); y: bilateral (0/1); zw: unused
     config: vec4<f32>,
 };
-@group(1) @binding(0) var ray_distance: texture_2d<f32>;
-@group(1) @binding(1) var surface: texture_2d<f32>;
 @group(1) @binding(2) var<uniform> upsample: Upsample;
 @group(1) @binding(3) var low: texture_2d<f32>;
-
-struct Out {
-    @location(0) inscatter: vec4<f32>,
-    @location(1) total: vec4<f32>,
-};
 
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
-    let len = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
+    let len = pixel_ray_length(px, dir);
     let scale = upsample.config.x;
     let size = vec2<i32>(textureDimensions(low));
     // This pixel's position in low-resolution texel units (texel centres at integers).
@@ -54,6 +47,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     // Every neighbour across a depth edge: take the one nearest in depth.
     let l_in = select(nearest, sum / weight, weight > 1e-6);
-    let base = textureLoad(surface, px, 0).rgb + medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, len));
+    let base = textureLoad(surface, px, 0).rgb + ambient_fog(len);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(base + l_in, 1.0));
 }
