@@ -15,11 +15,12 @@ use super::geometry::{faces_eye, far_grid, mesh_quad, order_key};
 use crate::common::gpu_scene::{GpuScene, Vertex};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
+use crate::common::stencil;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
-pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+pub use crate::common::stencil::DEPTH_STENCIL as DEPTH;
 /// Uniform slot stride (wgpu's guaranteed minimum dynamic-offset alignment).
 const SLOT: u64 = 256;
 
@@ -112,14 +113,6 @@ pub struct Passes {
     draws: Vec<LightDraws>,
 }
 
-fn face(compare: wgpu::CompareFunction, op: wgpu::StencilOperation) -> wgpu::StencilFaceState {
-    wgpu::StencilFaceState {
-        compare,
-        fail_op: op,
-        depth_fail_op: wgpu::StencilOperation::Keep,
-        pass_op: op,
-    }
-}
 
 fn blend(operation: wgpu::BlendOperation) -> wgpu::BlendState {
     let c = wgpu::BlendComponent {
@@ -251,25 +244,10 @@ impl Passes {
                 immediate_size: 0,
             });
         use wgpu::{CompareFunction as C, StencilOperation as S};
-        let ds = |compare, write, front, back| wgpu::DepthStencilState {
-            format: DEPTH,
-            depth_write_enabled: Some(write),
-            depth_compare: Some(compare),
-            stencil: wgpu::StencilState {
-                front,
-                back,
-                read_mask: 0xff,
-                write_mask: 0xff,
-            },
-            bias: Default::default(),
-        };
-        let keep = face(C::Always, S::Keep);
-        let lit = face(C::Equal, S::Keep);
-        let plane_layout = wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-        };
+        let ds = stencil::depth_stencil;
+        let keep = stencil::face(C::Always, S::Keep, S::Keep);
+        let lit = stencil::face(C::Equal, S::Keep, S::Keep);
+        let plane_layout = stencil::PLANE_LAYOUT;
         let grid_layout = wgpu::VertexBufferLayout {
             array_stride: 8,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -331,8 +309,8 @@ impl Passes {
             ds(
                 C::Less,
                 false,
-                face(C::Always, S::IncrementWrap),
-                face(C::Always, S::DecrementWrap),
+                stencil::face(C::Always, S::IncrementWrap, S::IncrementWrap),
+                stencil::face(C::Always, S::DecrementWrap, S::DecrementWrap),
             ),
         );
         let first_pipe = pipe(
@@ -371,13 +349,13 @@ impl Passes {
         // is 0 (1 > s), a leaving (back) face when it is 1; entering always +1, leaving −1.
         let (enter, leave) = if cfg.stencil_rules {
             (
-                face(C::Greater, S::IncrementWrap),
-                face(C::Equal, S::DecrementWrap),
+                stencil::face(C::Greater, S::IncrementWrap, S::IncrementWrap),
+                stencil::face(C::Equal, S::DecrementWrap, S::DecrementWrap),
             )
         } else {
             (
-                face(C::Always, S::IncrementWrap),
-                face(C::Always, S::DecrementWrap),
+                stencil::face(C::Always, S::IncrementWrap, S::IncrementWrap),
+                stencil::face(C::Always, S::DecrementWrap, S::DecrementWrap),
             )
         };
         let (vs_p, fs_p) = if vertex {

@@ -11,6 +11,7 @@ use scenes::FrameState;
 use crate::common::gpu_scene::Vertex;
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
+use crate::common::stencil;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::wgsl;
 
@@ -25,15 +26,9 @@ pub const VOLUMES: &str = "second_pass_volumes";
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
-pub(super) const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+pub(super) use crate::common::stencil::{DEPTH_STENCIL as DEPTH, PLANE_LAYOUT};
 /// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
 pub(super) const SLOT: u64 = 256;
-/// Plane vertices: world positions.
-pub(super) const PLANE_LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
-    array_stride: 12,
-    step_mode: wgpu::VertexStepMode::Vertex,
-    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-};
 
 /// The composed WGSL of the plane passes (stencil and per-pixel).
 pub fn source() -> String {
@@ -99,18 +94,6 @@ pub struct Planes {
     ranges: Vec<LightRange>,
 }
 
-fn stencil_face(
-    compare: wgpu::CompareFunction,
-    op: wgpu::StencilOperation,
-    fail: wgpu::StencilOperation,
-) -> wgpu::StencilFaceState {
-    wgpu::StencilFaceState {
-        compare,
-        fail_op: fail,
-        depth_fail_op: wgpu::StencilOperation::Keep,
-        pass_op: op,
-    }
-}
 
 impl Planes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, opts: Options) -> Planes {
@@ -183,19 +166,8 @@ impl Planes {
                 immediate_size: 0,
             });
         use wgpu::{BlendOperation as B, CompareFunction as C, StencilOperation as S};
-        let depth_state = |compare, write, front, back| wgpu::DepthStencilState {
-            format: DEPTH,
-            depth_write_enabled: Some(write),
-            depth_compare: Some(compare),
-            stencil: wgpu::StencilState {
-                front,
-                back,
-                read_mask: 0xff,
-                write_mask: 0xff,
-            },
-            bias: Default::default(),
-        };
-        let keep = stencil_face(C::Always, S::Keep, S::Keep);
+        let depth_state = stencil::depth_stencil;
+        let keep = stencil::face(C::Always, S::Keep, S::Keep);
         let blend = |operation| wgpu::BlendState {
             color: wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
@@ -267,13 +239,13 @@ impl Planes {
             depth_state(
                 C::Less,
                 false,
-                stencil_face(C::Always, S::IncrementWrap, S::Keep),
-                stencil_face(C::Always, S::DecrementWrap, S::Keep),
+                stencil::face(C::Always, S::IncrementWrap, S::Keep),
+                stencil::face(C::Always, S::DecrementWrap, S::Keep),
             ),
         );
         let all_writes = wgpu::ColorWrites::ALL;
         // Lit ray ends: stencil == reference 0.
-        let equal = stencil_face(C::Equal, S::Keep, S::Keep);
+        let equal = stencil::face(C::Equal, S::Keep, S::Keep);
         let surface = pipe(
             "biri lit surfaces",
             "vs_fullscreen",
@@ -304,7 +276,7 @@ impl Planes {
         // one on a plane behind the visible point (the test comes before the depth test).
         let test = |cmp| {
             if opts.rules {
-                stencil_face(cmp, S::Keep, S::Keep)
+                stencil::face(cmp, S::Keep, S::Keep)
             } else {
                 keep
             }
@@ -356,8 +328,8 @@ impl Planes {
                 depth_state(
                     C::Less,
                     false,
-                    stencil_face(C::Always, S::DecrementWrap, S::Keep),
-                    stencil_face(C::Always, S::IncrementWrap, S::Keep),
+                    stencil::face(C::Always, S::DecrementWrap, S::Keep),
+                    stencil::face(C::Always, S::IncrementWrap, S::Keep),
                 ),
             )
         });

@@ -37,12 +37,8 @@ impl StencilSurfaceShadows {
                 bind_group_layouts: &[Some(&renderer.frame_layout)],
                 immediate_size: 0,
             });
-        let in_shadow = wgpu::StencilFaceState {
-            compare: wgpu::CompareFunction::NotEqual,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: wgpu::StencilOperation::Keep,
-            pass_op: wgpu::StencilOperation::Keep,
-        };
+        let keep = wgpu::StencilOperation::Keep;
+        let in_shadow = super::stencil::face(wgpu::CompareFunction::NotEqual, keep, keep);
         let add = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
             dst_factor: wgpu::BlendFactor::One,

@@ -1,0 +1,48 @@
+//! Pipeline state of stencil shadow-volume passes, shared by the methods that draw shadow planes
+//! into a depth-stencil buffer (both Biri methods, `common::stencil_surfaces`).
+
+/// The depth-stencil format of every shadow-plane pass.
+pub const DEPTH_STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+
+/// Shadow-plane vertices: world positions.
+pub const PLANE_LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    array_stride: 12,
+    step_mode: wgpu::VertexStepMode::Vertex,
+    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+};
+
+/// One face's stencil test: `pass` where stencil and depth tests pass, `fail` where the stencil
+/// test fails (applied with no depth test), the stencil kept where only the depth test fails.
+pub fn face(
+    compare: wgpu::CompareFunction,
+    pass: wgpu::StencilOperation,
+    fail: wgpu::StencilOperation,
+) -> wgpu::StencilFaceState {
+    wgpu::StencilFaceState {
+        compare,
+        fail_op: fail,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op: pass,
+    }
+}
+
+/// A `DEPTH_STENCIL` state with full stencil masks and no depth bias.
+pub fn depth_stencil(
+    compare: wgpu::CompareFunction,
+    write: bool,
+    front: wgpu::StencilFaceState,
+    back: wgpu::StencilFaceState,
+) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_STENCIL,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: wgpu::StencilState {
+            front,
+            back,
+            read_mask: 0xff,
+            write_mask: 0xff,
+        },
+        bias: Default::default(),
+    }
+}
