@@ -151,13 +151,15 @@ impl GpuScene {
 }
 
 /// A depth-tested (Depth32Float, less), uncull'd pipeline drawing the scene's vertex buffer with
-/// `vs`/`fs` of `module`: what the shadow-map and surface passes share.
+/// `vs`/`fs` of `module`: what the shadow-map and surface passes share. `constants`: the
+/// pipeline-overridable constants (`common::specialize`), or none.
 pub fn mesh_pipeline(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     targets: &[Option<wgpu::ColorTargetState>],
+    constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
     let depth = wgpu::DepthStencilState {
         format: wgpu::TextureFormat::Depth32Float,
@@ -174,6 +176,7 @@ pub fn mesh_pipeline(
         Vertex::LAYOUT,
         Some(depth),
         targets,
+        constants,
     )
 }
 
@@ -186,14 +189,19 @@ pub fn mesh_pipeline_with(
     vertices: wgpu::VertexBufferLayout,
     depth: Option<wgpu::DepthStencilState>,
     targets: &[Option<wgpu::ColorTargetState>],
+    constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
+    let options = || wgpu::PipelineCompilationOptions {
+        constants,
+        zero_initialize_workgroup_memory: true,
+    };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
             entry_point: Some("vs"),
-            compilation_options: Default::default(),
+            compilation_options: options(),
             buffers: &[Some(vertices)],
         },
         primitive: wgpu::PrimitiveState {
@@ -205,7 +213,7 @@ pub fn mesh_pipeline_with(
         fragment: Some(wgpu::FragmentState {
             module,
             entry_point: Some("fs"),
-            compilation_options: Default::default(),
+            compilation_options: options(),
             targets,
         }),
         multiview_mask: None,

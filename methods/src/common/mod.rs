@@ -9,6 +9,7 @@ pub mod resolve;
 pub mod shadow_maps;
 pub mod shadow_planes;
 pub mod silhouette;
+pub mod specialize;
 pub mod stencil;
 pub mod stencil_surfaces;
 pub mod tables;

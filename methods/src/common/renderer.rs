@@ -14,6 +14,7 @@ use super::gpu_scene::{GpuScene, mesh_pipeline};
 use super::patterns::PatternTextures;
 use super::shadow_maps::ShadowMaps;
 use super::uniforms::{CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform};
+use super::specialize::Specialization;
 use super::wgsl;
 
 pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -39,6 +40,8 @@ pub struct SceneRenderer {
     shadow_maps_requested: bool,
     pub width: u32,
     pub height: u32,
+    /// The scene's baked pipeline constants (light count and kinds, phase function).
+    pub specialization: Specialization,
 }
 
 /// Why a homogeneous-medium method built on the shared renderer cannot render a scene, if it
@@ -192,12 +195,14 @@ impl SceneRenderer {
                 bind_group_layouts: &[Some(&frame_layout)],
                 immediate_size: 0,
             });
+        let specialization = Specialization::of(&scene);
         let surface_pipeline = mesh_pipeline(
             &gpu.device,
             "surface",
             &pl,
             &module,
             &[Some(AOV_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
+            specialization.constants(),
         );
         let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
             gpu.texture_2d(label, ctx.width, ctx.height, format, usage)
@@ -240,6 +245,7 @@ impl SceneRenderer {
             shadow_maps_requested: shadow_maps,
             width: ctx.width,
             height: ctx.height,
+            specialization,
         })
     }
 

@@ -180,9 +180,12 @@ impl ResolvePass {
         };
         let pipelines = (0..slots)
             .map(|k| {
-                let constants = [("LIGHT", k as f64)];
+                let own = [("LIGHT", k as f64)];
+                let constants = renderer
+                    .specialization
+                    .with(if per_light { &own } else { &[] });
                 let options = wgpu::PipelineCompilationOptions {
-                    constants: if per_light { &constants } else { &[] },
+                    constants: &constants,
                     zero_initialize_workgroup_memory: true,
                 };
                 gpu.device

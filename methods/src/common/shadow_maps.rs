@@ -173,6 +173,7 @@ impl ShadowMaps {
             &pl,
             &module,
             &[Some(FORMAT.into())],
+            &[],
         );
         ShadowMaps {
             size,

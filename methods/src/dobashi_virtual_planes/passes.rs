@@ -141,7 +141,7 @@ fn compute_pipeline(
             layout: Some(&pipeline_layout(gpu, label, renderer, own)),
             module: &module,
             entry_point: Some("main"),
-            compilation_options: Default::default(),
+            compilation_options: renderer.specialization.options(),
             cache: None,
         })
 }
@@ -237,7 +237,7 @@ impl Passes {
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs"),
-                    compilation_options: Default::default(),
+                    compilation_options: renderer.specialization.options(),
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState {
@@ -251,7 +251,7 @@ impl Passes {
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some("fs"),
-                    compilation_options: Default::default(),
+                    compilation_options: renderer.specialization.options(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: accum,
                         blend: Some(wgpu::BlendState {

@@ -20,7 +20,7 @@ fn hash01(p: vec2<u32>, f: u32) -> f32 {
 fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
     let x = camera.position.xyz + dir * t;
     var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < lights.count.x; k++) {
+    for (var k = 0u; k < light_count(); k++) {
         if (light_kind(k) == LIGHT_DIRECTIONAL) {
             let dir_l = lights.lights[k].direction.xyz;
             let vis = shadow_visibility(k, x);
@@ -29,8 +29,9 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
             let w = x - lights.lights[k].position.xyz;
             let r2 = max(dot(w, w), 1e-12);
             let r = sqrt(r2);
+            // No early `continue` where i = 0 (outside a spot's cone): a divergent continue in
+            // this loop makes lavapipe's march ~5× slower; the product is 0 there anyway.
             let i = light_intensity(k, w);
-            if (all(i <= vec3<f32>(0.0))) { continue; }
             let vis = shadow_visibility(k, x);
             sum += i * phase(medium, dot(w / r, -dir)) * vis * transmittance(medium, t + r) / r2;
         }

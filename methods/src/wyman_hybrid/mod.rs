@@ -311,6 +311,7 @@ impl Method for WymanHybrid {
             vertex_layout,
             None,
             &targets,
+            &[],
         );
         let resolve = ResolvePass::per_light(
             gpu,

@@ -32,7 +32,30 @@ struct Lights {
 // The functions below take the light's index and read the `lights` uniform (frame_bindings.wgsl)
 // field by field: copying a whole `Light` (480 bytes) per call is what made lavapipe slow.
 
+// Scene-baked light layout (common::specialize): a scene's light count and kinds are fixed for a
+// run, so passes that set these constants compile them in and the per-light loops and kind
+// branches fold away. The default, UNBAKED, means "read the lights uniform".
+const UNBAKED: u32 = 0xffffffffu;
+override LIGHT_COUNT: u32 = UNBAKED;
+override LIGHT_KIND_0: u32 = UNBAKED;
+override LIGHT_KIND_1: u32 = UNBAKED;
+override LIGHT_KIND_2: u32 = UNBAKED;
+override LIGHT_KIND_3: u32 = UNBAKED;
+
+fn light_count() -> u32 {
+    if (LIGHT_COUNT != UNBAKED) { return LIGHT_COUNT; }
+    return lights.count.x;
+}
+
 fn light_kind(k: u32) -> u32 {
+    var baked = UNBAKED;
+    switch k {
+        case 0u: { baked = LIGHT_KIND_0; }
+        case 1u: { baked = LIGHT_KIND_1; }
+        case 2u: { baked = LIGHT_KIND_2; }
+        default: { baked = LIGHT_KIND_3; }
+    }
+    if (baked != UNBAKED) { return baked; }
     return u32(lights.lights[k].position.w + 0.5);
 }
 

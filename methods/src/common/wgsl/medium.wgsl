@@ -12,10 +12,15 @@ struct Medium {
 
 const PI: f32 = 3.14159265358979;
 
+// Scene-baked phase-function kind (common::specialize); the default reads the medium uniform.
+const UNBAKED_PHASE: u32 = 0xffffffffu;
+override PHASE_KIND: u32 = UNBAKED_PHASE;
+
 // p(θ) from cos θ, θ between the light's propagation direction and the direction to the eye.
 fn phase(m: Medium, cos_theta: f32) -> f32 {
     let c = clamp(cos_theta, -1.0, 1.0);
-    let kind = u32(m.sigma_s.w + 0.5);
+    var kind = PHASE_KIND;
+    if (kind == UNBAKED_PHASE) { kind = u32(m.sigma_s.w + 0.5); }
     switch kind {
         case 1u: {
             let g = m.sigma_t.w;

@@ -57,7 +57,7 @@ fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32>
     if (all(n == vec3<f32>(0.0))) { return vec3<f32>(0.0); }
     let v = normalize(camera.position.xyz - x);
     var out = vec3<f32>(0.0);
-    for (var k = 0u; k < lights.count.x; k++) {
+    for (var k = 0u; k < light_count(); k++) {
         let directional = light_kind(k) == LIGHT_DIRECTIONAL;
         let r = length(x - lights.lights[k].position.xyz);
         // Offset along the normal so a surface does not shadow itself.
