@@ -18,6 +18,8 @@ use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use scenes::Scene;
 
 use crate::gpu::{Gpu, GpuTimer, read_rgba32f};
@@ -389,13 +391,44 @@ fn run_one(
     };
     let [inscatter, surface, total] = &images;
     let dir = format!("{}/{}/{}", scene.name, entry.id, params_slug(params));
-    let mut nonfinite = 0;
-    for (name, img, refimg) in [
+    // Scoring and writing images are independent CPU work while the GPU idles: spread them over
+    // the cores (FLIP at 512² is most of a record's overhead on a 2-core machine).
+    let score_start = Instant::now();
+    let scored = [
         ("inscatter", inscatter, &reference.inscatter),
         ("total", total, &reference.total),
         ("surface", surface, &reference.surface),
-    ] {
-        match compare(img, refimg, tone) {
+    ];
+    let mapped = [
+        ("inscatter", inscatter, &reference.inscatter),
+        ("total", total, &reference.total),
+    ];
+    let (scores, (written, maps)) = rayon::join(
+        || {
+            scored
+                .par_iter()
+                .map(|(name, img, refimg)| (*name, compare(img, refimg, tone)))
+                .collect::<Vec<_>>()
+        },
+        || {
+            let written = write_aovs(&cfg.out_dir, &dir, inscatter, surface, total, tone);
+            // Error maps: |method − reference| on a shared scale per AOV (the reference's
+            // 99th percentile / 10); after write_aovs, which creates the directory.
+            let maps = mapped
+                .par_iter()
+                .map(|(name, img, refimg)| {
+                    let scale = error_scale(refimg);
+                    let path = format!("{dir}/{name}.error.png");
+                    io::write_png_ldr(&cfg.out_dir.join(&path), &error_map(img, refimg, scale))
+                        .map(|()| (*name, path, scale))
+                })
+                .collect::<Vec<_>>();
+            (written, maps)
+        },
+    );
+    let mut nonfinite = 0;
+    for (name, m) in scores {
+        match m {
             Ok(m) => {
                 nonfinite = nonfinite.max(m.nonfinite);
                 rec.errors.insert(name.to_string(), m);
@@ -403,25 +436,24 @@ fn run_one(
             Err(e) => return failed(scene, entry.id, params, format!("cannot score {name}: {e}")),
         }
     }
-    match write_aovs(&cfg.out_dir, &dir, inscatter, surface, total, tone) {
+    match written {
         Ok(paths) => rec.images = paths,
         Err(e) => return failed(scene, entry.id, params, e),
     }
-    // Error maps: |method − reference| on a shared scale per AOV (the reference's 99th percentile / 10).
-    for (name, img, refimg) in [
-        ("inscatter", inscatter, &reference.inscatter),
-        ("total", total, &reference.total),
-    ] {
-        let scale = error_scale(refimg);
-        let path = format!("{dir}/{name}.error.png");
-        if let Err(e) = io::write_png_ldr(&cfg.out_dir.join(&path), &error_map(img, refimg, scale))
-        {
-            return failed(scene, entry.id, params, e);
+    for map in maps {
+        match map {
+            Ok((name, path, scale)) => {
+                rec.images.insert(format!("{name}_error"), path);
+                rec.counters
+                    .insert(format!("{name}_error_scale"), scale as f64);
+            }
+            Err(e) => return failed(scene, entry.id, params, e),
         }
-        rec.images.insert(format!("{name}_error"), path);
-        rec.counters
-            .insert(format!("{name}_error_scale"), scale as f64);
     }
+    rec.counters.insert(
+        "score_ms".into(),
+        score_start.elapsed().as_secs_f64() * 1e3,
+    );
     if nonfinite > 0 {
         rec.status = Status::Failed;
         rec.reason = Some(format!("{nonfinite} non-finite pixels in the output"));

@@ -270,7 +270,7 @@ impl Passes {
                     vertex: wgpu::VertexState {
                         module: &module,
                         entry_point: Some(vs),
-                        compilation_options: Default::default(),
+                        compilation_options: renderer.specialization.options(),
                         buffers: &vbuf.into_iter().map(Some).collect::<Vec<_>>(),
                     },
                     // silhouette::extrude winds quads outward in a right-handed sense, which
@@ -285,7 +285,7 @@ impl Passes {
                     fragment: fs.map(|(fs, _)| wgpu::FragmentState {
                         module: &module,
                         entry_point: Some(fs),
-                        compilation_options: Default::default(),
+                        compilation_options: renderer.specialization.options(),
                         targets: &targets,
                     }),
                     multiview_mask: None,

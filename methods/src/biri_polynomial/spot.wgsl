@@ -139,15 +139,15 @@ fn biri_monomials(fit: u32, k: f32, n: u32, lo: f32, hi: f32, e0: f32, ps: array
 // (θ = δ − β: biri_shift by β).
 fn biri_spot_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
     let k = poly.config.z;
-    let l = lights.lights[k];
-    let v = l.position.xyz - camera.position.xyz;
+    // Field by field: copying a whole `Light` (480 bytes) per call is slow on lavapipe.
+    let v = lights.lights[k].position.xyz - camera.position.xyz;
     let t = dot(v, dir);
     let foot = t * dir - v;
     let h = max(length(foot), 1e-6);
     let nh = foot / h;
-    let fr = l.right.xyz;
-    let fu = l.up.xyz;
-    let fa = l.direction.xyz;
+    let fr = lights.lights[k].right.xyz;
+    let fu = lights.lights[k].up.xyz;
+    let fa = lights.lights[k].direction.xyz;
     let nl = vec3<f32>(dot(nh, fr), dot(nh, fu), dot(nh, fa));
     let ul = vec3<f32>(dot(dir, fr), dot(dir, fu), dot(dir, fa));
     // cross in the spot frame itself: (right, up, axis) is left-handed
