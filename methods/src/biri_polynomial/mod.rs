@@ -35,7 +35,11 @@
 //! O(n²) plus 2×4 table fetches per coefficient. Approximated: Δ between half circles
 //! (bilinear) and between γ samples (linear) — a pattern edge is smeared over one circle
 //! spacing (README: error vs N); for spots `fit: chebyshev` fits Λ once over the ray's whole
-//! eye-to-far-plane range (so every Γ on a ray uses one polynomial), not per segment.
+//! eye-to-far-plane range (so every Γ on a ray uses one polynomial), not per segment. With
+//! `eval: fragment` all of eq. 7 but θ_M and the Δ lookups at γ_M depends on the pixel's ray
+//! alone: a compute pass per spot (`spot_rays.wgsl`) stores it per pixel (t, h, β, γ_0, the
+//! half-circle cell, the scaled coefficients and Σ c'_i Δ_i(γ_0)), and the plane and surface
+//! fragments only finish the sum.
 //!
 //! Limits: directional lights have no foot distance h and are refused; spot cones ≥ 90° do not
 //! fit one hemisphere (refused at prepare); spot tables come from frame 0 (a keyframed cone or

@@ -29,10 +29,11 @@ pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
-            "{}\n{}\n{}",
+            "{}\n{}\n{}\n{}",
             super::KERNEL_WGSL,
             include_str!("passes.wgsl"),
-            include_str!("spot.wgsl")
+            include_str!("spot.wgsl"),
+            include_str!("spot_rays.wgsl")
         ),
     )
 }
@@ -84,6 +85,17 @@ struct PolyUniform {
     spot_f: [f32; 4],
 }
 
+/// eval = fragment with spots: the per-pixel ray part of eq. 7 (`spot_rays.wgsl`), rebuilt before
+/// each spot's stages.
+struct SpotRays {
+    pipeline: wgpu::ComputePipeline,
+    bind: wgpu::BindGroup,
+    /// Which lights are spots (frame 0; the kinds are fixed per scene).
+    is_spot: Vec<bool>,
+    width: u32,
+    height: u32,
+}
+
 /// One light's planes in the vertex buffer: (vertex range, faces the eye), in drawing order.
 struct LightDraws {
     eye_count: u32,
@@ -102,6 +114,9 @@ pub struct Passes {
     uniform: wgpu::Buffer,
     /// eq. 7's Δ_i tables of every spot (`spot_tables`), one dummy entry without spots.
     delta: wgpu::Buffer,
+    /// `spot_rays` layers as the fragments read them (1×1 dummy without `spot_rays`).
+    spot_rays_view: wgpu::TextureView,
+    spot_rays: Option<SpotRays>,
     depth_pipe: wgpu::RenderPipeline,
     count_pipe: wgpu::RenderPipeline,
     first_pipe: wgpu::RenderPipeline,
@@ -112,7 +127,6 @@ pub struct Passes {
     vertices: Option<wgpu::Buffer>,
     draws: Vec<LightDraws>,
 }
-
 
 fn blend(operation: wgpu::BlendOperation) -> wgpu::BlendState {
     let c = wgpu::BlendComponent {
@@ -204,6 +218,16 @@ impl Passes {
                         },
                         count: None,
                     },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 4,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                            view_dimension: wgpu::TextureViewDimension::D2Array,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
                 ],
             });
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
@@ -236,6 +260,49 @@ impl Passes {
         gpu.queue.write_buffer(&uniform, 0, &slots);
 
         let module = wgsl::module(&gpu.device, "biri-poly passes", &source());
+        let is_spot: Vec<bool> = spots.slots.iter().map(|s| s.1[1] > 0.5).collect();
+        let per_pixel_spots = !vertex && is_spot.contains(&true);
+        // t h β γ_a, the cell, Σ c_i Δ_i(γ_a), then c_0 … c_n
+        let layers = if per_pixel_spots {
+            4 + cfg.order.min(8)
+        } else {
+            1
+        };
+        let (rays_w, rays_h) = if per_pixel_spots {
+            (ctx.width, ctx.height)
+        } else {
+            (1, 1)
+        };
+        let rays = gpu.texture(&wgpu::TextureDescriptor {
+            label: Some("biri-poly spot rays"),
+            size: wgpu::Extent3d {
+                width: rays_w,
+                height: rays_h,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+            view_formats: &[],
+        });
+        let rays_view = rays.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let spot_rays = per_pixel_spots.then(|| {
+            spot_rays(
+                gpu,
+                renderer,
+                &module,
+                &uniform,
+                &delta,
+                &rays_view,
+                is_spot,
+                (rays_w, rays_h),
+            )
+        });
         let pl = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -400,6 +467,8 @@ impl Passes {
             layout,
             uniform,
             delta,
+            spot_rays_view: rays_view,
+            spot_rays,
             depth_pipe,
             count_pipe,
             first_pipe,
@@ -520,6 +589,10 @@ impl Passes {
                     binding: 3,
                     resource: self.delta.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&self.spot_rays_view),
+                },
             ],
         });
         let scene = self.tess.as_ref().unwrap_or(&renderer.gpu_scene);
@@ -613,6 +686,20 @@ impl Passes {
             let has_planes = !light.runs.is_empty() && planes.is_some();
             let whole = light.runs.first().map_or(0, |r| r.0.start)
                 ..light.runs.last().map_or(0, |r| r.0.end);
+            if let Some(rays) = self
+                .spot_rays
+                .as_ref()
+                .filter(|r| r.is_spot.get(k) == Some(&true))
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("biri-poly spot rays"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&rays.pipeline);
+                pass.set_bind_group(0, &renderer.frame_bind, &[]);
+                pass.set_bind_group(1, &rays.bind, &offset);
+                pass.dispatch_workgroups(rays.width.div_ceil(8), rays.height.div_ceil(8), 1);
+            }
             // Stencil = shadow volumes around each visible point (z-pass from the eye's count).
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -684,10 +771,114 @@ impl Passes {
             }
         }
         report.ran("polynomial-surfaces");
+        if self.spot_rays.is_some() {
+            report.ran("spot-rays");
+        }
         if self.casters.is_some() {
             report.ran("shadow-planes");
         } else {
             report.skip("shadow-planes", "no object casts a volumetric shadow");
         }
+    }
+}
+
+/// The per-pixel spot-ray pass (`cs_spot_rays`): its own group 1 (the light's uniform slot, the
+/// Δ tables, the layers it writes).
+#[allow(clippy::too_many_arguments)]
+fn spot_rays(
+    gpu: &Gpu,
+    renderer: &SceneRenderer,
+    module: &wgpu::ShaderModule,
+    uniform: &wgpu::Buffer,
+    delta: &wgpu::Buffer,
+    rays: &wgpu::TextureView,
+    is_spot: Vec<bool>,
+    (width, height): (u32, u32),
+) -> SpotRays {
+    let compute = wgpu::ShaderStages::COMPUTE;
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("biri-poly spot rays"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: compute,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(
+                            std::mem::size_of::<PolyUniform>() as u64
+                        ),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: compute,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: compute,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: wgpu::TextureFormat::Rgba32Float,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                    },
+                    count: None,
+                },
+            ],
+        });
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("biri-poly spot rays"),
+        layout: &layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: uniform,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<PolyUniform>() as u64),
+                }),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: delta.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(rays),
+            },
+        ],
+    });
+    let pl = gpu
+        .device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("biri-poly spot rays"),
+            bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
+            immediate_size: 0,
+        });
+    let pipeline = gpu
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("biri-poly spot rays"),
+            layout: Some(&pl),
+            module,
+            entry_point: Some("cs_spot_rays"),
+            compilation_options: renderer.specialization.options(),
+            cache: None,
+        });
+    SpotRays {
+        pipeline,
+        bind,
+        is_spot,
+        width,
+        height,
     }
 }

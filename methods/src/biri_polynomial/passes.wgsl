@@ -28,12 +28,9 @@ fn biri_phase(c: f32) -> f32 {
     return phase(medium, c);
 }
 
-// Γ(M) for light poly.config.z, M at distance x from the eye along the unit direction `dir`.
-fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
+// Γ(M) per unit σ_s·I for a point light, M at distance x from the eye along the unit `dir`.
+fn biri_point_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
     let k = poly.config.z;
-    if poly.spot_f.y > 0.5 {
-        return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * biri_spot_gamma(dir, x);
-    }
     let v = lights.lights[k].position.xyz - camera.position.xyz;
     let t = dot(v, dir);
     let h = length(v - t * dir);
@@ -44,11 +41,31 @@ fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
     let fit = poly.config.y;
     let n = poly.config.x;
     let st = medium.sigma_t.rgb;
-    let seg = vec3<f32>(
+    return vec3<f32>(
         biri_segment(fit, st.r, n, t, h, 0.0, x, ps),
         biri_segment(fit, st.g, n, t, h, 0.0, x, ps),
         biri_segment(fit, st.b, n, t, h, 0.0, x, ps));
-    return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * seg;
+}
+
+fn biri_light_scale() -> vec3<f32> {
+    return medium.sigma_s.rgb * lights.lights[poly.config.z].intensity.rgb;
+}
+
+// Γ(M) for light poly.config.z, M at distance x from the eye along the unit direction `dir`.
+fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
+    if poly.spot_f.y > 0.5 {
+        return biri_light_scale() * biri_spot_gamma(dir, x);
+    }
+    return biri_light_scale() * biri_point_gamma(dir, x);
+}
+
+// Γ(M) per fragment, on the ray of pixel `frag`: spots read the ray's part of eq. 7 from
+// `cs_spot_rays` (spot_rays.wgsl).
+fn biri_gamma_frag(frag: vec2<f32>, x: f32) -> vec3<f32> {
+    if poly.spot_f.y > 0.5 {
+        return biri_spot_gamma_pixel(vec2<i32>(frag), x);
+    }
+    return biri_light_scale() * biri_point_gamma(camera_ray_dir(camera, frag), x);
 }
 
 // Γ at world point p, on the eye ray through p.
@@ -99,7 +116,7 @@ fn fs_gouraud(v: Gouraud) -> @location(0) vec4<f32> {
 fn fs_surface_frag(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
-    return vec4<f32>(biri_gamma(dir, d), 0.0);
+    return vec4<f32>(biri_gamma_frag(frag.xy, d), 0.0);
 }
 
 // §5.2's first pass for the unorm8 target: the attenuated surface term and the ambient fog.
@@ -129,8 +146,7 @@ fn plane_sign(front: bool, g: vec3<f32>) -> vec3<f32> {
 // Shadow planes, per fragment: ±Γ at the plane point, on the pixel's own ray.
 @fragment
 fn fs_plane_frag(v: PlaneFrag, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let dir = camera_ray_dir(camera, v.clip.xy);
-    let g = biri_gamma(dir, length(v.world - camera.position.xyz));
+    let g = biri_gamma_frag(v.clip.xy, length(v.world - camera.position.xyz));
     return vec4<f32>(plane_sign(front, g), 0.0);
 }
 
