@@ -93,6 +93,14 @@ fn basis_of(dir: vec3<f32>) -> Basis {
     return Basis(right, cross(right, dir));
 }
 
+// Modes baked per run (passes.rs, `Passes::new`): lavapipe executes both sides of a branch on a
+// uniform value under a mask, so a uniform knob tested in a hot loop costs its untaken side too
+// (the forward-scattering taps made smoke-point's resolve 3.4× slower with the knob off).
+override FORWARD_SCATTERING: bool = false;
+override EIGHT_SLICES: bool = false;
+// Primitives are impostor blocks (false: analytic spheres, the splat).
+override BLOCKS: bool = true;
+
 fn is_perspective() -> bool {
     return pb.light_u.w > 0.5;
 }
@@ -195,7 +203,7 @@ fn prim_interval(p: Prim, tile: f32, r: Ray) -> Interval {
     let off = r.dir * tc - oc;
     let b = basis_of(r.dir);
     let q = vec2<f32>(dot(off, b.right), dot(off, b.up)) / p.center.w;
-    if (tile < 0.0) {
+    if (!BLOCKS) {
         let rad = p.center.w;
         let h2 = rad * rad - (dot(oc, oc) - tc * tc);
         if (h2 <= 0.0) { return Interval(0.0, 0.0, 0.0, tc, false); }
@@ -241,7 +249,7 @@ fn depth_from_slices(v: Slices, d: f32) -> f32 {
     let lo = vec4<f32>(pb.range.x, a.x, a.y, a.z);
     let r0 = clamp((vec4<f32>(d) - lo) / max(a - lo, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
     var tau = dot(r0, v.a - vec4<f32>(0.0, v.a.x, v.a.y, v.a.z));
-    if (pb.range.z > 4.5) {
+    if (EIGHT_SLICES) {
         let b = pb.slices_b;
         let lo2 = vec4<f32>(a.w, b.x, b.y, b.z);
         let r1 = clamp((vec4<f32>(d) - lo2) / max(b - lo2, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
@@ -257,7 +265,7 @@ fn light_optical_depth(x: vec3<f32>) -> f32 {
     if (pb.light_w.w < 0.5) { return 0.0; }
     let c = light_coord(x);
     if (!c.ok) { return 0.0; }
-    if (pb.range.w < 0.5) {
+    if (!FORWARD_SCATTERING) {
         return depth_from_slices(load_slices(c.uv), c.depth);
     }
     let radius = 0.2 * max(c.depth - pb.range.x, 0.0) / c.span;
@@ -272,7 +280,7 @@ fn light_optical_depth(x: vec3<f32>) -> f32 {
 // p(θ) · I(ω) · V (· e^(−σt r) / r² for local lights) at x, toward the eye along `to_eye`,
 // without the particles' shadow. Light 0 only (the method's limit).
 fn light_radiance(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
-    if (lights.count.x == 0u) { return vec3<f32>(0.0); }
+    if (light_count() == 0u) { return vec3<f32>(0.0); }
     let vis = shadow_visibility(0u, x);
     if (light_kind(0u) == LIGHT_DIRECTIONAL) {
         let l = lights.lights[0].direction.xyz;
@@ -287,6 +295,6 @@ fn light_radiance(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
 // What σ_s multiplies in DESIGN §1's L_in at x: the light's radiance times the particles'
 // transmittance toward the light (from the slices).
 fn incident(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
-    if (lights.count.x == 0u) { return vec3<f32>(0.0); }
+    if (light_count() == 0u) { return vec3<f32>(0.0); }
     return light_radiance(x, to_eye) * exp(-light_optical_depth(x));
 }

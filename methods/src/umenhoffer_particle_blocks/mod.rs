@@ -105,6 +105,8 @@ struct State {
     blocked: bool,
     sky: Vec3,
     background_scatters: bool,
+    /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
+    timer: Option<harness::gpu::PhaseTimer>,
 }
 
 fn knob_i(ctx: &PrepareContext, k: &str, default: i64) -> i64 {
@@ -238,6 +240,10 @@ fn prepare_state(
             light_res: light_res as u32,
             slices: slices as u32,
         },
+        passes::Modes {
+            blocks: blocked_mode.is_some(),
+            forward_scattering: knob_b(ctx, "forward_scattering", false),
+        },
     );
     if !set.imp.is_empty() {
         ctx.gpu
@@ -255,6 +261,7 @@ fn prepare_state(
         slices: slices as u32,
         sky: particles.sky,
         background_scatters: bg.sigma_s.max_element() > 0.0,
+        timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
     })
 }
 
@@ -404,6 +411,12 @@ fn render_state(
         gpu.queue
             .write_buffer(&st.passes.tiles, 0, bytemuck::cast_slice(&tiles));
     }
+    let mark = |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
+        if let Some(t) = timer.as_mut() {
+            t.mark(enc, name);
+        }
+    };
+    mark(&mut st.timer, enc, "surfaces");
     st.renderer.encode_shadows(enc, &mut report);
     let surface_targets = Targets {
         inscatter: targets.inscatter,
@@ -415,20 +428,27 @@ fn render_state(
     st.renderer
         .encode_surface(enc, &surface_targets, &mut report);
     if st.blocked {
+        mark(&mut st.timer, enc, "impostors");
         st.passes.encode_impostors(enc, &st.renderer);
         report.ran("impostors");
         report.count("impostor_splats", 2.0 * st.set.imp.len() as f64);
     }
+    mark(&mut st.timer, enc, "light");
     st.passes.encode_light(enc, &st.renderer, lit);
     if lit {
         report.ran("light-slices");
     } else {
         report.skip("light-slices", "no light or no particles");
     }
+    mark(&mut st.timer, enc, "gather");
     st.passes.encode_gather(enc, &st.renderer);
     report.ran("gather");
-    st.passes.encode_resolve(enc, &st.renderer, targets);
+    mark(&mut st.timer, enc, "resolve");
+    st.passes.encode_resolve(gpu, enc, &st.renderer, targets);
     report.ran("resolve");
+    if let Some(t) = st.timer.as_mut() {
+        t.finish(enc);
+    }
     report.count("blocks", st.set.prims.len() as f64);
     report.count("particles_per_block", st.set.per_block);
     Ok(report)
@@ -506,6 +526,10 @@ impl Method for UmenhofferParticleBlocks {
     ) -> Result<FrameReport> {
         render_state(&mut self.state, gpu, frame, targets, enc)
     }
+
+    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+        self.state.as_ref()?.timer.as_ref()
+    }
 }
 
 impl Method for ParticleSplat {
@@ -540,6 +564,10 @@ impl Method for ParticleSplat {
     ) -> Result<FrameReport> {
         render_state(&mut self.state, gpu, frame, targets, enc)
     }
+
+    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+        self.state.as_ref()?.timer.as_ref()
+    }
 }
 
 /// Every composed WGSL module of both methods, for naga validation.
@@ -549,5 +577,9 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("umenhoffer/light", passes::source(passes::LIGHT_WGSL)),
         ("umenhoffer/gather", passes::source(passes::GATHER_WGSL)),
         ("umenhoffer/resolve", passes::source(passes::RESOLVE_WGSL)),
+        (
+            "umenhoffer/total",
+            crate::common::wgsl::compose(&[crate::common::wgsl::FULLSCREEN], passes::TOTAL_WGSL),
+        ),
     ]
 }

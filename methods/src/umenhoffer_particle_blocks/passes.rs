@@ -31,6 +31,7 @@ pub const IMPOSTOR_WGSL: &str = include_str!("impostor.wgsl");
 pub const LIGHT_WGSL: &str = include_str!("light.wgsl");
 pub const GATHER_WGSL: &str = include_str!("gather.wgsl");
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
+pub const TOTAL_WGSL: &str = include_str!("total.wgsl");
 
 /// A pass's composed source: PRELUDE, FULLSCREEN, common.wgsl, then its own.
 pub fn source(own: &str) -> String {
@@ -57,6 +58,13 @@ pub struct Sizes {
     pub slices: u32,
 }
 
+/// What the shaders compile in (common.wgsl's overrides), beside the scene's light layout.
+pub struct Modes {
+    /// Primitives are impostor blocks (false: analytic spheres, `particle-splat`).
+    pub blocks: bool,
+    pub forward_scattering: bool,
+}
+
 pub struct Passes {
     pub uniform: wgpu::Buffer,
     pub prims: wgpu::Buffer,
@@ -71,6 +79,7 @@ pub struct Passes {
     gather: wgpu::RenderPipeline,
     resolve: wgpu::RenderPipeline,
     total: wgpu::RenderPipeline,
+    total_layout: wgpu::BindGroupLayout,
     bind_impostor: wgpu::BindGroup,
     bind_light: wgpu::BindGroup,
     bind_gather: wgpu::BindGroup,
@@ -116,8 +125,18 @@ fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 impl Passes {
-    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes) -> Passes {
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, modes: Modes) -> Passes {
         let dev = &gpu.device;
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let constants = renderer.specialization.with(&[
+            ("BLOCKS", flag(modes.blocks)),
+            ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
+            ("EIGHT_SLICES", flag(sizes.slices > 4)),
+        ]);
+        let options = || wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            zero_initialize_workgroup_memory: true,
+        };
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("particle blocks uniform"),
             size: std::mem::size_of::<PbUniform>() as u64,
@@ -222,7 +241,7 @@ impl Passes {
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some(vs),
-                    compilation_options: Default::default(),
+                    compilation_options: options(),
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState {
@@ -234,7 +253,7 @@ impl Passes {
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),
-                    compilation_options: Default::default(),
+                    compilation_options: options(),
                     targets,
                 }),
                 multiview_mask: None,
@@ -315,14 +334,50 @@ impl Passes {
             "fs_resolve",
             &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
         );
-        let (total, _) = make(
+        let aov_texture = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let total_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("particle total"),
+            entries: &[aov_texture(0), aov_texture(1)],
+        });
+        let total_module = wgsl::module(
+            dev,
             "particle total",
-            &[0, 5, 6, 7, 8, 9],
-            RESOLVE_WGSL,
-            "vs_fullscreen",
-            "fs_total",
-            &[target(AOV_FORMAT, None)],
+            &wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL),
         );
+        let total = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("particle total"),
+            layout: Some(&dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("particle total"),
+                bind_group_layouts: &[Some(&total_layout)],
+                immediate_size: 0,
+            })),
+            vertex: wgpu::VertexState {
+                module: &total_module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &total_module,
+                entry_point: Some("fs_total"),
+                compilation_options: Default::default(),
+                targets: &[target(AOV_FORMAT, None)],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         let _ = DISTANCE_FORMAT;
         Passes {
             uniform,
@@ -338,6 +393,7 @@ impl Passes {
             gather,
             resolve,
             total,
+            total_layout,
             bind_impostor,
             bind_light,
             bind_gather,
@@ -428,6 +484,7 @@ impl Passes {
 
     pub fn encode_resolve(
         &self,
+        gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
         targets: &Targets,
@@ -449,9 +506,23 @@ impl Passes {
             &[targets.total],
             wgpu::Color::TRANSPARENT,
         );
+        // The harness owns the AOV textures, so this group is built per frame.
+        let sum = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("particle total"),
+            layout: &self.total_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(targets.inscatter),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(targets.surface),
+                },
+            ],
+        });
         p.set_pipeline(&self.total);
-        p.set_bind_group(0, &renderer.frame_bind, &[]);
-        p.set_bind_group(1, &self.bind_resolve, &[]);
+        p.set_bind_group(0, &sum, &[]);
         p.draw(0..3, 0..1);
     }
 }

@@ -5,8 +5,7 @@
 // attenuation of that haze on the eye leg is not modelled). Needs PRELUDE, FULLSCREEN and
 // common.wgsl.
 
-// Two entry points share it: three Rgba32Float targets exceed the 32 bytes per sample a
-// render pass may write, so `inscatter` + `surface` and `total` are written by two passes.
+// `total` is their sum, written by a second pass from these two targets (total.wgsl).
 struct Resolved {
     inscatter: vec3<f32>,
     surface: vec3<f32>,
@@ -66,10 +65,4 @@ struct ResolveOut {
 fn fs_resolve(@builtin(position) frag: vec4<f32>) -> ResolveOut {
     let r = resolve(frag);
     return ResolveOut(vec4<f32>(r.inscatter, 1.0), vec4<f32>(r.surface, 1.0));
-}
-
-@fragment
-fn fs_total(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let r = resolve(frag);
-    return vec4<f32>(r.inscatter + r.surface, 1.0);
 }
