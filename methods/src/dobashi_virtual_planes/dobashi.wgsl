@@ -4,7 +4,7 @@
 
 struct Planes {
     // x: planes n; y: lattice points per row (nu); z: per column (nv);
-    // w: flags (FLAG_JITTER | FLAG_XI_FRAGMENT | FLAG_CLIP_LAST)
+    // w: flags (FLAG_JITTER | FLAG_CLIP_LAST)
     config: vec4<u32>,
     // x: frame index (jitter seed); yzw: unused
     frame: vec4<u32>,
@@ -13,7 +13,6 @@ struct Planes {
 };
 
 const FLAG_JITTER: u32 = 1u;
-const FLAG_XI_FRAGMENT: u32 = 2u;
 const FLAG_CLIP_LAST: u32 = 4u;
 
 // ξ of light k at world point x, distance t from the eye along the unit ray `dir` (eye → x):

@@ -42,7 +42,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::renderer::{SceneRenderer, unsupported};
-use passes::{FLAG_CLIP_LAST, FLAG_JITTER, FLAG_XI_FRAGMENT, Passes, PlanesUniform};
+use passes::{FLAG_CLIP_LAST, FLAG_JITTER, Passes, PlanesUniform};
 pub use passes::{far_source, planes_source, probe_light_map, probe_source, resolve_source};
 
 #[derive(Default)]
@@ -121,7 +121,6 @@ impl Config {
     }
     fn flags(&self) -> u32 {
         (self.jitter as u32 * FLAG_JITTER)
-            | (self.xi_fragment as u32 * FLAG_XI_FRAGMENT)
             | (self.clip_last as u32 * FLAG_CLIP_LAST)
     }
 }
@@ -268,7 +267,13 @@ impl Method for DobashiVirtualPlanes {
             }
             wgpu::TextureFormat::Rgba32Float
         };
-        let passes = Passes::new(ctx.gpu, &renderer, (cfg.lattice, cfg.lattice), format);
+        let passes = Passes::new(
+            ctx.gpu,
+            &renderer,
+            (cfg.lattice, cfg.lattice),
+            format,
+            cfg.xi_fragment,
+        );
         let skip_planes = !ctx.no_skip && !ctx.scene.features().scattering;
         self.state = Some(State {
             renderer,

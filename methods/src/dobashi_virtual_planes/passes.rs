@@ -42,7 +42,6 @@ pub struct PlanesUniform {
 }
 
 pub const FLAG_JITTER: u32 = 1;
-pub const FLAG_XI_FRAGMENT: u32 = 2;
 pub const FLAG_CLIP_LAST: u32 = 4;
 
 const ALL: wgpu::ShaderStages =
@@ -168,7 +167,15 @@ impl Passes {
         renderer: &SceneRenderer,
         lattice: (u32, u32),
         accum: wgpu::TextureFormat,
+        xi_per_fragment: bool,
     ) -> Passes {
+        let plane_constants = renderer
+            .specialization
+            .with(&[("XI_PER_FRAGMENT", if xi_per_fragment { 1.0 } else { 0.0 })]);
+        let plane_options = || wgpu::PipelineCompilationOptions {
+            constants: &plane_constants,
+            zero_initialize_workgroup_memory: true,
+        };
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("dobashi planes"),
             size: std::mem::size_of::<PlanesUniform>() as u64,
@@ -237,7 +244,7 @@ impl Passes {
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs"),
-                    compilation_options: renderer.specialization.options(),
+                    compilation_options: plane_options(),
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState {
@@ -251,7 +258,7 @@ impl Passes {
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some("fs"),
-                    compilation_options: renderer.specialization.options(),
+                    compilation_options: plane_options(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: accum,
                         blend: Some(wgpu::BlendState {

@@ -5,6 +5,10 @@
 // shadow-map visibility and the pixel's ray-length increment Δs, and is added into the
 // accumulation target. Needs PRELUDE and dobashi.wgsl.
 
+// ξ per fragment (knob xi = fragment) instead of per lattice vertex; baked (passes.rs) because
+// lavapipe evaluates both sides of a branch on a uniform flag, ξ included.
+override XI_PER_FRAGMENT: bool = false;
+
 @group(1) @binding(0) var ray_distance: texture_2d<f32>;
 @group(1) @binding(1) var<uniform> planes: Planes;
 // bits of the farthest visible view depth, from far.wgsl
@@ -56,7 +60,7 @@ fn vs(@builtin(vertex_index) v: u32, @builtin(instance_index) k: u32) -> VsOut {
     o.xi1 = vec3<f32>(0.0);
     o.xi2 = vec3<f32>(0.0);
     o.xi3 = vec3<f32>(0.0);
-    if ((planes.config.w & FLAG_XI_FRAGMENT) == 0u) {
+    if (!XI_PER_FRAGMENT) {
         let x = camera.position.xyz + dir * t;
         let n = light_count();
         if (n > 0u) { o.xi0 = xi(0u, x, dir, t); }
@@ -90,7 +94,7 @@ fn fs(in: VsOut) -> @location(0) vec4<f32> {
     let n = min(light_count(), 4u);
     for (var k = 0u; k < n; k++) {
         var f: vec3<f32>;
-        if ((flags & FLAG_XI_FRAGMENT) != 0u) {
+        if (XI_PER_FRAGMENT) {
             f = xi(k, x, dir, t);
         } else {
             switch k {
