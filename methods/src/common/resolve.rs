@@ -31,13 +31,15 @@ impl ResolvePass {
         own: &str,
         uniform_size: Option<u64>,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, 0, false, 0)
+        Self::build(gpu, renderer, label, own, uniform_size, 0, None, 0)
     }
 
     /// Per-light mode: the shader declares `override LIGHT: u32;` and handles that one light;
     /// one pipeline per light slot, drawn in turn with additive blending (the pipeline for light 0
     /// also adds the surface and ambient terms). For shaders whose loop over lights would be too
     /// much for a driver's compiler, and to let the light index be a compile-time constant.
+    /// `constants`: the shader's own overrides (knobs its hot code branches on), beside `LIGHT`
+    /// and the scene's (`common::specialize`).
     #[allow(clippy::too_many_arguments)]
     pub fn per_light(
         gpu: &Gpu,
@@ -47,6 +49,7 @@ impl ResolvePass {
         uniform_size: Option<u64>,
         extra_textures: u32,
         counter_slots: u32,
+        constants: &[(&'static str, f64)],
     ) -> ResolvePass {
         Self::build(
             gpu,
@@ -55,7 +58,7 @@ impl ResolvePass {
             own,
             uniform_size,
             extra_textures,
-            true,
+            Some(constants),
             counter_slots,
         )
     }
@@ -77,7 +80,7 @@ impl ResolvePass {
             own,
             uniform_size,
             extra_textures,
-            false,
+            None,
             0,
         )
     }
@@ -89,19 +92,11 @@ impl ResolvePass {
         own: &str,
         uniform_size: Option<u64>,
         extra_textures: u32,
-        per_light: bool,
+        per_light_constants: Option<&[(&'static str, f64)]>,
         counter_slots: u32,
     ) -> ResolvePass {
-        let tex = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
+        let per_light = per_light_constants.is_some();
+        let tex = crate::common::layouts::fragment_texture;
         let mut entries = vec![tex(0), tex(1)];
         if uniform_size.is_some() {
             entries.push(wgpu::BindGroupLayoutEntry {
@@ -180,36 +175,20 @@ impl ResolvePass {
         };
         let pipelines = (0..slots)
             .map(|k| {
-                let own = [("LIGHT", k as f64)];
-                let constants = renderer
-                    .specialization
-                    .with(if per_light { &own } else { &[] });
-                let options = wgpu::PipelineCompilationOptions {
-                    constants: &constants,
-                    zero_initialize_workgroup_memory: true,
+                let own = match per_light_constants {
+                    Some(c) => [&[("LIGHT", k as f64)][..], c].concat(),
+                    None => Vec::new(),
                 };
-                gpu.device
-                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some(label),
-                        layout: Some(&pl),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some("vs_fullscreen"),
-                            compilation_options: Default::default(),
-                            buffers: &[],
-                        },
-                        primitive: Default::default(),
-                        depth_stencil: None,
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs"),
-                            compilation_options: options,
-                            targets: &[Some(target.clone()), Some(target.clone())],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    })
+                let constants = renderer.specialization.with(&own);
+                fullscreen_pipeline(
+                    &gpu.device,
+                    label,
+                    &pl,
+                    &module,
+                    "fs",
+                    &constants,
+                    &[Some(target.clone()), Some(target.clone())],
+                )
             })
             .collect();
         ResolvePass {
@@ -314,6 +293,43 @@ impl ResolvePass {
             pass.draw(0..3, 0..1);
         }
     }
+}
+
+/// A pipeline drawing `vs_fullscreen` (FULLSCREEN) with fragment entry point `fs` of `module`,
+/// no depth, no vertex buffers; `constants` for the fragment stage.
+pub fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fs: &str,
+    constants: &[(&str, f64)],
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: Default::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                zero_initialize_workgroup_memory: true,
+            },
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
 
 /// The composed WGSL of a resolve pass.

@@ -3,8 +3,12 @@
 //! WGSL `override`s (`LIGHT_COUNT`, `LIGHT_KIND_0..3` in `lights.wgsl`, `PHASE_KIND` in
 //! `medium.wgsl`): the per-light loops get a constant trip count and the kind and phase
 //! branches fold away. A pass without them reads the same values from the uniforms, so leaving
-//! them out is only slower, never wrong. On lavapipe this halves the ray march's cost per step
-//! (sphere-point, 512², 128 steps: 2.9 s → see methods/src/raymarch_brute/README.md).
+//! them out is only slower, never wrong. lavapipe runs both sides of a branch on a uniform value
+//! under a mask and indexes the light array per lane, so this matters there: with the light
+//! loop's divergent `continue` removed as well, raymarch-brute's 512² frame on sphere-point went
+//! from 2.9 s to 0.46 s (methods/src/raymarch_brute/README.md). Method knobs tested in hot loops
+//! are baked the same way by their methods (dobashi's `XI_PER_FRAGMENT`, the particle methods'
+//! `FORWARD_SCATTERING`, `EIGHT_SLICES`, `BLOCKS`).
 
 use scenes::Scene;
 use scenes::desc::LightDesc;

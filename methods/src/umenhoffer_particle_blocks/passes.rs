@@ -334,16 +334,7 @@ impl Passes {
             "fs_resolve",
             &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
         );
-        let aov_texture = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
+        let aov_texture = crate::common::layouts::fragment_texture;
         let total_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("particle total"),
             entries: &[aov_texture(0), aov_texture(1)],
@@ -353,31 +344,19 @@ impl Passes {
             "particle total",
             &wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL),
         );
-        let total = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("particle total"),
-            layout: Some(&dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        let total = crate::common::resolve::fullscreen_pipeline(
+            dev,
+            "particle total",
+            &dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("particle total"),
                 bind_group_layouts: &[Some(&total_layout)],
                 immediate_size: 0,
-            })),
-            vertex: wgpu::VertexState {
-                module: &total_module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &total_module,
-                entry_point: Some("fs_total"),
-                compilation_options: Default::default(),
-                targets: &[target(AOV_FORMAT, None)],
             }),
-            multiview_mask: None,
-            cache: None,
-        });
+            &total_module,
+            "fs_total",
+            &[],
+            &[target(AOV_FORMAT, None)],
+        );
         let _ = DISTANCE_FORMAT;
         Passes {
             uniform,

@@ -1,12 +1,12 @@
 // Sun et al.'s airlight (see airlight.rs for F(u,v) and the constant in the project's
 // convention), shared by the hybrid resolve and the per-frame F' table. Group 1 bindings 2 and 5.
 struct Hybrid {
-    // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: flags
-    // (bit 0: analytic airlight for isotropic point lights)
+    // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: unused
+    // (the knobs airlight and fprime are the overrides AIRLIGHT and FPRIME of hybrid.wgsl)
     config: vec4<u32>,
     // x: u_max of the F table; y: scattering resolution divisor (1, 2, 4); zw: unused
     table: vec4<f32>,
-    // §3.4's F'(cos γ, x) table: x: x_max (m); y: cos γ samples; z: x samples; w: 1 if in use
+    // §3.4's F'(cos γ, x) table: x: x_max (m); y: cos γ samples; z: x samples; w: unused
     fprime: vec4<f32>,
 };
 @group(1) @binding(2) var<uniform> hybrid: Hybrid;

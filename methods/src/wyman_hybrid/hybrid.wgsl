@@ -67,12 +67,18 @@ fn sunlight(k: u32, dir: vec3<f32>, a: f32, b: f32) -> vec3<f32> {
     return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * phase(medium, dot(lights.lights[k].direction.xyz, -dir)) * seg;
 }
 
+// Knobs baked per run (mod.rs): lavapipe evaluates both sides of a branch on a uniform flag,
+// so testing them at run time paid for the angular quadrature and both airlight forms in every
+// lit interval.
+override AIRLIGHT: bool = true;
+override FPRIME: bool = false;
+
 // Lit in-scatter of light k over [a, b] (no shadow inside).
 fn lit(k: u32, dir: vec3<f32>, ap: Approach, a: f32, b: f32, n: u32) -> vec3<f32> {
     let kind = light_kind(k);
     if (kind == LIGHT_DIRECTIONAL) { return sunlight(k, dir, a, b); }
-    let analytic = (hybrid.config.w & 1u) != 0u && kind == LIGHT_POINT && u32(medium.sigma_s.w + 0.5) == 0u;
-    if (analytic && hybrid.fprime.w > 0.5) { return airlight_fprime(k, dir, ap, a, b); }
+    let analytic = AIRLIGHT && kind == LIGHT_POINT && phase_kind(medium) == 0u;
+    if (analytic && FPRIME) { return airlight_fprime(k, dir, ap, a, b); }
     if (analytic) { return airlight(k, ap, a, b); }
     return angular(k, dir, ap, a, b, n);
 }

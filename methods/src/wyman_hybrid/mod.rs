@@ -313,6 +313,12 @@ impl Method for WymanHybrid {
             &targets,
             &[],
         );
+        let use_fprime = ctx
+            .params
+            .get("fprime")
+            .and_then(ParamValue::as_bool)
+            .unwrap_or(false);
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let resolve = ResolvePass::per_light(
             gpu,
             &renderer,
@@ -321,13 +327,9 @@ impl Method for WymanHybrid {
             Some(std::mem::size_of::<HybridUniform>() as u64),
             4,
             2,
+            &[("AIRLIGHT", flag(analytic)), ("FPRIME", flag(use_fprime))],
         );
         let counters = CounterReadback::new(gpu, 2);
-        let use_fprime = ctx
-            .params
-            .get("fprime")
-            .and_then(ParamValue::as_bool)
-            .unwrap_or(false);
         let render_target = |label, w, h| {
             gpu.texture_2d(
                 label,
@@ -351,6 +353,7 @@ impl Method for WymanHybrid {
                 Some(std::mem::size_of::<HybridUniform>() as u64),
                 3,
                 0,
+                &[],
             );
             let table = render_target("F' table", w, h);
             (
@@ -390,13 +393,13 @@ impl Method for WymanHybrid {
             }
         });
         let uniform = HybridUniform {
-            config: [samples, table.nu, table.nv, analytic as u32],
+            config: [samples, table.nu, table.nv, 0],
             table: [table.u_max, scale as f32, 0.0, 0.0],
             fprime: [
                 1.0,
                 FPRIME_SIZE as f32,
                 FPRIME_SIZE as f32,
-                use_fprime as u32 as f32,
+                0.0,
             ],
         };
         self.state = Some(State {

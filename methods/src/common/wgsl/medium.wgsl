@@ -16,11 +16,16 @@ const PI: f32 = 3.14159265358979;
 const UNBAKED_PHASE: u32 = 0xffffffffu;
 override PHASE_KIND: u32 = UNBAKED_PHASE;
 
+// The phase function's kind: the baked constant, else the uniform's.
+fn phase_kind(m: Medium) -> u32 {
+    if (PHASE_KIND != UNBAKED_PHASE) { return PHASE_KIND; }
+    return u32(m.sigma_s.w + 0.5);
+}
+
 // p(θ) from cos θ, θ between the light's propagation direction and the direction to the eye.
 fn phase(m: Medium, cos_theta: f32) -> f32 {
     let c = clamp(cos_theta, -1.0, 1.0);
-    var kind = PHASE_KIND;
-    if (kind == UNBAKED_PHASE) { kind = u32(m.sigma_s.w + 0.5); }
+    let kind = phase_kind(m);
     switch kind {
         case 1u: {
             let g = m.sigma_t.w;
