@@ -133,6 +133,10 @@ pub struct Timing {
     pub gpu_ms: Option<Stat>,
     /// The method's `render` call: encoding plus its per-frame CPU work.
     pub cpu_ms: Stat,
+    /// The harness's own work on the record after rendering: scoring the AOVs against the
+    /// reference and writing images (not the method's cost; 0 in results from before it existed).
+    #[serde(default)]
+    pub score_ms: f64,
 }
 
 impl Record {

@@ -450,10 +450,9 @@ fn run_one(
             Err(e) => return failed(scene, entry.id, params, e),
         }
     }
-    rec.counters.insert(
-        "score_ms".into(),
-        score_start.elapsed().as_secs_f64() * 1e3,
-    );
+    if let Some(t) = rec.timing.as_mut() {
+        t.score_ms = score_start.elapsed().as_secs_f64() * 1e3;
+    }
     if nonfinite > 0 {
         rec.status = Status::Failed;
         rec.reason = Some(format!("{nonfinite} non-finite pixels in the output"));
@@ -725,6 +724,7 @@ fn measure(
             wall_ms: Stat::of(&wall),
             gpu_ms: (!gpu_ms.is_empty()).then(|| Stat::of(&gpu_ms)),
             cpu_ms: Stat::of(&cpu),
+            score_ms: 0.0,
         }),
         memory_bytes: Some(memory),
         passes: Some(Passes {
