@@ -151,6 +151,16 @@ fn tessellated(scene: &Scene, levels: u32) -> Scene {
 impl Passes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, cfg: Config) -> Passes {
         let gpu = ctx.gpu;
+        let kinds = &ctx.scene.features().light_kinds;
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let spot_constants = renderer.specialization.with(&[
+            ("ANY_SPOT", flag(kinds.iter().any(|k| *k == "spot"))),
+            ("ALL_SPOT", flag(!kinds.is_empty() && kinds.iter().all(|k| *k == "spot"))),
+        ]);
+        let options = || wgpu::PipelineCompilationOptions {
+            constants: &spot_constants,
+            zero_initialize_workgroup_memory: true,
+        };
         let shadowed = ctx.scene.features().volumetric_occluders;
         let vertex = cfg.eval == Eval::Vertex;
         let tess = vertex.then(|| GpuScene::new(gpu, &tessellated(ctx.scene, cfg.tessellation)));
@@ -319,7 +329,7 @@ impl Passes {
                     vertex: wgpu::VertexState {
                         module: &module,
                         entry_point: Some(vs),
-                        compilation_options: renderer.specialization.options(),
+                        compilation_options: options(),
                         buffers: &vbuf.into_iter().map(Some).collect::<Vec<_>>(),
                     },
                     // silhouette::extrude winds quads outward in a right-handed sense, which
@@ -334,7 +344,7 @@ impl Passes {
                     fragment: fs.map(|(fs, _)| wgpu::FragmentState {
                         module: &module,
                         entry_point: Some(fs),
-                        compilation_options: renderer.specialization.options(),
+                        compilation_options: options(),
                         targets: &targets,
                     }),
                     multiview_mask: None,

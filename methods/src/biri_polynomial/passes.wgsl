@@ -51,9 +51,19 @@ fn biri_light_scale() -> vec3<f32> {
     return medium.sigma_s.rgb * lights.lights[poly.config.z].intensity.rgb;
 }
 
+// Which of the scene's lights are spots, baked (passes.rs): the light index is a uniform here,
+// and lavapipe runs both sides of a branch on a uniform, so without these a point light paid for
+// the spot path and a spot for the point path.
+override ANY_SPOT: bool = true;
+override ALL_SPOT: bool = false;
+
+fn is_spot() -> bool {
+    return ALL_SPOT || (ANY_SPOT && poly.spot_f.y > 0.5);
+}
+
 // Γ(M) for light poly.config.z, M at distance x from the eye along the unit direction `dir`.
 fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
-    if poly.spot_f.y > 0.5 {
+    if is_spot() {
         return biri_light_scale() * biri_spot_gamma(dir, x);
     }
     return biri_light_scale() * biri_point_gamma(dir, x);
@@ -62,7 +72,7 @@ fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
 // Γ(M) per fragment, on the ray of pixel `frag`: spots read the ray's part of eq. 7 from
 // `cs_spot_rays` (spot_rays.wgsl).
 fn biri_gamma_frag(frag: vec2<f32>, x: f32) -> vec3<f32> {
-    if poly.spot_f.y > 0.5 {
+    if is_spot() {
         return biri_spot_gamma_pixel(vec2<i32>(frag), x);
     }
     return biri_light_scale() * biri_point_gamma(camera_ray_dir(camera, frag), x);
