@@ -156,6 +156,8 @@ impl Passes {
         let spot_constants = renderer.specialization.with(&[
             ("ANY_SPOT", flag(kinds.iter().any(|k| *k == "spot"))),
             ("ALL_SPOT", flag(!kinds.is_empty() && kinds.iter().all(|k| *k == "spot"))),
+            ("ORDER", cfg.order.min(8) as f64),
+            ("FIT", cfg.fit as f64),
         ]);
         let options = || wgpu::PipelineCompilationOptions {
             constants: &spot_constants,
@@ -293,6 +295,7 @@ impl Passes {
                 &rays_view,
                 is_spot,
                 (rays_w, rays_h),
+                &spot_constants,
             )
         });
         let pl = gpu
@@ -786,6 +789,7 @@ fn spot_rays(
     rays: &wgpu::TextureView,
     is_spot: Vec<bool>,
     (width, height): (u32, u32),
+    constants: &[(&str, f64)],
 ) -> SpotRays {
     let compute = wgpu::ShaderStages::COMPUTE;
     let layout = gpu
@@ -854,7 +858,10 @@ fn spot_rays(
             layout: Some(&pl),
             module,
             entry_point: Some("cs_spot_rays"),
-            compilation_options: renderer.specialization.options(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                zero_initialize_workgroup_memory: true,
+            },
             cache: None,
         });
     SpotRays {

@@ -19,6 +19,13 @@ struct Poly {
     // x: u_max; y: 1 when the light is a spot (Γ by eq. 7)
     spot_f: vec4<f32>,
 };
+// The order n (≤ 8) and the fit (0 Taylor, 1 Chebyshev), baked (passes.rs): the kernel's loops
+// to n get constant trip counts, so their small arrays stay in registers, and the fit not chosen
+// is not evaluated (lavapipe runs both sides of a branch on a uniform value). The uniform's
+// config.x/y hold the same values.
+override ORDER: u32 = 4u;
+override FIT: u32 = 0u;
+
 @group(1) @binding(0) var ray_distance: texture_2d<f32>;
 @group(1) @binding(1) var<uniform> poly: Poly;
 @group(1) @binding(2) var surface: texture_2d<f32>;
@@ -38,8 +45,8 @@ fn biri_point_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
     for (var i = 0u; i < 9u; i++) {
         ps[i] = poly.series[i / 4u][i % 4u];
     }
-    let fit = poly.config.y;
-    let n = poly.config.x;
+    let fit = FIT;
+    let n = ORDER;
     let st = medium.sigma_t.rgb;
     return vec3<f32>(
         biri_segment(fit, st.r, n, t, h, 0.0, x, ps),

@@ -200,8 +200,8 @@ fn biri_spot_coefficients(g: SpotGeometry, thf: f32) -> array<vec3<f32>, 9> {
     let st = medium.sigma_t.rgb;
     let e0 = -st * g.t;
     let kk = st * g.h;
-    let n = poly.config.x;
-    let fit = poly.config.y;
+    let n = ORDER;
+    let fit = FIT;
     let cr = biri_shift(biri_monomials(fit, kk.r, n, g.th0, thf, e0.r, ps), g.beta);
     let cg = biri_shift(biri_monomials(fit, kk.g, n, g.th0, thf, e0.g, ps), g.beta);
     let cb = biri_shift(biri_monomials(fit, kk.b, n, g.th0, thf, e0.b, ps), g.beta);
@@ -229,7 +229,7 @@ fn biri_spot_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
     let c = biri_spot_coefficients(g, max(biri_spot_far_theta(g, dir), thm));
     let cell = biri_spot_cell(g.m);
     var out = vec3<f32>(0.0);
-    for (var i = 0u; i <= min(poly.config.x, 8u); i++) {
+    for (var i = 0u; i <= ORDER; i++) {
         out += c[i] * (biri_delta(cell, gb, i) - biri_delta(cell, g.ga, i));
     }
     return out / g.h;

@@ -30,7 +30,7 @@ fn cs_spot_rays(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(spot_rays_out, px, 0, vec4<f32>(g.t, g.h, 0.0, 2.0));
         return;
     }
-    let n = min(poly.config.x, 8u);
+    let n = ORDER;
     let k = poly.config.z;
     let scale = medium.sigma_s.rgb * lights.lights[k].intensity.rgb / g.h;
     let c = biri_spot_coefficients(g, biri_spot_far_theta(g, dir));
@@ -59,7 +59,7 @@ fn biri_spot_gamma_pixel(px: vec2<i32>, x: f32) -> vec3<f32> {
     let q = textureLoad(spot_rays, px, 1, 0);
     let cell = SpotCell(u32(q.x), u32(q.y), q.z, q.w);
     var out = -textureLoad(spot_rays, px, 2, 0).rgb;
-    for (var i = 0u; i <= min(poly.config.x, 8u); i++) {
+    for (var i = 0u; i <= ORDER; i++) {
         out += textureLoad(spot_rays, px, SPOT_RAY_COEFFICIENTS + i, 0).rgb * biri_delta(cell, gb, i);
     }
     return out;

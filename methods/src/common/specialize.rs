@@ -50,11 +50,9 @@ impl Specialization {
     pub fn with(&self, own: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
         [&self.constants[..], own].concat()
     }
-}
 
-impl Specialization {
     /// Compilation options carrying these constants, for a stage whose module composes
-    /// `lights.wgsl` and `medium.wgsl` (wgpu rejects constants a module does not declare).
+    /// `lights.wgsl` and `medium.wgsl` (which declare them).
     pub fn options(&self) -> wgpu::PipelineCompilationOptions<'_> {
         wgpu::PipelineCompilationOptions {
             constants: &self.constants,
