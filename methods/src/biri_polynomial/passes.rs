@@ -152,17 +152,17 @@ impl Passes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, cfg: Config) -> Passes {
         let gpu = ctx.gpu;
         let kinds = &ctx.scene.features().light_kinds;
-        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let flag = crate::common::specialize::flag;
         let spot_constants = renderer.specialization.with(&[
             ("ANY_SPOT", flag(kinds.iter().any(|k| *k == "spot"))),
-            ("ALL_SPOT", flag(!kinds.is_empty() && kinds.iter().all(|k| *k == "spot"))),
+            (
+                "ALL_SPOT",
+                flag(!kinds.is_empty() && kinds.iter().all(|k| *k == "spot")),
+            ),
             ("ORDER", cfg.order.min(8) as f64),
             ("FIT", cfg.fit as f64),
         ]);
-        let options = || wgpu::PipelineCompilationOptions {
-            constants: &spot_constants,
-            zero_initialize_workgroup_memory: true,
-        };
+        let options = || crate::common::specialize::compile_options(&spot_constants);
         let shadowed = ctx.scene.features().volumetric_occluders;
         let vertex = cfg.eval == Eval::Vertex;
         let tess = vertex.then(|| GpuScene::new(gpu, &tessellated(ctx.scene, cfg.tessellation)));
@@ -211,7 +211,11 @@ impl Passes {
                         count: None,
                     },
                     texture_entry(2),
-                    crate::common::layouts::storage_buffer(3, wgpu::ShaderStages::VERTEX_FRAGMENT, true),
+                    crate::common::layouts::storage_buffer(
+                        3,
+                        wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        true,
+                    ),
                     wgpu::BindGroupLayoutEntry {
                         binding: 4,
                         visibility: wgpu::ShaderStages::FRAGMENT,
@@ -858,10 +862,7 @@ fn spot_rays(
             layout: Some(&pl),
             module,
             entry_point: Some("cs_spot_rays"),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants,
-                zero_initialize_workgroup_memory: true,
-            },
+            compilation_options: crate::common::specialize::compile_options(constants),
             cache: None,
         });
     SpotRays {

@@ -191,10 +191,7 @@ pub fn mesh_pipeline_with(
     targets: &[Option<wgpu::ColorTargetState>],
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
-    let options = || wgpu::PipelineCompilationOptions {
-        constants,
-        zero_initialize_workgroup_memory: true,
-    };
+    let options = || crate::common::specialize::compile_options(constants);
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),

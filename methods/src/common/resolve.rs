@@ -321,10 +321,7 @@ pub fn fullscreen_pipeline(
         fragment: Some(wgpu::FragmentState {
             module,
             entry_point: Some(fs),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants,
-                zero_initialize_workgroup_memory: true,
-            },
+            compilation_options: crate::common::specialize::compile_options(constants),
             targets,
         }),
         multiview_mask: None,
@@ -334,7 +331,10 @@ pub fn fullscreen_pipeline(
 
 /// The composed WGSL of a resolve pass.
 pub fn source(own: &str) -> String {
-    wgsl::compose(&[wgsl::PRELUDE, &[wgsl::FULLSCREEN, RESOLVE_IO]].concat(), own)
+    wgsl::compose(
+        &[wgsl::PRELUDE, &[wgsl::FULLSCREEN, RESOLVE_IO]].concat(),
+        own,
+    )
 }
 
 /// The bindings 0–1, `Out` and the ray-length and ambient helpers every resolve pass shares.

@@ -21,7 +21,12 @@ pub struct Specialization {
     constants: Vec<(&'static str, f64)>,
 }
 
-const KIND_KEYS: [&str; MAX_LIGHTS] = ["LIGHT_KIND_0", "LIGHT_KIND_1", "LIGHT_KIND_2", "LIGHT_KIND_3"];
+const KIND_KEYS: [&str; MAX_LIGHTS] = [
+    "LIGHT_KIND_0",
+    "LIGHT_KIND_1",
+    "LIGHT_KIND_2",
+    "LIGHT_KIND_3",
+];
 
 impl Specialization {
     pub fn of(scene: &Scene) -> Specialization {
@@ -54,9 +59,22 @@ impl Specialization {
     /// Compilation options carrying these constants, for a stage whose module composes
     /// `lights.wgsl` and `medium.wgsl` (which declare them).
     pub fn options(&self) -> wgpu::PipelineCompilationOptions<'_> {
-        wgpu::PipelineCompilationOptions {
-            constants: &self.constants,
-            zero_initialize_workgroup_memory: true,
-        }
+        compile_options(&self.constants)
     }
+}
+
+/// Compilation options with these pipeline-overridable constants (and zeroed workgroup memory,
+/// wgpu's default): what every pass that sets overrides passes to its stages.
+pub fn compile_options<'a>(
+    constants: &'a [(&'a str, f64)],
+) -> wgpu::PipelineCompilationOptions<'a> {
+    wgpu::PipelineCompilationOptions {
+        constants,
+        zero_initialize_workgroup_memory: true,
+    }
+}
+
+/// A `bool` override's value as `PipelineCompilationOptions::constants` takes it.
+pub fn flag(b: bool) -> f64 {
+    if b { 1.0 } else { 0.0 }
 }

@@ -83,10 +83,9 @@ impl StencilSurfaceShadows {
                         fragment: Some(wgpu::FragmentState {
                             module: &module,
                             entry_point: Some("fs_remove_light"),
-                            compilation_options: wgpu::PipelineCompilationOptions {
-                                constants: &constants,
-                                zero_initialize_workgroup_memory: true,
-                            },
+                            compilation_options: crate::common::specialize::compile_options(
+                                &constants,
+                            ),
                             targets: &[Some(wgpu::ColorTargetState {
                                 format: AOV_FORMAT,
                                 blend: Some(wgpu::BlendState {

@@ -172,10 +172,7 @@ impl Passes {
         let plane_constants = renderer
             .specialization
             .with(&[("XI_PER_FRAGMENT", if xi_per_fragment { 1.0 } else { 0.0 })]);
-        let plane_options = || wgpu::PipelineCompilationOptions {
-            constants: &plane_constants,
-            zero_initialize_workgroup_memory: true,
-        };
+        let plane_options = || crate::common::specialize::compile_options(&plane_constants);
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("dobashi planes"),
             size: std::mem::size_of::<PlanesUniform>() as u64,

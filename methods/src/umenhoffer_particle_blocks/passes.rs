@@ -127,16 +127,13 @@ fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
 impl Passes {
     pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, modes: Modes) -> Passes {
         let dev = &gpu.device;
-        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let flag = crate::common::specialize::flag;
         let constants = renderer.specialization.with(&[
             ("BLOCKS", flag(modes.blocks)),
             ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
             ("EIGHT_SLICES", flag(sizes.slices > 4)),
         ]);
-        let options = || wgpu::PipelineCompilationOptions {
-            constants: &constants,
-            zero_initialize_workgroup_memory: true,
-        };
+        let options = || crate::common::specialize::compile_options(&constants);
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("particle blocks uniform"),
             size: std::mem::size_of::<PbUniform>() as u64,

@@ -318,7 +318,7 @@ impl Method for WymanHybrid {
             .get("fprime")
             .and_then(ParamValue::as_bool)
             .unwrap_or(false);
-        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let flag = crate::common::specialize::flag;
         let resolve = ResolvePass::per_light(
             gpu,
             &renderer,
@@ -395,12 +395,7 @@ impl Method for WymanHybrid {
         let uniform = HybridUniform {
             config: [samples, table.nu, table.nv, 0],
             table: [table.u_max, scale as f32, 0.0, 0.0],
-            fprime: [
-                1.0,
-                FPRIME_SIZE as f32,
-                FPRIME_SIZE as f32,
-                0.0,
-            ],
+            fprime: [1.0, FPRIME_SIZE as f32, FPRIME_SIZE as f32, 0.0],
         };
         self.state = Some(State {
             renderer,
