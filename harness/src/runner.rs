@@ -13,7 +13,7 @@
 //! ([`run_shard`], `crate::shard`) or replaced by an explicit list ([`run_items`], used by
 //! `scatterbench reproduce`).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,7 +22,7 @@ use rayon::prelude::*;
 
 use scenes::Scene;
 
-use crate::gpu::{Gpu, GpuTimer, read_rgba32f};
+use crate::gpu::{Gpu, GpuTimer, WORK_COUNTERS, read_rgba32f};
 use crate::image::colormap::error_map;
 use crate::image::metrics::{ToneMap, compare};
 use crate::image::{Image, io};
@@ -610,6 +610,7 @@ pub fn render_frame(
     if let Some(t) = timer {
         t.begin(&mut enc);
     }
+    gpu.stats_begin_frame();
     let cpu_start = Instant::now();
     let report = method
         .render(gpu, &frame, &aovs.targets(), &mut enc)
@@ -618,6 +619,7 @@ pub fn render_frame(
     if let Some(t) = timer {
         t.end(&mut enc);
     }
+    gpu.stats_resolve(&mut enc);
     gpu.queue.submit([enc.finish()]);
     gpu.wait()?;
     let wall_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -629,6 +631,11 @@ pub fn render_frame(
     if let Some(phases) = method.phase_timer() {
         for (name, ms) in phases.read_ms(gpu)? {
             report.count(&format!("gpu_ms_{name}"), ms);
+        }
+    }
+    if let Some(work) = gpu.stats_read()? {
+        for (name, n) in work.counters() {
+            report.count(name, n);
         }
     }
     if gpu.is_lost() {
@@ -675,6 +682,7 @@ fn measure(
     let timer = GpuTimer::new(gpu);
     let (mut cpu, mut wall, mut gpu_ms) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = FrameReport::default();
+    let mut work: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     // Frames cycle through the scene's frames: warm-up first, then the timed ones.
     let (mut f, mut warm_ms, mut timed_ms) = (0u32, 0.0, 0.0);
     while f < cfg.warmup && another_frame(cfg.budget_ms, true, f, warm_ms) {
@@ -690,8 +698,17 @@ fn measure(
         if let Some(g) = t.gpu_ms {
             gpu_ms.push(g);
         }
+        for name in WORK_COUNTERS {
+            if let Some(n) = t.report.counters.get(name) {
+                work.entry(name).or_default().push(*n);
+            }
+        }
         last = t.report;
         f += 1;
+    }
+    // Work counts are per frame, median over the timed frames (an animated scene's frames differ).
+    for (name, values) in &work {
+        last.counters.insert(name.to_string(), Stat::of(values).median);
     }
     if cfg.budget_ms.is_some() {
         last.count("warmup_frames", warmed as f64);

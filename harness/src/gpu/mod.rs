@@ -5,6 +5,7 @@
 
 mod phases;
 mod readback;
+mod stats;
 mod timer;
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -14,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use phases::PhaseTimer;
+pub use stats::{Counted, FrameWork, PassCounter, StatsQuery, WORK_COUNTERS};
 pub use timer::GpuTimer;
 
 /// What adapter a result was measured on (DESIGN §4: every record carries the machine).
@@ -37,6 +39,8 @@ pub struct Gpu {
     errors: Arc<Mutex<Vec<String>>>,
     lost: Arc<Mutex<Option<String>>>,
     allocated: AtomicU64,
+    /// Pipeline-statistics queries of the current frame (counts nothing without the feature).
+    counter: PassCounter,
 }
 
 /// The fix to print when no adapter is found.
@@ -84,7 +88,8 @@ impl Gpu {
         let optional = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
             | wgpu::Features::FLOAT32_BLENDABLE
-            | wgpu::Features::DEPTH32FLOAT_STENCIL8;
+            | wgpu::Features::DEPTH32FLOAT_STENCIL8
+            | wgpu::Features::PIPELINE_STATISTICS_QUERY;
         let features = adapter.features() & optional;
         let limits = wgpu::Limits::default().using_resolution(adapter.limits());
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -120,6 +125,7 @@ impl Gpu {
             device_type: format!("{:?}", info.device_type),
             software,
         };
+        let counter = PassCounter::new(&device);
         Ok(Gpu {
             adapter,
             device,
@@ -128,6 +134,7 @@ impl Gpu {
             errors,
             lost,
             allocated: AtomicU64::new(0),
+            counter,
         })
     }
 

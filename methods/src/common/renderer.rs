@@ -7,6 +7,7 @@
 //! (and lights carry no shadow map) unless `no_skip`.
 
 use harness::method::{AOV_FORMAT, PrepareContext};
+use harness::gpu::PassCounter;
 use harness::{FrameReport, Gpu, Targets};
 use scenes::{FrameState, Scene};
 
@@ -42,6 +43,8 @@ pub struct SceneRenderer {
     pub height: u32,
     /// The scene's baked pipeline constants (light count and kinds, phase function).
     pub specialization: Specialization,
+    /// Begins this renderer's passes with pipeline statistics counted.
+    pub passes: PassCounter,
 }
 
 /// Why a homogeneous-medium method built on the shared renderer cannot render a scene, if it
@@ -246,6 +249,7 @@ impl SceneRenderer {
             width: ctx.width,
             height: ctx.height,
             specialization,
+            passes: gpu.pass_counter(),
         })
     }
 
@@ -291,7 +295,7 @@ impl SceneRenderer {
         targets: &Targets,
         report: &mut FrameReport,
     ) {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = self.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some("surface"),
             color_attachments: &[
                 Some(wgpu::RenderPassColorAttachment {

@@ -263,7 +263,7 @@ impl ResolvePass {
             load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
             store: wgpu::StoreOp::Store,
         };
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some(self.label),
             color_attachments: &[
                 Some(wgpu::RenderPassColorAttachment {

@@ -3,6 +3,7 @@
 //! texel, the distance from the light to the nearest caster (R32Float; depth along the light
 //! direction for directional light), and `shadow.wgsl` compares against it.
 
+use harness::gpu::PassCounter;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use harness::{FrameReport, Gpu};
@@ -35,6 +36,7 @@ pub struct ShadowMaps {
     bind_group: wgpu::BindGroup,
     /// Per light: where its faces are.
     pub slots: Vec<ShadowSlot>,
+    passes: PassCounter,
 }
 
 impl ShadowMaps {
@@ -185,6 +187,7 @@ impl ShadowMaps {
             pipeline,
             bind_group,
             slots,
+            passes: gpu.pass_counter(),
         }
     }
 
@@ -268,7 +271,7 @@ impl ShadowMaps {
         for slot in &self.slots {
             for k in 0..slot.faces {
                 let layer = slot.layer_base + k;
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = self.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("shadow face"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                         view: &self.layer_views[layer as usize],

@@ -8,6 +8,7 @@
 //! removes the light's contribution wherever the count is not zero. Shadows are therefore exact
 //! per pixel — no shadow-map resolution or bias — and cost one extra scene draw per light.
 
+use harness::gpu::PassCounter;
 use harness::Gpu;
 use harness::method::AOV_FORMAT;
 
@@ -18,6 +19,7 @@ use super::wgsl;
 pub struct StencilSurfaceShadows {
     /// One pipeline per light slot (`override SURFACE_LIGHT`).
     pipelines: Vec<wgpu::RenderPipeline>,
+    passes: PassCounter,
 }
 
 impl StencilSurfaceShadows {
@@ -100,7 +102,10 @@ impl StencilSurfaceShadows {
                     })
             })
             .collect();
-        StencilSurfaceShadows { pipelines }
+        StencilSurfaceShadows {
+            pipelines,
+            passes: gpu.pass_counter(),
+        }
     }
 
     /// Removes light `k`'s contribution from `surface` where the stencil of `depth_stencil` is
@@ -116,7 +121,7 @@ impl StencilSurfaceShadows {
         let Some(pipeline) = self.pipelines.get(k) else {
             return;
         };
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = self.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some("stencil surface shadows"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: surface,
