@@ -1,4 +1,4 @@
-//! `scatterbench`: the command line (DESIGN §5). Each subcommand lives in `src/cmd/`.
+//! `scatterbench`: the command line (ARCHITECTURE §8). Each subcommand lives in `src/cmd/`.
 
 mod cmd;
 

@@ -91,7 +91,7 @@ pub struct CameraKey {
 }
 
 /// The participating medium: homogeneous (fills all space) or particles (spheres of constant
-/// extinction, DESIGN §1). Consumers get it in integrator form from [`crate::Scene::medium`].
+/// extinction, ARCHITECTURE §1). Consumers get it in integrator form from [`crate::Scene::medium`].
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum MediumDesc {

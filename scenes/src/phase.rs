@@ -1,4 +1,4 @@
-//! Phase functions, normalised so that ∫ p dω = 1 over the sphere (DESIGN §1).
+//! Phase functions, normalised so that ∫ p dω = 1 over the sphere (ARCHITECTURE §1).
 //!
 //! θ is the scattering angle between the light's propagation direction at x and the direction
 //! from x toward the eye: θ = 0 is forward scattering.

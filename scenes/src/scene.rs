@@ -36,7 +36,7 @@ pub struct Homogeneous {
     pub ambient: Vec3,
 }
 
-/// A particle medium in integrator form (DESIGN §1, "particles").
+/// A particle medium in integrator form (ARCHITECTURE §1, "particles").
 #[derive(Clone, Debug, PartialEq)]
 pub struct Particles {
     /// Explicit particles first, then each generator's, in file order.

@@ -1,4 +1,4 @@
-//! `scatterbench stress`: the robustness suite (DESIGN §6) — every stress case × every method,
+//! `scatterbench stress`: the robustness suite (ARCHITECTURE §6) — every stress case × every method,
 //! records in results.json (scene = case name), a stability table on stdout and in the HTML
 //! report (`OUT/report/index.html`). Exit 1 when any case × method fails a criterion.
 

@@ -1,4 +1,4 @@
-//! The radiance of one camera ray (DESIGN §1), computed without any of the approximations the
+//! The radiance of one camera ray (ARCHITECTURE §1), computed without any of the approximations the
 //! methods make: exact visibility (ray casts for surfaces; for the medium, the exact shadowed
 //! intervals of [`super::shadow`], with sampling plus bisection only as the fallback for
 //! degenerate geometry), and adaptive Gauss–Kronrod quadrature in Biri's angle variable.
@@ -390,7 +390,7 @@ impl Tracer<'_> {
             .collect()
     }
 
-    /// A particle medium's ray (DESIGN §1): the camera ray is cut into pieces of constant
+    /// A particle medium's ray (ARCHITECTURE §1): the camera ray is cut into pieces of constant
     /// density (every sphere entry and exit), each piece intersected with each light's lit
     /// intervals and integrated adaptively; at every quadrature node the light leg's optical
     /// depth is the exact sum of chords toward the light (self-shadowing), over the spheres

@@ -1,4 +1,4 @@
-//! The ground truth (DESIGN §3): a CPU, f64, parallel renderer of the three AOVs that shares
+//! The ground truth (ARCHITECTURE §3): a CPU, f64, parallel renderer of the three AOVs that shares
 //! none of the approximations it judges — no Γ tables, no F(u,v), no polynomials, no shadow
 //! maps. Visibility is exact ray casting against the same triangles the GPU rasterises (our
 //! own BVH, see [`bvh`]); the in-scatter integral is computed as described in [`integrate`].

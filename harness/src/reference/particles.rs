@@ -1,4 +1,4 @@
-//! Particle media for the reference (DESIGN §1, "particles"): exact optical depth along any
+//! Particle media for the reference (ARCHITECTURE §1, "particles"): exact optical depth along any
 //! segment as Σ τ_j · chord_j through the spheres, found with a BVH over the particles (f64,
 //! median split, leaves ≤ 4, fixed-stack traversal), and the camera ray cut into pieces of
 //! constant density at every sphere entry and exit (see `Tracer::trace_particles` in
