@@ -1,4 +1,4 @@
-//! Work counts per frame from pipeline statistics queries (ARCHITECTURE: "Work counts"): how
+//! Work counts per frame from pipeline statistics queries (ARCHITECTURE §4.1): how
 //! many vertex, fragment and compute shader invocations and clipped primitives a method's frame
 //! took, so a reader can tell *why* a method is fast on this adapter and whether the ranking will
 //! transfer to another one.
