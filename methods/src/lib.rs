@@ -6,6 +6,7 @@ pub mod biri_shadow_volumes;
 pub mod common;
 pub mod dobashi_virtual_planes;
 pub mod no_scatter;
+pub mod polygonal_light_volumes;
 pub mod raymarch_brute;
 pub mod umenhoffer_particle_blocks;
 pub mod wyman_hybrid;
@@ -33,6 +34,10 @@ pub const REGISTRY: &[Entry] = &[
     Entry {
         id: "biri-polynomial",
         make: || Box::new(biri_polynomial::BiriPolynomial::default()),
+    },
+    Entry {
+        id: "polygonal-light-volumes",
+        make: || Box::new(polygonal_light_volumes::PolygonalLightVolumes::default()),
     },
     Entry {
         id: "umenhoffer-particle-blocks",
@@ -106,6 +111,14 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         (
             "biri-shadow-volumes/indirect",
             biri_shadow_volumes::indirect::source(),
+        ),
+        (
+            "polygonal-light-volumes/volume",
+            polygonal_light_volumes::volume_source(),
+        ),
+        (
+            "polygonal-light-volumes/resolve",
+            common::resolve::source(&polygonal_light_volumes::resolve_wgsl()),
         ),
         ("biri-polynomial/passes", biri_polynomial::passes_source()),
         ("biri-polynomial/resolve", biri_polynomial::resolve_source()),

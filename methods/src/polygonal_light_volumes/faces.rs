@@ -1,0 +1,167 @@
+//! Which light-volume faces a frame draws, and where their open directions end: per light, the
+//! shadow-map faces that can hold lit space the camera sees (all six cube faces of a point
+//! light, those the cone reaches for a spot, the orthographic face of a directional light), the
+//! cap distance, the spot's collapse cone, or why the light needs no volume at all.
+
+use glam::{Mat4, Vec3};
+use scenes::{FrameState, LightState};
+
+use crate::common::uniforms::ShadowSlot;
+
+/// Half the angle a cube face spans to its corner: atan(√2) (radians).
+const FACE_CORNER_ANGLE: f32 = 0.955_316_6;
+
+/// The cube faces' axes in `common::shadow_maps` order (+X, −X, +Y, −Y, +Z, −Z).
+const FACE_AXES: [Vec3; 6] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+
+/// One face to draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceDraw {
+    /// Index into the light's `ShadowSlot::clip_from_world` (0 for directional light).
+    pub face: u32,
+    /// Shadow-map array layer.
+    pub layer: u32,
+    pub world_from_clip: Mat4,
+}
+
+/// A light's volume this frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightPlan {
+    pub faces: Vec<FaceDraw>,
+    /// Local lights: distance from the light where open directions end (m); directional: the
+    /// shadow volume's cap depth along the light (m). Beyond everything the camera sees.
+    pub cap: f32,
+    /// Spot lights: grid vertices whose direction has a smaller cosine to the axis collapse onto
+    /// the light (−2: never).
+    pub collapse_cos: f32,
+    pub axis: Vec3,
+}
+
+/// The eight corners of the camera's view frustum (world).
+pub fn frustum_corners(frame: &FrameState, aspect: f32) -> [Vec3; 8] {
+    let world_from_clip = frame.camera.clip_from_world(aspect).inverse();
+    let mut out = [Vec3::ZERO; 8];
+    for (k, c) in out.iter_mut().enumerate() {
+        let x = if k & 1 == 0 { -1.0 } else { 1.0 };
+        let y = if k & 2 == 0 { -1.0 } else { 1.0 };
+        let z = if k & 4 == 0 { 0.0 } else { 1.0 };
+        *c = world_from_clip.project_point3(Vec3::new(x, y, z));
+    }
+    out
+}
+
+/// Whether a sphere (centre, radius) reaches into spot light's cone (apex, unit axis, outer
+/// half-angle): the angle to the centre minus the sphere's angular radius is inside the cone.
+pub fn sphere_meets_cone(apex: Vec3, axis: Vec3, outer: f32, centre: Vec3, radius: f32) -> bool {
+    let to = centre - apex;
+    let dist = to.length();
+    if dist <= radius {
+        return true;
+    }
+    let angle = (to.dot(axis) / dist).clamp(-1.0, 1.0).acos();
+    angle - (radius / dist).asin() < outer
+}
+
+/// The volume of `light` this frame, or why it has none. `casters`: the bounding sphere of the
+/// shadow casters (None: no caster); `samples`: grid samples per face side.
+pub fn plan(
+    light: &LightState,
+    slot: &ShadowSlot,
+    corners: &[Vec3; 8],
+    casters: Option<(Vec3, f32)>,
+    samples: u32,
+) -> Result<LightPlan, &'static str> {
+    let Some((centre, radius)) = casters else {
+        return Err("no object casts a volumetric shadow");
+    };
+    let face = |k: u32| FaceDraw {
+        face: k,
+        layer: slot.layer_base + k,
+        world_from_clip: slot.clip_from_world[k as usize].inverse(),
+    };
+    match light {
+        LightState::Directional { direction, .. } => {
+            let deepest = corners.iter().map(|c| c.dot(*direction)).fold(f32::MIN, f32::max);
+            let cap = deepest.max(centre.dot(*direction) + radius) + 1.0;
+            Ok(LightPlan {
+                faces: vec![face(0)],
+                cap,
+                collapse_cos: -2.0,
+                axis: *direction,
+            })
+        }
+        LightState::Point { position, .. } => Ok(LightPlan {
+            faces: (0..6).map(face).collect(),
+            cap: cap_distance(*position, corners),
+            collapse_cos: -2.0,
+            axis: Vec3::Z,
+        }),
+        LightState::Spot {
+            position,
+            direction,
+            cos_outer,
+            ..
+        } => {
+            let outer = cos_outer.clamp(-1.0, 1.0).acos();
+            if !sphere_meets_cone(*position, *direction, outer, centre, radius) {
+                return Err("no shadow caster inside the spot's cone");
+            }
+            // Grid cells span at most 2/samples radians; vertices three cells beyond the cone
+            // collapse, so every triangle reaching into the cone keeps its true vertices.
+            let margin = 3.0 * 2.0 / samples as f32;
+            let faces = (0..6u32)
+                .filter(|k| {
+                    FACE_AXES[*k as usize].dot(*direction).clamp(-1.0, 1.0).acos()
+                        < outer + FACE_CORNER_ANGLE + margin
+                })
+                .map(face)
+                .collect();
+            let collapse = outer + margin;
+            Ok(LightPlan {
+                faces,
+                cap: cap_distance(*position, corners),
+                collapse_cos: if collapse >= std::f32::consts::PI { -2.0 } else { collapse.cos() },
+                axis: *direction,
+            })
+        }
+    }
+}
+
+/// Farther from `light` than any point of the camera's frustum (the convex hull of its
+/// corners, so the farthest point is a corner), plus a margin.
+fn cap_distance(light: Vec3, corners: &[Vec3; 8]) -> f32 {
+    let far = corners.iter().map(|c| (*c - light).length()).fold(0.0, f32::max);
+    far * 1.01 + 1.0
+}
+
+/// Triangles of one face's volume at `samples` grid samples per side.
+pub fn triangles(directional: bool, samples: u32) -> (u64, u64) {
+    let e = samples as u64 + 1;
+    let grid = 2 * e * e;
+    let walls = if directional { 8 * e } else { 4 * e };
+    // (grid and walls, cap)
+    (grid + walls, if directional { grid } else { 0 })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cone_test_sees_spheres_inside_and_not_behind() {
+        let (apex, axis) = (Vec3::ZERO, Vec3::Z);
+        let outer = 0.5;
+        assert!(sphere_meets_cone(apex, axis, outer, Vec3::new(0.0, 0.0, 5.0), 0.1));
+        assert!(!sphere_meets_cone(apex, axis, outer, Vec3::new(0.0, 0.0, -5.0), 1.0));
+        // 45° off axis at distance 10: outside a 0.5 rad cone unless the radius reaches in.
+        let c = Vec3::new(7.07, 0.0, 7.07);
+        assert!(!sphere_meets_cone(apex, axis, outer, c, 0.5));
+        assert!(sphere_meets_cone(apex, axis, outer, c, 10.0 * (0.79 - 0.5f32).sin() + 0.2));
+    }
+
+    #[test]
+    fn triangle_counts_follow_the_grid() {
+        assert_eq!(triangles(false, 3), (2 * 16 + 16, 0));
+        assert_eq!(triangles(true, 3), (2 * 16 + 32, 32));
+    }
+}

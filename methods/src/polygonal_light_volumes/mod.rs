@@ -1,0 +1,359 @@
+//! `polygonal-light-volumes`: Billeter, Sintorn & Assarsson, *Real time volumetric shadows using
+//! polygonal light volumes* (High Performance Graphics 2010, doi:10.2312/EGGH/HPG10/039-045).
+//! NVIDIA's GameWorks Volumetric Lighting library (Hoobler, *Fast, Flexible, Physically-Based
+//! Volumetric Light Scattering*, GDC 2016; Fallout 4) descends from it.
+//!
+//! Algorithm: a grid mesh in the light's view, one vertex per `1/mesh` shadow-map texels,
+//! displaced to the distance the shadow map stores, encloses the part of the light's frustum the
+//! light reaches. Rasterised from the eye, each fragment of that closed mesh adds (leaving the
+//! volume) or subtracts (entering it) the unshadowed in-scatter F(d) = ∫_0^d from the eye to the
+//! fragment; the sum over a pixel is the in-scatter of the lit stretches of its ray only —
+//! exact up to the shadow map's resolution, with no per-pixel loop over the ray. Because the
+//! volume comes from a shadow map it needs no silhouettes, works for open meshes (the fence)
+//! and its cost does not follow the casters' triangle count.
+//!
+//! Passes (`volume.wgsl`, `volume.rs`, `faces.rs`, `resolve.wgsl`): the shared shadow maps
+//! (`common::shadow_maps`: six cube distance maps per point or spot light, one orthographic depth
+//! map per directional light) and surface pass; per light and face one non-indexed draw whose
+//! vertex shader pulls the stored distance from the shadow map (no CPU read-back, no vertex
+//! buffer), each face's volume closed by walls from the light to the face's boundary (so the six
+//! volumes of a cube tile the lit space) and a cap where no caster stops the light (beyond the
+//! camera's frustum); float32 additive blending into an accumulation target; a resolve that adds
+//! it, the unshadowed integral of lights without a volume, the surface and the ambient fog.
+//! Directional light uses the complement — the shadow volume behind the stored depth, walls
+//! along the light and a far cap — subtracted from the unshadowed integral (Biri et al.'s
+//! front-add / back-subtract rule); a light without a caster in its frustum gets no volume
+//! (recorded in `FrameReport::skipped`).
+//!
+//! The integral (`integral.wgsl`): point lights use Biri et al.'s Γ(λ, γ) table, imported from
+//! `biri_shadow_volumes` (`GammaTable`, `LDSS_WGSL`): it holds the scene's phase function, so
+//! Henyey–Greenstein, Rayleigh and Mie media are exact up to the table. With a spot's falloff and
+//! pattern the integral is not closed-form: it is evaluated per fragment by `panels` two-node
+//! Gauss–Legendre panels uniform in the angle seen from the light (dx/r² = dφ/h flattens the
+//! 1/r² peak), over the ray's stretch inside the outer cone only; `table = 0` uses the same
+//! quadrature for point lights. Directional light is closed-form.
+//!
+//! Faithful: the displaced shadow-map grid, the closed light volume, the signed accumulation of
+//! the unshadowed integral from the eye, the eye inside a volume needing no special case (F(0) =
+//! 0), cost independent of the casters. Modernised: vertex pulling (the paper displaced a base
+//! mesh by vertex texture fetch), float32 accumulation, no depth test — each fragment evaluates
+//! F(min(d, d_scene)) so crossings behind the visible surface cancel in pairs, robust where the
+//! grid lies on the very surfaces it was rendered from — and clip z pinned to w/2 so neither
+//! camera plane clips a volume. The integral from a table of Biri's Γ instead of the paper's
+//! airlight table (Sun et al.'s F(u, v), point lights with isotropic phase only).
+//!
+//! Limits: visibility at the shadow map's resolution (thin shafts alias below a texel, the
+//! walls at depth discontinuities join neighbouring texel centres); the mesh costs 2(n+1)²
+//! triangles per face whatever the scene (n = shadow_map × mesh), so large maps need `mesh` < 1;
+//! spot quadrature error (measured in README.md); no unorm8 accumulation (the paper's era).
+
+mod faces;
+mod volume;
+
+use anyhow::{Result, bail};
+use bytemuck::{Pod, Zeroable};
+use harness::method::PrepareContext;
+use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use scenes::{FrameState, SceneFeatures};
+
+use crate::biri_shadow_volumes::{GammaTable, LDSS_WGSL};
+use crate::common::renderer::{SceneRenderer, unsupported};
+use crate::common::resolve::ResolvePass;
+use crate::common::wgsl;
+
+pub const INTEGRAL_WGSL: &str = include_str!("integral.wgsl");
+pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
+pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
+
+/// Pattern texture size for spot patterns (texels per side).
+const PATTERN_RES: u32 = 512;
+
+/// The composed WGSL of the light-volume pass.
+pub fn volume_source() -> String {
+    wgsl::compose(wgsl::PRELUDE, &format!("{LDSS_WGSL}\n{INTEGRAL_WGSL}\n{VOLUME_WGSL}"))
+}
+
+/// The resolve's own WGSL (composed by `common::resolve::source`).
+pub fn resolve_wgsl() -> String {
+    format!("{LDSS_WGSL}\n{INTEGRAL_WGSL}\n{RESOLVE_WGSL}")
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ConfigUniform {
+    direct: [u32; 4],
+}
+
+/// The knobs, read and checked once (`prepare`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Knobs {
+    shadow_map: u32,
+    /// Grid samples per face side: shadow_map × mesh.
+    samples: u32,
+    /// Γ table size per side; 0: per-fragment quadrature for point lights.
+    table: u32,
+    panels: u32,
+}
+
+fn knobs(params: &harness::method::Params) -> Result<Knobs> {
+    let int = |k: &str| params.get(k).and_then(ParamValue::as_i64);
+    let shadow_map = int("shadow_map").unwrap_or(0);
+    if !(64..=8192).contains(&shadow_map) || !(shadow_map as u64).is_power_of_two() {
+        bail!("shadow_map = {shadow_map}: expected a power of two from 64 to 8192 texels");
+    }
+    let mesh = params.get("mesh").and_then(ParamValue::as_f64).unwrap_or(0.0);
+    if ![1.0, 0.5, 0.25, 0.125].contains(&mesh) {
+        bail!("mesh = {mesh}: expected 1, 0.5, 0.25 or 0.125 vertices per texel");
+    }
+    let table = int("table").unwrap_or(-1);
+    if table != 0 && !(16..=4096).contains(&table) {
+        bail!("table = {table}: expected 0 (per-fragment quadrature) or 16 to 4096");
+    }
+    let panels = int("panels").unwrap_or(0);
+    if !(1..=128).contains(&panels) {
+        bail!("panels = {panels}: expected 1 to 128");
+    }
+    Ok(Knobs {
+        shadow_map: shadow_map as u32,
+        samples: (shadow_map as f64 * mesh) as u32,
+        table: table as u32,
+        panels: panels as u32,
+    })
+}
+
+#[derive(Default)]
+pub struct PolygonalLightVolumes {
+    state: Option<State>,
+}
+
+struct State {
+    renderer: SceneRenderer,
+    volumes: volume::VolumePass,
+    resolve: ResolvePass,
+    _table: wgpu::Texture,
+    table_view: wgpu::TextureView,
+    timer: Option<harness::gpu::PhaseTimer>,
+}
+
+impl Method for PolygonalLightVolumes {
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            id: "polygonal-light-volumes",
+            paper: "Billeter, Sintorn, Assarsson, Real time volumetric shadows using polygonal light volumes, HPG 2010",
+            summary: "Shadow-map grid displaced into closed light volumes; signed per-fragment unshadowed in-scatter from the eye",
+        }
+    }
+
+    fn params(&self) -> Vec<ParamSpec> {
+        vec![
+            ParamSpec {
+                name: "shadow_map",
+                default: ParamValue::Int(512),
+                sweep: [256, 1024, 2048, 4096].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "shadow-map resolution per face, texels (a power of two, 64 to 8192)",
+            },
+            ParamSpec {
+                name: "mesh",
+                default: ParamValue::Float(0.5),
+                sweep: [1.0, 0.25].map(ParamValue::Float).to_vec(),
+                choices: vec![],
+                meaning: "light-volume grid vertices per shadow-map texel along each side (1, 0.5, 0.25 or 0.125)",
+            },
+            ParamSpec {
+                name: "table",
+                default: ParamValue::Int(256),
+                sweep: [0, 64, 1024].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "point lights: Γ(λ, γ) table size per side (16 to 4096), or 0 for per-fragment quadrature",
+            },
+            ParamSpec {
+                name: "panels",
+                default: ParamValue::Int(8),
+                sweep: [2, 4, 16, 32].map(ParamValue::Int).to_vec(),
+                choices: vec![],
+                meaning: "spot lights (and table = 0): two-node Gauss-Legendre panels of the per-fragment quadrature (1 to 128)",
+            },
+        ]
+    }
+
+    fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {
+        match unsupported(scene) {
+            Some(why) => Support::No(why),
+            None => Support::Full,
+        }
+    }
+
+    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
+        let k = knobs(ctx.params)?;
+        if let Support::No(why) = self.support(&ctx.scene.features(), ctx.gpu.device.features()) {
+            bail!(why);
+        }
+        let renderer = SceneRenderer::new(ctx, k.shadow_map, PATTERN_RES)?;
+        let (w, h, data) = if k.table > 0 {
+            let t = GammaTable::build(&ctx.scene.medium().background().phase, k.table, k.table);
+            (t.w_res, t.lambda_res, t.data)
+        } else {
+            (2, 2, vec![0.0; 4])
+        };
+        let table = crate::common::tables::r32_table(ctx.gpu, "plv gamma", w, h, &data);
+        let table_view = table.create_view(&Default::default());
+        let constants = [
+            ("QUADRATURE", crate::common::specialize::flag(k.table == 0)),
+            ("PANELS", k.panels as f64),
+        ];
+        let volumes = volume::VolumePass::new(ctx.gpu, &renderer, &table_view, k.samples, &constants);
+        let resolve = ResolvePass::per_light(
+            ctx.gpu,
+            &renderer,
+            "plv resolve",
+            &resolve_wgsl(),
+            Some(std::mem::size_of::<ConfigUniform>() as u64),
+            2,
+            0,
+            &constants,
+        );
+        self.state = Some(State {
+            renderer,
+            volumes,
+            resolve,
+            _table: table,
+            table_view,
+            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 4),
+        });
+        Ok(())
+    }
+
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let st = self
+            .state
+            .as_mut()
+            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+        let mut report = FrameReport::default();
+        st.renderer.update(gpu, frame);
+        let plans = plan_lights(&st.renderer, frame, st.volumes.samples, &mut report);
+        // Directional light's volume is its shadow volume: its unshadowed integral is always
+        // added here; a local light's only when it has no volume.
+        let direct = frame
+            .lights
+            .iter()
+            .zip(&plans)
+            .enumerate()
+            .filter(|(_, (l, p))| {
+                p.is_none() || matches!(l, scenes::LightState::Directional { .. })
+            })
+            .fold(0u32, |bits, (k, _)| bits | 1 << k);
+        if let Some(u) = &st.resolve.uniform {
+            let c = ConfigUniform {
+                direct: [direct, 0, 0, 0],
+            };
+            gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&c));
+        }
+        if let Some(t) = st.timer.as_mut() {
+            t.mark(enc, "shadow");
+        }
+        st.renderer.encode_shadows(enc, &mut report);
+        if let Some(t) = st.timer.as_mut() {
+            t.mark(enc, "surface");
+        }
+        st.renderer.encode_surface(enc, targets, &mut report);
+        if let Some(t) = st.timer.as_mut() {
+            t.mark(enc, "volume");
+        }
+        st.volumes
+            .encode(gpu, enc, &st.renderer, &frame.lights, &plans, &mut report);
+        report.ran("light-volumes");
+        if let Some(t) = st.timer.as_mut() {
+            t.mark(enc, "resolve");
+        }
+        st.resolve.encode_with(
+            gpu,
+            enc,
+            &st.renderer,
+            targets,
+            &[&st.table_view, &st.volumes.acc_view],
+        );
+        report.ran("resolve");
+        if let Some(t) = st.timer.as_mut() {
+            t.finish(enc);
+        }
+        Ok(report)
+    }
+
+    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+        self.state.as_ref()?.timer.as_ref()
+    }
+}
+
+/// Every light's volume this frame, or None with its skip recorded.
+fn plan_lights(
+    renderer: &SceneRenderer,
+    frame: &FrameState,
+    samples: u32,
+    report: &mut FrameReport,
+) -> Vec<Option<faces::LightPlan>> {
+    let casters = renderer.shadows_on.then(|| {
+        let (lo, hi) = crate::common::shadow_maps::caster_bounds(&renderer.scene, frame);
+        (0.5 * (lo + hi), 0.5 * (hi - lo).length())
+    });
+    let aspect = renderer.width as f32 / renderer.height as f32;
+    let corners = faces::frustum_corners(frame, aspect);
+    frame
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(k, light)| {
+            let Some(slot) = renderer.shadows.slots.get(k) else {
+                report.skip(&format!("light-volume {k}"), "no shadow map (no caster)");
+                return None;
+            };
+            match faces::plan(light, slot, &corners, casters, samples) {
+                Ok(p) => Some(p),
+                Err(why) => {
+                    report.skip(&format!("light-volume {k}"), why);
+                    None
+                }
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params(pairs: &[(&str, ParamValue)]) -> harness::method::Params {
+        let defaults = PolygonalLightVolumes::default().params();
+        let mut p: harness::method::Params = defaults
+            .iter()
+            .map(|s| (s.name.to_string(), s.default.clone()))
+            .collect();
+        for (k, v) in pairs {
+            p.insert(k.to_string(), v.clone());
+        }
+        p
+    }
+
+    #[test]
+    fn knobs_out_of_range_are_refused_not_clamped() {
+        assert!(knobs(&params(&[])).is_ok());
+        for bad in [
+            ("shadow_map", ParamValue::Int(1000)),
+            ("shadow_map", ParamValue::Int(32)),
+            ("mesh", ParamValue::Float(0.3)),
+            ("table", ParamValue::Int(8)),
+            ("panels", ParamValue::Int(0)),
+        ] {
+            let e = knobs(&params(&[bad.clone()])).unwrap_err().to_string();
+            assert!(e.starts_with(bad.0), "{e}");
+        }
+        let k = knobs(&params(&[("shadow_map", ParamValue::Int(1024)), ("mesh", ParamValue::Float(0.25))])).unwrap();
+        assert_eq!(k.samples, 256);
+    }
+}

@@ -1,0 +1,252 @@
+//! The light-volume pass: per light, one pipeline (the light index and kind baked); per face, a
+//! non-indexed draw whose vertices are pulled from the shadow map (`volume.wgsl`), blended
+//! additively into a float accumulation target the resolve reads.
+
+use bytemuck::{Pod, Zeroable};
+use harness::{FrameReport, Gpu};
+
+use super::faces::{self, LightPlan};
+use crate::common::renderer::SceneRenderer;
+use crate::common::uniforms::MAX_LIGHTS;
+use crate::common::wgsl;
+
+const FACE_STRIDE: u64 = 256;
+/// Six cube faces per light at most.
+const MAX_FACES: u64 = 6 * MAX_LIGHTS as u64;
+pub const ACC_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Mirrors `Face` in volume.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FaceUniform {
+    world_from_clip: [[f32; 4]; 4],
+    light: [f32; 4],
+    axis: [f32; 4],
+    grid: [u32; 4],
+    cap: [f32; 4],
+}
+
+pub struct VolumePass {
+    pipelines: Vec<wgpu::RenderPipeline>,
+    bind: wgpu::BindGroup,
+    faces: wgpu::Buffer,
+    pub acc_view: wgpu::TextureView,
+    /// Grid samples per face side (shadow-map size × vertices per texel).
+    pub samples: u32,
+}
+
+/// One queued draw: light, face slot in the uniform buffer, directional?
+struct Draw {
+    light: usize,
+    slot: u64,
+    directional: bool,
+}
+
+impl VolumePass {
+    /// `constants`: the pass's own overrides (QUADRATURE, PANELS) beside LIGHT and the scene's.
+    pub fn new(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        gamma_view: &wgpu::TextureView,
+        samples: u32,
+        constants: &[(&'static str, f64)],
+    ) -> VolumePass {
+        let acc = gpu.texture_2d(
+            "light-volume accumulation",
+            renderer.width,
+            renderer.height,
+            ACC_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let acc_view = acc.create_view(&Default::default());
+        let tex = crate::common::layouts::fragment_texture;
+        let maps = wgpu::BindGroupLayoutEntry {
+            binding: 1,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let face = wgpu::BindGroupLayoutEntry {
+            binding: 2,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64),
+            },
+            count: None,
+        };
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("light volumes"),
+                entries: &[tex(0), maps, face, tex(3)],
+            });
+        let faces = gpu.buffer(&wgpu::BufferDescriptor {
+            label: Some("light-volume faces"),
+            size: FACE_STRIDE * MAX_FACES,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("light volumes"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&renderer.shadows.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &faces,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(gamma_view),
+                },
+            ],
+        });
+        let module = wgsl::module(&gpu.device, "light volumes", &super::volume_source());
+        let pl = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("light volumes"),
+                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
+                immediate_size: 0,
+            });
+        let additive = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let pipelines = (0..renderer.scene.desc.lights.len().min(MAX_LIGHTS))
+            .map(|k| {
+                let own = [&[("LIGHT", k as f64)][..], constants].concat();
+                let all = renderer.specialization.with(&own);
+                gpu.device
+                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some("light volume"),
+                        layout: Some(&pl),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some("vs_volume"),
+                            compilation_options: crate::common::specialize::compile_options(&all),
+                            buffers: &[],
+                        },
+                        // Both facings drawn; the fragment takes its sign from front_facing
+                        // (volume.wgsl winds every face outward).
+                        primitive: wgpu::PrimitiveState {
+                            cull_mode: None,
+                            front_face: wgpu::FrontFace::Ccw,
+                            ..Default::default()
+                        },
+                        depth_stencil: None,
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some("fs_volume"),
+                            compilation_options: crate::common::specialize::compile_options(&all),
+                            targets: &[Some(wgpu::ColorTargetState {
+                                format: ACC_FORMAT,
+                                blend: Some(wgpu::BlendState {
+                                    color: additive,
+                                    alpha: additive,
+                                }),
+                                write_mask: wgpu::ColorWrites::ALL,
+                            })],
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    })
+            })
+            .collect();
+        VolumePass {
+            pipelines,
+            bind,
+            faces,
+            acc_view,
+            samples,
+        }
+    }
+
+    /// Uploads this frame's faces and draws them (`plans[k]`: light k's volume, if any), into
+    /// the cleared accumulation target.
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        lights: &[scenes::LightState],
+        plans: &[Option<LightPlan>],
+        report: &mut FrameReport,
+    ) {
+        let mut data = vec![0u8; (FACE_STRIDE * MAX_FACES) as usize];
+        let mut draws = Vec::new();
+        for (k, (light, plan)) in lights.iter().zip(plans).enumerate() {
+            let Some(plan) = plan else { continue };
+            let directional = matches!(light, scenes::LightState::Directional { .. });
+            let origin = match light {
+                scenes::LightState::Directional { direction, .. } => *direction,
+                _ => light.position().unwrap_or_default(),
+            };
+            for f in &plan.faces {
+                let slot = draws.len() as u64;
+                let u = FaceUniform {
+                    world_from_clip: f.world_from_clip.to_cols_array_2d(),
+                    light: origin.extend(0.0).to_array(),
+                    axis: plan.axis.extend(plan.collapse_cos).to_array(),
+                    grid: [f.layer, renderer.shadows.size, self.samples, 0],
+                    cap: [plan.cap, 0.0, 0.0, 0.0],
+                };
+                let off = (slot * FACE_STRIDE) as usize;
+                data[off..off + std::mem::size_of::<FaceUniform>()]
+                    .copy_from_slice(bytemuck::bytes_of(&u));
+                draws.push(Draw {
+                    light: k,
+                    slot,
+                    directional,
+                });
+            }
+        }
+        gpu.queue.write_buffer(&self.faces, 0, &data);
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("light volumes"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.acc_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        pass.set_bind_group(0, &renderer.frame_bind, &[]);
+        let mut triangles = 0u64;
+        for d in &draws {
+            pass.set_pipeline(&self.pipelines[d.light]);
+            pass.set_bind_group(1, &self.bind, &[(d.slot * FACE_STRIDE) as u32]);
+            let (body, cap) = faces::triangles(d.directional, self.samples);
+            pass.draw(0..(3 * body) as u32, 0..1);
+            if cap > 0 {
+                pass.draw(0..(3 * cap) as u32, 1..2);
+            }
+            triangles += body + cap;
+        }
+        report.count("volume_faces", draws.len() as f64);
+        report.count("volume_triangles", triangles as f64);
+    }
+}
