@@ -138,7 +138,7 @@ fn cap_distance(light: Vec3, corners: &[Vec3; 8]) -> f32 {
 pub fn triangles(directional: bool, samples: u32) -> (u64, u64) {
     let e = samples as u64 + 1;
     let grid = 2 * e * e;
-    let walls = if directional { 8 * e } else { 4 * e };
+    let walls = 8 * e;
     // (grid and walls, cap)
     (grid + walls, if directional { grid } else { 0 })
 }
@@ -161,7 +161,7 @@ mod tests {
 
     #[test]
     fn triangle_counts_follow_the_grid() {
-        assert_eq!(triangles(false, 3), (2 * 16 + 16, 0));
+        assert_eq!(triangles(false, 3), (2 * 16 + 32, 0));
         assert_eq!(triangles(true, 3), (2 * 16 + 32, 32));
     }
 }

@@ -155,8 +155,8 @@ impl Method for PolygonalLightVolumes {
             },
             ParamSpec {
                 name: "mesh",
-                default: ParamValue::Float(0.5),
-                sweep: [1.0, 0.25].map(ParamValue::Float).to_vec(),
+                default: ParamValue::Float(0.25),
+                sweep: [1.0, 0.5, 0.125].map(ParamValue::Float).to_vec(),
                 choices: vec![],
                 meaning: "light-volume grid vertices per shadow-map texel along each side (1, 0.5, 0.25 or 0.125)",
             },

@@ -4,9 +4,10 @@
 // or subtracts the unshadowed in-scatter from the eye to it (integral.wgsl).
 //
 // Local lights (point, spot): the face's volume is the pyramid from the light to the displaced
-// grid — the lit part of the face's frustum. Its walls are fans from the light to the grid's
-// boundary, so every face's volume is closed by itself and the six faces' volumes tile the lit
-// space (adjacent walls are coplanar and cancel where they overlap). Open directions (no caster)
+// grid — the lit part of the face's frustum. Its walls would be fans from the light to the
+// grid's boundary, closing every face's volume by itself so that the six volumes tile the lit
+// space; adjacent faces' walls are coplanar and cancel where they overlap, so each wall starts
+// at the seam instead (seam_vertex): the nearer of the two faces' edge distances. Open directions (no caster)
 // end at face.cap.x, beyond everything the camera sees. Entering a lit volume (a front face)
 // starts a lit stretch of the ray: −F(d); leaving it (a back face) ends one: +F(d), with
 // F(d) = ∫_0^d, so F(0) = 0 and a camera inside a volume needs no term of its own.
@@ -22,7 +23,7 @@
 // is pinned to w/2: nothing is clipped by the camera's near or far planes (only behind the eye).
 //
 // Winding (light's NDC, x right, y up): local grids clockwise (outward = away from the light),
-// walls (light, A, B) with A → B counter-clockwise along the face's boundary; the directional
+// walls (seam, A, B) with A → B counter-clockwise along the face's boundary; the directional
 // grid counter-clockwise (outward = toward the light), walls (A, A', B), (B, A', B'), cap
 // clockwise. Front-facing from the eye (wgpu's Ccw) then means entering the volume.
 // Needs PRELUDE, ldss.wgsl and integral.wgsl.
@@ -74,6 +75,54 @@ fn grid_vertex(i: u32, j: u32, cap: bool) -> vec3<f32> {
     return face.light.xyz + towards * select(min(stored, face.cap.x), 0.0, dark);
 }
 
+// The nearest stored distance of the texels within a quarter texel of texture position uv:
+// one texel at a texel centre, the two (or four) sharing a texel border — so two faces that see
+// the same edge direction through rounded coordinates still read the same texels.
+fn edge_distance(layer: u32, uv: vec2<f32>) -> f32 {
+    let size = face.grid.y;
+    let x = clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0)) * f32(size);
+    let hi = vec2<f32>(f32(size) - 1.0);
+    let lo = vec2<u32>(clamp(floor(x - 0.25), vec2<f32>(0.0), hi));
+    let up = vec2<u32>(clamp(floor(x + 0.25), vec2<f32>(0.0), hi));
+    return min(
+        min(textureLoad(volume_maps, lo, layer, 0).r, textureLoad(volume_maps, up, layer, 0).r),
+        min(textureLoad(volume_maps, vec2<u32>(lo.x, up.y), layer, 0).r,
+            textureLoad(volume_maps, vec2<u32>(up.x, lo.y), layer, 0).r));
+}
+
+// Where the walls of this face and its neighbour across `side` (0: −y, 1: +x, 2: +y, 3: −x in
+// NDC) part: along boundary vertex (i, j)'s direction, at the nearer of the two faces' stored
+// distances. Both faces compute (almost exactly) the same point, so each wall can start there
+// instead of at the light: the two walls' common inner parts cancelled anyway, and without them
+// a wall covers only the sliver between the two faces' edge profiles, not half the screen.
+fn seam_vertex(i: u32, j: u32, side: u32) -> vec3<f32> {
+    let uv = vec2<f32>(grid_coord(i), grid_coord(j));
+    let ndc = 2.0 * uv - 1.0;
+    let own = edge_distance(face.grid.x, vec2<f32>(uv.x, 1.0 - uv.y));
+    let far = face.world_from_clip * vec4<f32>(ndc, 1.0, 1.0);
+    let towards = normalize(far.xyz / far.w - face.light.xyz);
+    // The neighbouring cube face: the one a direction just across the edge falls in.
+    var across = ndc;
+    switch side {
+        case 0u: { across.y = -1.1; }
+        case 1u: { across.x = 1.1; }
+        case 2u: { across.y = 1.1; }
+        default: { across.x = -1.1; }
+    }
+    let q = face.world_from_clip * vec4<f32>(across, 1.0, 1.0);
+    let w = q.xyz / q.w - face.light.xyz;
+    let a = abs(w);
+    var f = 0u;
+    if (a.x >= a.y && a.x >= a.z) { f = select(1u, 0u, w.x > 0.0); }
+    else if (a.y >= a.z) { f = select(3u, 2u, w.y > 0.0); }
+    else { f = select(5u, 4u, w.z > 0.0); }
+    let c = lights.lights[LIGHT].faces[f] * vec4<f32>(face.light.xyz + towards, 1.0);
+    let base = u32(lights.lights[LIGHT].shadow.x + 0.5);
+    let other = edge_distance(base + f, vec2<f32>(0.5 + 0.5 * c.x / c.w, 0.5 - 0.5 * c.y / c.w));
+    let dark = dot(towards, face.axis.xyz) < face.axis.w;
+    return face.light.xyz + towards * select(min(min(own, other), face.cap.x), 0.0, dark);
+}
+
 // Boundary vertex k ∈ [0, 4(n + 1)] walking the face's edge counter-clockwise from (0, 0).
 fn boundary(k: u32) -> vec2<u32> {
     let e = face.grid.z + 1u;
@@ -117,11 +166,22 @@ fn vs_volume(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u
     } else {
         let w = tri - 2u * cells;
         if (!directional) {
-            // Fan triangle (light, A, B) of boundary segment w.
-            if (corner == 0u) {
-                p = face.light.xyz;
+            // Wall quad of boundary segment w / 2 from the seam (P) out to the grid (A, B), wound
+            // like the fan (light, A, B) it replaces: (P_a, A_a, A_b) and (P_a, A_b, P_b).
+            let seg = w / 2u;
+            let side = min(seg / (n + 1u), 3u);
+            var end = 0u;
+            var inner = corner == 0u;
+            if ((w % 2u) == 0u) {
+                end = select(0u, 1u, corner == 2u);
             } else {
-                let b = boundary(w + corner - 1u);
+                end = select(0u, 1u, corner != 0u);
+                inner = corner != 1u;
+            }
+            let b = boundary(seg + end);
+            if (inner) {
+                p = seam_vertex(b.x, b.y, side);
+            } else {
                 p = grid_vertex(b.x, b.y, false);
             }
         } else {
