@@ -135,12 +135,27 @@ fn cap_distance(light: Vec3, corners: &[Vec3; 8]) -> f32 {
 }
 
 /// Triangles of one face's volume at `samples` grid samples per side.
-pub fn triangles(directional: bool, samples: u32) -> (u64, u64) {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangles {
+    /// The displaced grid (and, directional light, as many again for the cap).
+    pub grid: u64,
+    pub walls: u64,
+    pub directional: bool,
+}
+
+impl Triangles {
+    pub fn total(&self) -> u64 {
+        self.grid * if self.directional { 2 } else { 1 } + self.walls
+    }
+}
+
+pub fn triangles(directional: bool, samples: u32) -> Triangles {
     let e = samples as u64 + 1;
-    let grid = 2 * e * e;
-    let walls = 8 * e;
-    // (grid and walls, cap)
-    (grid + walls, if directional { grid } else { 0 })
+    Triangles {
+        grid: 2 * e * e,
+        walls: 8 * e,
+        directional,
+    }
 }
 
 #[cfg(test)]
@@ -161,7 +176,7 @@ mod tests {
 
     #[test]
     fn triangle_counts_follow_the_grid() {
-        assert_eq!(triangles(false, 3), (2 * 16 + 32, 0));
-        assert_eq!(triangles(true, 3), (2 * 16 + 32, 32));
+        assert_eq!(triangles(false, 3).total(), 2 * 16 + 32);
+        assert_eq!(triangles(true, 3).total(), 2 * 2 * 16 + 32);
     }
 }

@@ -27,7 +27,8 @@ struct FaceUniform {
 }
 
 pub struct VolumePass {
-    pipelines: Vec<wgpu::RenderPipeline>,
+    /// Per light: (grid, walls).
+    pipelines: Vec<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     bind: wgpu::BindGroup,
     faces: wgpu::Buffer,
     pub acc_view: wgpu::TextureView,
@@ -135,13 +136,13 @@ impl VolumePass {
             .map(|k| {
                 let own = [&[("LIGHT", k as f64)][..], constants].concat();
                 let all = renderer.specialization.with(&own);
-                gpu.device
+                let pipeline = |vs: &str| gpu.device
                     .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                         label: Some("light volume"),
                         layout: Some(&pl),
                         vertex: wgpu::VertexState {
                             module: &module,
-                            entry_point: Some("vs_volume"),
+                            entry_point: Some(vs),
                             compilation_options: crate::common::specialize::compile_options(&all),
                             buffers: &[],
                         },
@@ -169,7 +170,8 @@ impl VolumePass {
                         }),
                         multiview_mask: None,
                         cache: None,
-                    })
+                    });
+                (pipeline("vs_grid"), pipeline("vs_walls"))
             })
             .collect();
         VolumePass {
@@ -237,14 +239,17 @@ impl VolumePass {
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         let mut triangles = 0u64;
         for d in &draws {
-            pass.set_pipeline(&self.pipelines[d.light]);
+            let (grid, walls) = &self.pipelines[d.light];
             pass.set_bind_group(1, &self.bind, &[(d.slot * FACE_STRIDE) as u32]);
-            let (body, cap) = faces::triangles(d.directional, self.samples);
-            pass.draw(0..(3 * body) as u32, 0..1);
-            if cap > 0 {
-                pass.draw(0..(3 * cap) as u32, 1..2);
+            let t = faces::triangles(d.directional, self.samples);
+            pass.set_pipeline(grid);
+            pass.draw(0..(3 * t.grid) as u32, 0..1);
+            if d.directional {
+                pass.draw(0..(3 * t.grid) as u32, 1..2);
             }
-            triangles += body + cap;
+            pass.set_pipeline(walls);
+            pass.draw(0..(3 * t.walls) as u32, 0..1);
+            triangles += t.total();
         }
         report.count("volume_faces", draws.len() as f64);
         report.count("volume_triangles", triangles as f64);

@@ -141,70 +141,72 @@ struct VolumeOut {
     @location(0) world: vec3<f32>,
 };
 
-@vertex
-fn vs_volume(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32) -> VolumeOut {
-    let n = face.grid.z;
-    let cells = (n + 1u) * (n + 1u);
-    let directional = light_kind(LIGHT) == LIGHT_DIRECTIONAL;
-    let tri = v / 3u;
-    let corner = v - 3u * tri;
-    var p = vec3<f32>(0.0);
-    if (instance == 1u || tri < 2u * cells) {
-        // Grid (instance 0) or directional cap (instance 1): cell (ci, cj), two triangles.
-        let cell = tri / 2u;
-        let ci = cell % (n + 1u);
-        let cj = cell / (n + 1u);
-        // Counter-clockwise: (a, b, c), (a, c, d) with a = (ci, cj), b = +x, c = +x+y, d = +y.
-        var ccw = array<vec2<u32>, 6>(vec2<u32>(0u, 0u), vec2<u32>(1u, 0u), vec2<u32>(1u, 1u),
-                                      vec2<u32>(0u, 0u), vec2<u32>(1u, 1u), vec2<u32>(0u, 1u));
-        var c = 3u * (tri % 2u) + corner;
-        // Clockwise for the local grids and the directional cap: swap the last two corners.
-        let clockwise = !directional || instance == 1u;
-        if (clockwise && corner != 0u) { c = 3u * (tri % 2u) + 3u - corner; }
-        let o = ccw[c];
-        p = grid_vertex(ci + o.x, cj + o.y, instance == 1u);
-    } else {
-        let w = tri - 2u * cells;
-        if (!directional) {
-            // Wall quad of boundary segment w / 2 from the seam (P) out to the grid (A, B), wound
-            // like the fan (light, A, B) it replaces: (P_a, A_a, A_b) and (P_a, A_b, P_b).
-            let seg = w / 2u;
-            let side = min(seg / (n + 1u), 3u);
-            var end = 0u;
-            var inner = corner == 0u;
-            if ((w % 2u) == 0u) {
-                end = select(0u, 1u, corner == 2u);
-            } else {
-                end = select(0u, 1u, corner != 0u);
-                inner = corner != 1u;
-            }
-            let b = boundary(seg + end);
-            if (inner) {
-                p = seam_vertex(b.x, b.y, side);
-            } else {
-                p = grid_vertex(b.x, b.y, false);
-            }
-        } else {
-            // Wall quad of boundary segment w / 2: (A, A', B) and (B, A', B').
-            let seg = w / 2u;
-            let second = (w % 2u) == 1u;
-            // Corner → (which end: 0 = A, 1 = B; at the cap?)
-            var end = 0u;
-            var at_cap = false;
-            if (!second) {
-                end = select(0u, 1u, corner == 2u);
-                at_cap = corner == 1u;
-            } else {
-                end = select(1u, 0u, corner == 1u);
-                at_cap = corner != 0u;
-            }
-            let b = boundary(seg + end);
-            p = grid_vertex(b.x, b.y, at_cap);
-        }
-    }
+fn project(p: vec3<f32>) -> VolumeOut {
     var clip = camera.clip_from_world * vec4<f32>(p, 1.0);
     clip.z = 0.5 * clip.w;
     return VolumeOut(clip, p);
+}
+
+// The grid (instance 0) or the directional cap (instance 1): cell (ci, cj), two triangles. Its
+// own entry point, as are the walls: lavapipe would run both paths under a mask otherwise.
+@vertex
+fn vs_grid(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32) -> VolumeOut {
+    let n = face.grid.z;
+    let directional = light_kind(LIGHT) == LIGHT_DIRECTIONAL;
+    let tri = v / 3u;
+    let corner = v - 3u * tri;
+    let cell = tri / 2u;
+    let ci = cell % (n + 1u);
+    let cj = cell / (n + 1u);
+    // Counter-clockwise: (a, b, c), (a, c, d) with a = (ci, cj), b = +x, c = +x+y, d = +y.
+    var ccw = array<vec2<u32>, 6>(vec2<u32>(0u, 0u), vec2<u32>(1u, 0u), vec2<u32>(1u, 1u),
+                                  vec2<u32>(0u, 0u), vec2<u32>(1u, 1u), vec2<u32>(0u, 1u));
+    var c = 3u * (tri % 2u) + corner;
+    // Clockwise for the local grids and the directional cap: swap the last two corners.
+    let clockwise = !directional || instance == 1u;
+    if (clockwise && corner != 0u) { c = 3u * (tri % 2u) + 3u - corner; }
+    let o = ccw[c];
+    return project(grid_vertex(ci + o.x, cj + o.y, instance == 1u));
+}
+
+// The walls: a quad per boundary segment w / 2.
+@vertex
+fn vs_walls(@builtin(vertex_index) v: u32) -> VolumeOut {
+    let n = face.grid.z;
+    let tri = v / 3u;
+    let corner = v - 3u * tri;
+    let seg = tri / 2u;
+    let second = (tri % 2u) == 1u;
+    var end = 0u;
+    var inner = false;
+    if (light_kind(LIGHT) != LIGHT_DIRECTIONAL) {
+        // From the seam (P) out to the grid (A, B), wound like the fan (light, A, B) it
+        // replaces: (P_a, A_a, A_b) and (P_a, A_b, P_b).
+        if (!second) {
+            end = select(0u, 1u, corner == 2u);
+            inner = corner == 0u;
+        } else {
+            end = select(0u, 1u, corner != 0u);
+            inner = corner != 1u;
+        }
+        let b = boundary(seg + end);
+        if (inner) {
+            return project(seam_vertex(b.x, b.y, min(seg / (n + 1u), 3u)));
+        }
+        return project(grid_vertex(b.x, b.y, false));
+    }
+    // Directional: from the grid (A, B) along the light to the cap (A', B'):
+    // (A, A', B) and (B, A', B').
+    var at_cap = false;
+    if (!second) {
+        end = select(0u, 1u, corner == 2u);
+        at_cap = corner == 1u;
+    } else {
+        end = select(1u, 0u, corner == 1u);
+        at_cap = corner != 0u;
+    }
+    let b = boundary(seg + end);
+    return project(grid_vertex(b.x, b.y, at_cap));
 }
 
 @fragment
