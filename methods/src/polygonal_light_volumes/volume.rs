@@ -223,7 +223,8 @@ impl VolumePass {
             }
         }
         gpu.queue.write_buffer(&self.faces, 0, &data);
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        // Counted (harness::gpu pipeline statistics): the volumes' vertex and fragment work.
+        let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some("light volumes"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &self.acc_view,
