@@ -83,16 +83,15 @@ fn frame_time(c: &mut Criterion) {
             .measurement_time(Duration::from_secs(2));
         for scene in &scenes {
             for entry in methods::REGISTRY {
-                let id = format!("{}/{}", scene.name, entry.id);
+                let id = format!("{}/{}", scene.name, entry.id());
                 if !id.contains(&filter) {
                     continue;
                 }
-                let mut method = (entry.make)();
-                if let Support::No(why) = method.support(&scene.features(), gpu.features()) {
+                if let Support::No(why) = entry.support(&scene.features(), gpu.features()) {
                     eprintln!("skip {id}: {why}");
                     continue;
                 }
-                let params = match resolve_params(&method.params(), &Default::default()) {
+                let params = match resolve_params(*entry, &Default::default()) {
                     Ok(p) => p,
                     Err(e) => {
                         eprintln!("skip {id}: default params: {e}");
@@ -100,7 +99,7 @@ fn frame_time(c: &mut Criterion) {
                     }
                 };
                 let _ = gpu.take_errors();
-                let prepared = method.prepare(&PrepareContext {
+                let prepared = entry.prepare(&PrepareContext {
                     gpu: &gpu,
                     scene,
                     params: &params,
@@ -109,12 +108,16 @@ fn frame_time(c: &mut Criterion) {
                     no_skip: false,
                 });
                 let aovs = AovTargets::new(&gpu, res, res);
+                let mut method = match prepared {
+                    Ok(m) => m,
+                    Err(e) => {
+                        eprintln!("skip {id}: prepare: {e:#}");
+                        let _ = gpu.take_errors();
+                        continue;
+                    }
+                };
                 // One untimed frame: a pair that cannot render is skipped, not benchmarked.
-                let trial = prepared
-                    .map_err(|e| format!("prepare: {e:#}"))
-                    .and_then(|_| {
-                        render_frame(&gpu, method.as_mut(), scene, 0, &aovs, timer.as_ref())
-                    })
+                let trial = render_frame(&gpu, method.as_mut(), scene, 0, &aovs, timer.as_ref())
                     .map(|_| ());
                 let errors = gpu.take_errors();
                 if let Err(e) = trial.and_then(|_| {
@@ -127,7 +130,7 @@ fn frame_time(c: &mut Criterion) {
                     continue;
                 }
                 let mut frame = 1u32;
-                group.bench_function(BenchmarkId::new(entry.id, &scene.name), |b| {
+                group.bench_function(BenchmarkId::new(entry.id(), &scene.name), |b| {
                     b.iter_custom(|iters| {
                         let mut total = Duration::ZERO;
                         for _ in 0..iters {

@@ -7,8 +7,8 @@
 use harness::testing::{gpu_or_skip as gpu, run_config as config, temp_dir as tmp};
 
 use harness::method::{
-    Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support,
-    Targets,
+    ConformanceCase, FrameReport, Knob, Method, MethodInfo, ParamValue, Params, PrepareContext,
+    Prepared, ShaderCheck, Support, Targets,
 };
 use harness::reference::{self, Settings};
 use harness::results::{Results, Status};
@@ -25,7 +25,7 @@ fn steps(n: i64) -> Params {
     p
 }
 
-fn brute() -> &'static Entry {
+fn brute() -> &'static dyn Method {
     methods::find("raymarch-brute").expect("registered")
 }
 
@@ -68,9 +68,8 @@ fn rasterised_distance_matches_reference_hits() {
     let scene = scenes::library::resolve("sphere-point").unwrap();
     let (w, h) = (64u32, 48u32);
     let refimg = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
-    let mut m = methods::raymarch_brute::RaymarchBrute::default();
-    let params = harness::method::resolve_params(&m.params(), &Params::new()).unwrap();
-    m.prepare(&PrepareContext {
+    let params = harness::method::resolve_params(brute(), &Params::new()).unwrap();
+    let mut m = methods::raymarch_brute::State::new(&PrepareContext {
         gpu: &gpu,
         scene: &scene,
         params: &params,
@@ -82,7 +81,7 @@ fn rasterised_distance_matches_reference_hits() {
     let aovs = harness::runner::AovTargets::new(&gpu, w, h);
     harness::runner::render_frame(&gpu, &mut m, &scene, 0, &aovs, None).unwrap();
     // The method's distance texture is private; read it through the renderer it exposes.
-    let dist = harness::gpu::read_r32f(&gpu, m.distance_texture().unwrap()).unwrap();
+    let dist = harness::gpu::read_r32f(&gpu, m.distance_texture()).unwrap();
     let rays = scene.frame(0).camera.rays(w, h);
     let (mut agree, mut total) = (0, 0);
     for j in 0..h {
@@ -121,17 +120,28 @@ impl Method for Broken {
             id: if self.nan { "test-nan" } else { "test-panic" },
             paper: "test",
             summary: "fails on purpose",
+            readme: "",
+            source: "",
         }
     }
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         vec![]
     }
     fn support(&self, _: &SceneFeatures, _: wgpu::Features) -> Support {
         Support::Full
     }
-    fn prepare(&mut self, _: &PrepareContext) -> anyhow::Result<()> {
-        Ok(())
+    fn prepare(&self, _: &PrepareContext) -> anyhow::Result<Box<dyn Prepared>> {
+        Ok(Box::new(Broken { nan: self.nan }))
     }
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        vec![]
+    }
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![]
+    }
+}
+
+impl Prepared for Broken {
     fn render(
         &mut self,
         _: &Gpu,
@@ -167,14 +177,8 @@ impl Method for Broken {
     }
 }
 
-const PANICS: Entry = Entry {
-    id: "test-panic",
-    make: || Box::new(Broken { nan: false }),
-};
-const NANS: Entry = Entry {
-    id: "test-nan",
-    make: || Box::new(Broken { nan: true }),
-};
+static PANICS: Broken = Broken { nan: false };
+static NANS: Broken = Broken { nan: true };
 
 /// A method that panics and one that renders NaN are recorded as failed; the run goes on, the
 /// next method's record is ok, and results.json round-trips through the schema types.

@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 
 use harness::Gpu;
 use harness::method::{
-    Entry, FrameReport, Method, MethodInfo, ParamSpec, PrepareContext, Support, Targets,
+    ConformanceCase, FrameReport, Knob, Method, MethodInfo, PrepareContext, Prepared, ShaderCheck,
+    Support, Targets,
 };
 use harness::reference::{self, Settings, cache};
 use harness::results::{Results, Status};
@@ -174,7 +175,7 @@ fn unknown_names_are_refused_with_the_valid_ones() {
         let (code, err) = cli(&[cmd, "--methods", "no-such-method", extra[0], extra[1]]);
         assert_eq!(code, 1, "{cmd}");
         for e in methods::REGISTRY {
-            assert!(err.contains(e.id), "{cmd}: {err}");
+            assert!(err.contains(e.id()), "{cmd}: {err}");
         }
     }
     let (code, err) = cli(&["stress", "--cases", "no-such-case"]);
@@ -248,17 +249,30 @@ impl Method for Faulty {
             },
             paper: "test",
             summary: "fails on purpose",
+            readme: "",
+            source: "",
         }
     }
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         vec![]
     }
     fn support(&self, _: &SceneFeatures, _: wgpu::Features) -> Support {
         Support::Full
     }
-    fn prepare(&mut self, _: &PrepareContext) -> anyhow::Result<()> {
-        Ok(())
+    fn prepare(&self, _: &PrepareContext) -> anyhow::Result<Box<dyn Prepared>> {
+        Ok(Box::new(Faulty {
+            lose_device: self.lose_device,
+        }))
     }
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        vec![]
+    }
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![]
+    }
+}
+
+impl Prepared for Faulty {
     fn render(
         &mut self,
         gpu: &Gpu,
@@ -305,14 +319,8 @@ impl Method for Faulty {
     }
 }
 
-const VALIDATION: Entry = Entry {
-    id: "test-validation",
-    make: || Box::new(Faulty { lose_device: false }),
-};
-const DEVICE_LOST: Entry = Entry {
-    id: "test-device-lost",
-    make: || Box::new(Faulty { lose_device: true }),
-};
+static VALIDATION: Faulty = Faulty { lose_device: false };
+static DEVICE_LOST: Faulty = Faulty { lose_device: true };
 
 /// A wgpu validation error and a lost device are each recorded as failed with the message, and
 /// the run goes on: the next method's record (on a fresh device after the loss) is ok.

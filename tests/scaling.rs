@@ -26,16 +26,16 @@ fn kept_scored_frame_equals_a_fresh_render_of_frame_0() {
     let scored = harness::image::io::read_exr(&out.join(&rec.images["inscatter"])).unwrap();
 
     // Independently: a fresh instance, prepared and rendered once at frame 0.
-    let mut m = (entry.make)();
-    m.prepare(&PrepareContext {
-        gpu: &gpu,
-        scene: &scene,
-        params: &rec.params,
-        width: 32,
-        height: 32,
-        no_skip: false,
-    })
-    .unwrap();
+    let mut m = entry
+        .prepare(&PrepareContext {
+            gpu: &gpu,
+            scene: &scene,
+            params: &rec.params,
+            width: 32,
+            height: 32,
+            no_skip: false,
+        })
+        .unwrap();
     let aovs = AovTargets::new(&gpu, 32, 32);
     render_frame(&gpu, m.as_mut(), &scene, 0, &aovs, None).unwrap();
     let [fresh, _, _] = aovs.read(&gpu).unwrap();

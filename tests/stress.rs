@@ -57,7 +57,7 @@ fn stress_suite_passes_on_every_method_at_64() {
         cache_dir: None,
         run_id: "test".into(),
     };
-    let all: Vec<_> = methods::REGISTRY.iter().collect();
+    let all = methods::REGISTRY.to_vec();
     let r = stress::run(&mut gpu, &all, &cfg, &mut |_| {}).unwrap();
     assert_eq!(r.records.len(), CASES.len() * all.len());
     let failures: Vec<String> = r
@@ -81,7 +81,7 @@ fn stress_suite_passes_on_every_method_at_64() {
     // Every ok record is finite everywhere and within its declared bound (re-judged here).
     for rec in &r.records {
         let m = methods::find(&rec.method).unwrap();
-        let bound = (m.make)().stress_bound(&rec.scene);
+        let bound = m.stress_bound(&rec.scene);
         assert!(
             matches!(judge(rec, bound), Verdict::Pass | Verdict::Unsupported(_)),
             "{rec:?}"

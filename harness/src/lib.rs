@@ -4,6 +4,7 @@
 pub mod fsutil;
 pub mod gpu;
 pub mod image;
+pub mod knobs;
 pub mod merge;
 pub mod method;
 pub mod reference;
@@ -15,6 +16,6 @@ pub mod testing;
 
 pub use gpu::Gpu;
 pub use method::{
-    Entry, FrameReport, Method, MethodInfo, ParamSpec, ParamValue, Params, PrepareContext, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Knob, KnobError, KnobProblem, KnobRead, Method, MethodInfo,
+    ParamValue, Params, PrepareContext, Prepared, ShaderCheck, Support, Targets,
 };

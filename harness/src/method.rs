@@ -7,7 +7,11 @@ use std::collections::BTreeMap;
 use scenes::{FrameState, Scene, SceneFeatures};
 use serde::{Deserialize, Serialize};
 
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, PhaseTimer};
+pub use crate::knobs::{
+    Knob, KnobError, KnobProblem, KnobRead, KnobType, ParamValue, Params, Range, parse_knob,
+    resolve_params,
+};
 
 /// Who a method is.
 #[derive(Clone, Debug, Serialize)]
@@ -17,90 +21,15 @@ pub struct MethodInfo {
     /// The paper (authors, title, venue, year), or "baseline".
     pub paper: &'static str,
     pub summary: &'static str,
+    /// The method's README.md (`include_str!("README.md")`): the conformance test checks it
+    /// exists and follows docs/ADDING_A_METHOD.md.
+    #[serde(skip)]
+    pub readme: &'static str,
+    /// The source of the method's `mod.rs` (`include_str!("mod.rs")`), whose `//!` module doc
+    /// the conformance test checks.
+    #[serde(skip)]
+    pub source: &'static str,
 }
-
-/// A knob value. Untagged in JSON: 64, 0.5, true, "float".
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, PartialOrd)]
-#[serde(untagged)]
-pub enum ParamValue {
-    Bool(bool),
-    Int(i64),
-    Float(f64),
-    Text(String),
-}
-
-impl ParamValue {
-    pub fn as_i64(&self) -> Option<i64> {
-        match self {
-            ParamValue::Int(i) => Some(*i),
-            ParamValue::Float(f) if f.fract() == 0.0 => Some(*f as i64),
-            _ => None,
-        }
-    }
-    pub fn as_f64(&self) -> Option<f64> {
-        match self {
-            ParamValue::Int(i) => Some(*i as f64),
-            ParamValue::Float(f) => Some(*f),
-            _ => None,
-        }
-    }
-    pub fn as_bool(&self) -> Option<bool> {
-        match self {
-            ParamValue::Bool(b) => Some(*b),
-            _ => None,
-        }
-    }
-    pub fn as_str(&self) -> Option<&str> {
-        match self {
-            ParamValue::Text(s) => Some(s),
-            _ => None,
-        }
-    }
-    /// Parses a command-line value like the one declared (`64`, `0.5`, `true`, `float`).
-    pub fn parse_like(text: &str, like: &ParamValue) -> Result<ParamValue, String> {
-        match like {
-            ParamValue::Bool(_) => text
-                .parse()
-                .map(ParamValue::Bool)
-                .map_err(|_| format!("'{text}' is not true/false")),
-            ParamValue::Int(_) => text
-                .parse()
-                .map(ParamValue::Int)
-                .map_err(|_| format!("'{text}' is not an integer")),
-            ParamValue::Float(_) => text
-                .parse()
-                .map(ParamValue::Float)
-                .map_err(|_| format!("'{text}' is not a number")),
-            ParamValue::Text(_) => Ok(ParamValue::Text(text.to_string())),
-        }
-    }
-}
-
-impl std::fmt::Display for ParamValue {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ParamValue::Bool(b) => write!(f, "{b}"),
-            ParamValue::Int(i) => write!(f, "{i}"),
-            ParamValue::Float(x) => write!(f, "{x}"),
-            ParamValue::Text(s) => write!(f, "{s}"),
-        }
-    }
-}
-
-/// One knob: its default, the values `--sweep` runs, and what it means (with units).
-#[derive(Clone, Debug, Serialize)]
-pub struct ParamSpec {
-    pub name: &'static str,
-    pub default: ParamValue,
-    pub sweep: Vec<ParamValue>,
-    /// Allowed text values (for Text knobs); empty = free.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub choices: Vec<&'static str>,
-    pub meaning: &'static str,
-}
-
-/// Knob name → value; a full set (defaults filled in) is what a record carries.
-pub type Params = BTreeMap<String, ParamValue>;
 
 /// Whether a method can render a scene.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -167,23 +96,27 @@ pub struct PrepareContext<'a> {
     pub no_skip: bool,
 }
 
-pub trait Method {
+/// A method: a description (who, knobs, support, shaders, conformance cases) that holds no GPU
+/// state. `prepare` builds the [`Prepared`] instance that renders. The registry
+/// (`methods::REGISTRY`) is a static list of `&'static dyn Method`; the id lives in `info()`.
+pub trait Method: Sync {
     fn info(&self) -> MethodInfo;
-    fn params(&self) -> Vec<ParamSpec>;
+
+    /// The id (`info().id`), used on the command line and in results.
+    fn id(&self) -> &'static str {
+        self.info().id
+    }
+
+    /// Every knob, with type, default, range, sweep, unit and meaning.
+    fn knobs(&self) -> Vec<Knob>;
+
     /// Decided from the scene's features and the device's features alone.
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support;
-    /// Builds tables, buffers and pipelines. Allocate GPU memory through `Gpu::buffer` /
-    /// `Gpu::texture` so the harness can count it.
-    fn prepare(&mut self, ctx: &PrepareContext) -> anyhow::Result<()>;
-    /// Encodes one frame into `encoder` (the harness submits and times it). CPU-side work done
-    /// here (silhouettes, sorting) is measured as the frame's CPU time.
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> anyhow::Result<FrameReport>;
+
+    /// Builds tables, buffers and pipelines for `ctx.params` (a full set from
+    /// [`resolve_params`]; read it with [`KnobRead::knob`]). Allocate GPU memory through
+    /// `Gpu::buffer` / `Gpu::texture` so the harness can count it.
+    fn prepare(&self, ctx: &PrepareContext) -> anyhow::Result<Box<dyn Prepared>>;
 
     /// The error this method promises on a `scatterbench stress` case (case names in
     /// `harness::stress::CASES`): a bound on the relative RMSE (RMSE / mean of the reference) of
@@ -194,63 +127,120 @@ pub trait Method {
         None
     }
 
+    /// How many frames an accumulating method needs at `params` before its image is the one it
+    /// converges to; 0 (the default) for a method whose every frame is complete.
+    fn converge_frames(&self, params: &Params) -> u32 {
+        let _ = params;
+        0
+    }
+
+    /// Every composed WGSL module the method can build, once per combination of the
+    /// pipeline-overridable constants its knobs can give it (the conformance test validates
+    /// each with naga, specialised).
+    fn shaders(&self) -> Vec<ShaderCheck>;
+
+    /// The cases the conformance test renders (methods/tests/conformance.rs).
+    fn conformance(&self) -> Vec<ConformanceCase>;
+}
+
+/// A prepared method: the GPU state built by [`Method::prepare`] for one scene, parameter set
+/// and resolution.
+pub trait Prepared {
+    /// Encodes one frame into `encoder` (the harness submits and times it). CPU-side work done
+    /// here (silhouettes, sorting) is measured as the frame's CPU time.
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> anyhow::Result<FrameReport>;
+
     /// The method's per-phase GPU timer, if it keeps one (`gpu::PhaseTimer`): after each frame
     /// the runner stores its phases as counters `gpu_ms_<phase>`. Default: none.
-    fn phase_timer(&self) -> Option<&crate::gpu::PhaseTimer> {
+    fn phase_timer(&self) -> Option<&PhaseTimer> {
         None
     }
 }
 
-/// A registry entry: the id and a constructor.
-pub struct Entry {
-    pub id: &'static str,
-    pub make: fn() -> Box<dyn Method>,
+/// One composed WGSL module with the pipeline-overridable constants one of its pipelines sets.
+/// Constants the module declares but that are absent here keep their WGSL defaults; scene
+/// constants (`LIGHT_COUNT`, `PHASE_KIND`, … of `lights.wgsl` / `medium.wgsl`) are added by the
+/// conformance test for every library scene.
+#[derive(Clone, Debug)]
+pub struct ShaderCheck {
+    /// `method-id/module` plus the constants, for messages.
+    pub name: String,
+    pub source: String,
+    pub constants: Vec<(&'static str, f64)>,
 }
 
-/// Fills in defaults, checks names and types of overrides against the declared knobs.
-pub fn resolve_params(specs: &[ParamSpec], overrides: &Params) -> Result<Params, String> {
-    let mut p: Params = specs
-        .iter()
-        .map(|s| (s.name.to_string(), s.default.clone()))
-        .collect();
-    for (k, v) in overrides {
-        let Some(spec) = specs.iter().find(|s| s.name == k) else {
-            let names: Vec<&str> = specs.iter().map(|s| s.name).collect();
-            return Err(format!(
-                "unknown knob '{k}'; knobs are: {}",
-                if names.is_empty() {
-                    "(none)".to_string()
-                } else {
-                    names.join(", ")
-                }
-            ));
-        };
-        let ok = matches!(
-            (&spec.default, v),
-            (ParamValue::Bool(_), ParamValue::Bool(_))
-                | (ParamValue::Int(_), ParamValue::Int(_))
-                | (
-                    ParamValue::Float(_),
-                    ParamValue::Float(_) | ParamValue::Int(_)
-                )
-                | (ParamValue::Text(_), ParamValue::Text(_))
-        );
-        if !ok {
-            return Err(format!(
-                "knob '{k}': {v} does not have the type of its default {}",
-                spec.default
-            ));
+impl ShaderCheck {
+    /// `source` once per element of the cartesian product of `axes` (constant name, the values
+    /// the method can give it); no axes: once, with the WGSL defaults.
+    pub fn combinations(
+        name: &str,
+        source: &str,
+        axes: &[(&'static str, &[f64])],
+    ) -> Vec<ShaderCheck> {
+        let mut sets: Vec<Vec<(&'static str, f64)>> = vec![Vec::new()];
+        for (key, values) in axes {
+            sets = sets
+                .into_iter()
+                .flat_map(|set| {
+                    values.iter().map(move |v| {
+                        let mut s = set.clone();
+                        s.push((*key, *v));
+                        s
+                    })
+                })
+                .collect();
         }
-        if let ParamValue::Text(t) = v
-            && !spec.choices.is_empty()
-            && !spec.choices.contains(&t.as_str())
-        {
-            return Err(format!(
-                "knob '{k}': '{t}' is not one of {}",
-                spec.choices.join(", ")
-            ));
-        }
-        p.insert(k.clone(), v.clone());
+        sets.into_iter()
+            .map(|constants| ShaderCheck {
+                name: name.to_string(),
+                source: source.to_string(),
+                constants,
+            })
+            .collect()
     }
-    Ok(p)
+}
+
+/// Which AOV a conformance bound is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aov {
+    Inscatter,
+    Surface,
+    Total,
+}
+
+/// One case of the conformance test: a library scene, a square resolution, knobs over the
+/// defaults, and a bound on the relative RMSE of one AOV against the reference renderer. The
+/// test also renders the case with `no_skip` and requires the same image (DESIGN §2).
+#[derive(Clone, Debug)]
+pub struct ConformanceCase {
+    pub scene: &'static str,
+    pub res: u32,
+    pub knobs: Vec<(&'static str, ParamValue)>,
+    pub aov: Aov,
+    /// Upper bound on rel RMSE (RMSE / mean of the reference), measured and given a margin.
+    pub max_rel_rmse: f64,
+}
+
+impl ConformanceCase {
+    /// The case at the method's defaults.
+    pub fn new(scene: &'static str, res: u32, aov: Aov, max_rel_rmse: f64) -> ConformanceCase {
+        ConformanceCase {
+            scene,
+            res,
+            knobs: Vec::new(),
+            aov,
+            max_rel_rmse,
+        }
+    }
+    /// With one knob set (over the defaults).
+    pub fn knob(mut self, name: &'static str, v: impl Into<ParamValue>) -> ConformanceCase {
+        self.knobs.push((name, v.into()));
+        self
+    }
 }

@@ -27,7 +27,7 @@ use crate::image::colormap::error_map;
 use crate::image::metrics::{ToneMap, compare};
 use crate::image::{Image, io};
 use crate::method::{
-    AOV_FORMAT, Entry, FrameReport, Method, Params, PrepareContext, Support, Targets,
+    AOV_FORMAT, FrameReport, KnobError, Method, Params, PrepareContext, Prepared, Support, Targets,
     resolve_params,
 };
 use crate::reference::{self, ReferenceImages, Settings};
@@ -89,9 +89,9 @@ pub fn param_sets(
     method: &dyn Method,
     overrides: &Params,
     sweep: bool,
-) -> Result<Vec<Params>, String> {
-    let specs = method.params();
-    let base = resolve_params(&specs, overrides)?;
+) -> Result<Vec<Params>, KnobError> {
+    let specs = method.knobs();
+    let base = resolve_params(method, overrides)?;
     let mut out = vec![base.clone()];
     if sweep {
         for s in &specs {
@@ -113,7 +113,7 @@ pub fn param_sets(
 pub fn run(
     gpu: &Gpu,
     scenes: &[Scene],
-    methods: &[&Entry],
+    methods: &[&dyn Method],
     cfg: &RunConfig,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<Results, String> {
@@ -124,7 +124,7 @@ pub fn run(
 /// full parameter set.
 pub struct WorkItem<'a> {
     pub scene: usize,
-    pub entry: &'a Entry,
+    pub entry: &'a dyn Method,
     pub params: Params,
 }
 
@@ -132,22 +132,18 @@ pub struct WorkItem<'a> {
 /// parameter sets. Sharding slices this list (see [`crate::shard`]).
 pub fn work_list<'a>(
     scenes: &[Scene],
-    methods: &[&'a Entry],
+    methods: &[&'a dyn Method],
     cfg: &RunConfig,
 ) -> Result<Vec<WorkItem<'a>>, String> {
     // Parameter sets depend only on the method, so they are resolved once per method.
     let mut sets = Vec::with_capacity(methods.len());
     for entry in methods {
-        let probe = (entry.make)();
-        let overrides = cfg.overrides.get(entry.id).cloned().unwrap_or_default();
-        sets.push(
-            param_sets(probe.as_ref(), &overrides, cfg.sweep)
-                .map_err(|e| format!("--param {}: {e}", entry.id))?,
-        );
+        let overrides = cfg.overrides.get(entry.id()).cloned().unwrap_or_default();
+        sets.push(param_sets(*entry, &overrides, cfg.sweep).map_err(|e| format!("--param {e}"))?);
     }
     let mut out = Vec::new();
     for scene in 0..scenes.len() {
-        for (entry, sets) in methods.iter().zip(&sets) {
+        for (&entry, sets) in methods.iter().zip(&sets) {
             for params in sets {
                 out.push(WorkItem {
                     scene,
@@ -165,7 +161,7 @@ pub fn work_list<'a>(
 pub fn run_shard(
     gpu: &Gpu,
     scenes: &[Scene],
-    methods: &[&Entry],
+    methods: &[&dyn Method],
     cfg: &RunConfig,
     shard: Shard,
     on_event: &mut dyn FnMut(Event),
@@ -196,7 +192,7 @@ pub fn run_items(
     if let Some(item) = work.iter().find(|i| i.scene >= scenes.len()) {
         return Err(format!(
             "work item {} refers to scene {} of {}",
-            item.entry.id,
+            item.entry.id(),
             item.scene,
             scenes.len()
         ));
@@ -249,15 +245,14 @@ pub fn run_items(
     let mut reference: Option<(usize, ReferenceImages, ToneMap)> = None;
     for item in work {
         let (scene, entry, params) = (&scenes[item.scene], item.entry, &item.params);
-        let key = record_key(&scene.name, entry.id, params);
+        let key = record_key(&scene.name, entry.id(), params);
         if done.contains(&key) {
             on_event(Event::Resumed(&key));
             continue;
         }
-        let probe = (entry.make)();
-        let support = probe.support(&scene.features(), gpu.features());
+        let support = entry.support(&scene.features(), gpu.features());
         let record = match support {
-            Support::No(why) => skipped(scene, entry.id, params, why),
+            Support::No(why) => skipped(scene, entry.id(), params, why),
             support => {
                 if reference.as_ref().is_none_or(|r| r.0 != item.scene) {
                     let start = Instant::now();
@@ -348,7 +343,7 @@ pub fn params_slug(params: &Params) -> String {
 fn run_one(
     gpu: &Gpu,
     scene: &Scene,
-    entry: &Entry,
+    entry: &dyn Method,
     params: &Params,
     cfg: &RunConfig,
     reference: &ReferenceImages,
@@ -365,12 +360,12 @@ fn run_one(
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".into());
-            return failed(scene, entry.id, params, format!("panicked: {msg}"));
+            return failed(scene, entry.id(), params, format!("panicked: {msg}"));
         }
         Ok(Err(e)) => {
             return failed(
                 scene,
-                entry.id,
+                entry.id(),
                 params,
                 if errors.is_empty() {
                     e
@@ -382,7 +377,7 @@ fn run_one(
         Ok(Ok(_)) if !errors.is_empty() => {
             return failed(
                 scene,
-                entry.id,
+                entry.id(),
                 params,
                 format!("wgpu error: {}", errors.join("; ")),
             );
@@ -390,7 +385,7 @@ fn run_one(
         Ok(Ok(v)) => v,
     };
     let [inscatter, surface, total] = &images;
-    let dir = format!("{}/{}/{}", scene.name, entry.id, params_slug(params));
+    let dir = format!("{}/{}/{}", scene.name, entry.id(), params_slug(params));
     // Scoring and writing images are independent CPU work while the GPU idles: spread them over
     // the cores (FLIP at 512² is most of a record's overhead on a 2-core machine).
     let score_start = Instant::now();
@@ -433,12 +428,19 @@ fn run_one(
                 nonfinite = nonfinite.max(m.nonfinite);
                 rec.errors.insert(name.to_string(), m);
             }
-            Err(e) => return failed(scene, entry.id, params, format!("cannot score {name}: {e}")),
+            Err(e) => {
+                return failed(
+                    scene,
+                    entry.id(),
+                    params,
+                    format!("cannot score {name}: {e}"),
+                );
+            }
         }
     }
     match written {
         Ok(paths) => rec.images = paths,
-        Err(e) => return failed(scene, entry.id, params, e),
+        Err(e) => return failed(scene, entry.id(), params, e),
     }
     for map in maps {
         match map {
@@ -447,7 +449,7 @@ fn run_one(
                 rec.counters
                     .insert(format!("{name}_error_scale"), scale as f64);
             }
-            Err(e) => return failed(scene, entry.id, params, e),
+            Err(e) => return failed(scene, entry.id(), params, e),
         }
     }
     if let Some(t) = rec.timing.as_mut() {
@@ -592,7 +594,7 @@ pub struct FrameTiming {
 
 pub fn render_frame(
     gpu: &Gpu,
-    method: &mut dyn Method,
+    method: &mut dyn Prepared,
     scene: &Scene,
     index: u32,
     aovs: &AovTargets,
@@ -654,14 +656,13 @@ pub fn render_frame(
 fn measure(
     gpu: &Gpu,
     scene: &Scene,
-    entry: &Entry,
+    entry: &dyn Method,
     params: &Params,
     cfg: &RunConfig,
 ) -> Result<(Record, [Image; 3]), String> {
-    let mut method = (entry.make)();
     gpu.reset_allocated();
     let start = Instant::now();
-    method
+    let mut method = entry
         .prepare(&PrepareContext {
             gpu,
             scene,
@@ -731,7 +732,7 @@ fn measure(
     };
     let record = Record {
         scene: scene.name.clone(),
-        method: entry.id.to_string(),
+        method: entry.id().to_string(),
         params: params.clone(),
         status: Status::Ok,
         reason: None,

@@ -7,11 +7,11 @@
 
 use harness::image::Image;
 use harness::image::metrics::{ToneMap, compare};
-use harness::method::{Method, ParamValue, PrepareContext, resolve_params};
+use harness::method::ParamValue;
 use harness::reference::{self, Settings};
 use harness::runner::{AovTargets, render_frame};
-use harness::testing::{gpu_or_skip as gpu, knobs};
-use harness::{Gpu, Support};
+use harness::testing::{self, gpu_or_skip as gpu};
+use harness::{Gpu, Method, Support};
 use methods::biri_shadow_volumes::BiriShadowVolumes;
 use scenes::Scene;
 
@@ -19,19 +19,9 @@ const RES: u32 = 48;
 
 /// The method's [inscatter, surface, total] at RES² with the given knobs.
 fn render(gpu: &Gpu, scene: &Scene, list: &[(&str, ParamValue)]) -> [Image; 3] {
-    let mut m = BiriShadowVolumes::default();
-    let params = resolve_params(&m.params(), &knobs(list)).unwrap();
-    m.prepare(&PrepareContext {
-        gpu,
-        scene,
-        params: &params,
-        width: RES,
-        height: RES,
-        no_skip: false,
-    })
-    .unwrap();
+    let mut m = testing::prepare(gpu, &BiriShadowVolumes, scene, RES, list, false).unwrap();
     let aovs = AovTargets::new(gpu, RES, RES);
-    let out = render_frame(gpu, &mut m, scene, 0, &aovs, None).unwrap();
+    let out = render_frame(gpu, m.as_mut(), scene, 0, &aovs, None).unwrap();
     let ran = out.report.run.iter().any(|p| p == "indirect");
     let want = list
         .iter()
@@ -78,7 +68,7 @@ fn indirect_term_matches_the_reference() {
     let Some(gpu) = gpu() else { return };
     let scene = scenes::library::resolve("indirect-point").unwrap();
     assert!(scene.features().indirect_single_scattering);
-    let m = BiriShadowVolumes::default();
+    let m = BiriShadowVolumes;
     assert!(
         matches!(
             m.support(&scene.features(), gpu.device.features()),

@@ -181,9 +181,10 @@ fn gpu_kernel_matches_cpu_polynomial() {
 // ---- the registered renderer against the reference ----
 
 use harness::image::Image;
-use harness::method::{Method, ParamValue, Params, PrepareContext, Support, resolve_params};
+use harness::method::{Method, ParamValue, PrepareContext, Support, resolve_params};
 use harness::reference::{self, Settings};
 use harness::runner::{AovTargets, render_frame};
+use harness::testing::{knobs, rel_rmse};
 use methods::biri_polynomial::BiriPolynomial;
 
 /// [inscatter, surface, total] of frame 0 with the given knob overrides.
@@ -192,25 +193,21 @@ fn render(
     scene: &scenes::Scene,
     w: u32,
     h: u32,
-    knobs: &[(&str, ParamValue)],
+    list: &[(&str, ParamValue)],
 ) -> [Image; 3] {
-    let mut m = BiriPolynomial::default();
-    let overrides: Params = knobs
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.clone()))
-        .collect();
-    let params = resolve_params(&m.params(), &overrides).unwrap();
-    m.prepare(&PrepareContext {
-        gpu,
-        scene,
-        params: &params,
-        width: w,
-        height: h,
-        no_skip: false,
-    })
-    .unwrap();
+    let params = resolve_params(&BiriPolynomial, &knobs(list)).unwrap();
+    let mut m = BiriPolynomial
+        .prepare(&PrepareContext {
+            gpu,
+            scene,
+            params: &params,
+            width: w,
+            height: h,
+            no_skip: false,
+        })
+        .unwrap();
     let aovs = AovTargets::new(gpu, w, h);
-    render_frame(gpu, &mut m, scene, 0, &aovs, None).unwrap();
+    render_frame(gpu, m.as_mut(), scene, 0, &aovs, None).unwrap();
     aovs.read(gpu).unwrap()
 }
 
@@ -227,18 +224,6 @@ fn inscatter(gpu: &Gpu, scene: &scenes::Scene, w: u32, h: u32, fit: &str, order:
         &[("fit", text(fit)), ("order", ParamValue::Int(order))],
     );
     ins
-}
-
-fn rel_rmse(test: &Image, reference: &Image) -> f64 {
-    let (mut se, mut sum, mut n) = (0.0, 0.0, 0.0);
-    for (a, b) in test.pixels.iter().zip(&reference.pixels) {
-        for c in 0..3 {
-            se += (a[c] as f64 - b[c] as f64).powi(2);
-            sum += b[c] as f64;
-            n += 1.0;
-        }
-    }
-    (se / n).sqrt() / (sum / n)
 }
 
 /// On clear-fog (point light in view, no volumetric shadows) the per-fragment polynomial
@@ -544,7 +529,7 @@ fn spots_against_reference() {
     ];
     for (name, scene, bound) in cases {
         assert!(matches!(
-            BiriPolynomial::default().support(&scene.features(), wgpu::Features::empty()),
+            BiriPolynomial.support(&scene.features(), wgpu::Features::empty()),
             Support::Full
         ));
         let refimg = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
@@ -580,7 +565,7 @@ fn directional_scenes_are_refused() {
         if f.medium != "homogeneous" {
             continue; // refused for the medium first
         }
-        let support = BiriPolynomial::default().support(&f, wgpu::Features::empty());
+        let support = BiriPolynomial.support(&f, wgpu::Features::empty());
         if f.light_kinds.iter().any(|k| *k == "directional") {
             checked += 1;
             match support {
@@ -595,36 +580,25 @@ fn directional_scenes_are_refused() {
     );
     for name in ["fence-spot", "stained-glass-spot"] {
         let scene = scenes::library::resolve(name).unwrap();
-        let support = BiriPolynomial::default().support(&scene.features(), wgpu::Features::empty());
+        let support = BiriPolynomial.support(&scene.features(), wgpu::Features::empty());
         assert!(matches!(support, Support::Full), "{name}: {support:?}");
     }
 }
 
-/// Bad knob values are errors, not panics.
+/// Bad knob values are refused when the parameters are resolved, naming the knob.
 #[test]
 fn bad_knobs_are_errors() {
-    let Some(gpu) = gpu() else { return };
-    let scene = scenes::library::resolve("clear-fog").unwrap();
     for (k, v) in [
         ("eval", text("pixel")),
         ("accumulate", text("half")),
         ("tessellation", ParamValue::Int(9)),
         ("plane_segments", ParamValue::Int(0)),
+        ("order", ParamValue::Int(9)),
+        ("half_circles", ParamValue::Int(1)),
     ] {
-        let mut m = BiriPolynomial::default();
-        let overrides: Params = [(k.to_string(), v)].into_iter().collect();
-        let Ok(params) = resolve_params(&m.params(), &overrides) else {
-            continue;
-        };
-        let r = m.prepare(&PrepareContext {
-            gpu: &gpu,
-            scene: &scene,
-            params: &params,
-            width: 8,
-            height: 8,
-            no_skip: false,
-        });
-        assert!(r.is_err(), "{k} accepted");
+        let err = resolve_params(&BiriPolynomial, &knobs(&[(k, v)])).expect_err(k);
+        assert_eq!(err.knob, k, "{err}");
+        assert!(err.to_string().contains(k), "{err}");
     }
 }
 

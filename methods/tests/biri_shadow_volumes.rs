@@ -9,10 +9,10 @@
 use harness::Gpu;
 use harness::image::Image;
 use harness::image::metrics::{ToneMap, compare};
-use harness::method::{FrameReport, Method, ParamValue, PrepareContext, resolve_params};
+use harness::method::{FrameReport, ParamValue};
 use harness::reference::{self, Settings};
-use harness::runner::{AovTargets, render_frame};
-use harness::testing::{gpu_or_skip as gpu, knobs};
+
+use harness::testing::{self, gpu_or_skip as gpu};
 use methods::biri_shadow_volumes::BiriShadowVolumes;
 use scenes::Scene;
 
@@ -58,25 +58,11 @@ impl Case {
         list: &[(&str, ParamValue)],
         frames: u32,
     ) -> (f64, f64, FrameReport) {
-        let mut m = BiriShadowVolumes::default();
-        let params = resolve_params(&m.params(), &knobs(list)).unwrap();
-        m.prepare(&PrepareContext {
-            gpu,
-            scene: &self.scene,
-            params: &params,
-            width: self.res,
-            height: self.res,
-            no_skip: false,
-        })
-        .unwrap();
-        let aovs = AovTargets::new(gpu, self.res, self.res);
-        let mut report = FrameReport::default();
-        for _ in 0..frames {
-            report = render_frame(gpu, &mut m, &self.scene, 0, &aovs, None)
-                .unwrap()
-                .report;
-        }
-        let [ins, _, _] = aovs.read(gpu).unwrap();
+        let mut m =
+            testing::prepare(gpu, &BiriShadowVolumes, &self.scene, self.res, list, false).unwrap();
+        let out =
+            testing::render_prepared(gpu, m.as_mut(), &self.scene, self.res, 0, frames).unwrap();
+        let (ins, report) = (out.inscatter, out.report);
         // BIRI_DUMP=dir writes the image, the reference and an error map (for debugging, not asserted).
         if let Some(dir) = std::env::var_os("BIRI_DUMP") {
             let dir = std::path::PathBuf::from(dir);
@@ -299,23 +285,10 @@ fn stencil_surface_shadows_match_the_reference() {
         let scene = scenes::library::resolve(name).unwrap();
         let r = reference::render(&scene, 0, res, res, Settings::default(), &|_| {}).unwrap();
         let surface_error = |mode: &str| {
-            let mut m = BiriShadowVolumes::default();
-            let params =
-                resolve_params(&m.params(), &knobs(&[("surface_shadows", text(mode))])).unwrap();
-            m.prepare(&PrepareContext {
-                gpu: &gpu,
-                scene: &scene,
-                params: &params,
-                width: res,
-                height: res,
-                no_skip: false,
-            })
-            .unwrap();
-            let aovs = AovTargets::new(&gpu, res, res);
-            let frame = render_frame(&gpu, &mut m, &scene, 0, &aovs, None).unwrap();
-            let [_, surface, _] = aovs.read(&gpu).unwrap();
-            let e = compare(&surface, &r.surface, &ToneMap { exposure: 0.0 }).unwrap();
-            (e, frame.report)
+            let list = [("surface_shadows", text(mode))];
+            let out = testing::render_method(&gpu, &BiriShadowVolumes, &scene, res, &list).unwrap();
+            let e = compare(&out.surface, &r.surface, &ToneMap { exposure: 0.0 }).unwrap();
+            (e, out.report)
         };
         let (stencil, report) = surface_error("stencil");
         let (map, _) = surface_error("shadow-map");
@@ -326,6 +299,11 @@ fn stencil_surface_shadows_match_the_reference() {
         assert!(report.run.iter().any(|p| p == "stencil-surface-shadows"));
         assert!(report.skipped.iter().any(|p| p.pass == "shadow-maps"));
         assert!(stencil.rel_rmse < 1e-3, "{name}: {}", stencil.rel_rmse);
-        assert!(stencil.rel_rmse <= map.rel_rmse, "{name}: {} vs {}", stencil.rel_rmse, map.rel_rmse);
+        assert!(
+            stencil.rel_rmse <= map.rel_rmse,
+            "{name}: {} vs {}",
+            stencil.rel_rmse,
+            map.rel_rmse
+        );
     }
 }

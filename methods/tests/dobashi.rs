@@ -7,27 +7,16 @@
 use glam::DVec3;
 use harness::Gpu;
 use harness::image::Image;
-use harness::method::{Method, ParamValue, Params, PrepareContext, resolve_params};
+use harness::method::{ParamValue, PrepareContext, resolve_params};
 use harness::reference::{self, Settings};
 use harness::runner::{AovTargets, render_frame};
-use harness::testing::gpu_or_skip as gpu;
-use methods::dobashi_virtual_planes::{DobashiVirtualPlanes, probe_light_map};
+use harness::testing::{gpu_or_skip as gpu, knobs};
+use methods::dobashi_virtual_planes::{DobashiVirtualPlanes, State, probe_light_map};
 use scenes::{LightState, Scene};
 
-fn prepared(
-    gpu: &Gpu,
-    scene: &Scene,
-    w: u32,
-    h: u32,
-    knobs: &[(&str, ParamValue)],
-) -> DobashiVirtualPlanes {
-    let mut m = DobashiVirtualPlanes::default();
-    let overrides: Params = knobs
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.clone()))
-        .collect();
-    let params = resolve_params(&m.params(), &overrides).unwrap();
-    m.prepare(&PrepareContext {
+fn prepared(gpu: &Gpu, scene: &Scene, w: u32, h: u32, list: &[(&str, ParamValue)]) -> State {
+    let params = resolve_params(&DobashiVirtualPlanes, &knobs(list)).unwrap();
+    State::new(&PrepareContext {
         gpu,
         scene,
         params: &params,
@@ -35,8 +24,7 @@ fn prepared(
         height: h,
         no_skip: false,
     })
-    .unwrap();
-    m
+    .unwrap()
 }
 
 /// The method's in-scatter AOV at frame 0.
@@ -159,7 +147,7 @@ fn light_map_reproduces_the_pattern() {
         &[("light_map", ParamValue::Int(res as i64))],
     );
     let frame = scene.frame(0);
-    m.update(&gpu, &frame).unwrap();
+    m.update(&gpu, &frame);
     let LightState::Spot {
         position,
         direction,
@@ -189,7 +177,7 @@ fn light_map_reproduces_the_pattern() {
             uvs.push((u, v, x));
         }
     }
-    let gpu_values = probe_light_map(&gpu, m.renderer().unwrap(), &points).unwrap();
+    let gpu_values = probe_light_map(&gpu, m.renderer(), &points).unwrap();
     let texel = 1.0 / res as f64;
     let (mut smooth, mut agree, mut lit) = (0, 0, 0);
     for ((u, v, x), g) in uvs.iter().zip(&gpu_values) {

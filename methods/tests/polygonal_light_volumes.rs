@@ -5,14 +5,12 @@
 //! Without an adapter these tests skip with a message — except when `CI` is set, where a missing
 //! adapter is a failure.
 
-use harness::testing::{gpu_or_skip as gpu, knobs};
+use harness::testing::{gpu_or_skip as gpu, render_method, rel_rmse};
 
 use harness::Gpu;
 use harness::image::Image;
-use harness::image::metrics::{ToneMap, compare};
-use harness::method::{FrameReport, Method, ParamValue, PrepareContext, resolve_params};
+use harness::method::{FrameReport, ParamValue};
 use harness::reference::{self, Settings};
-use harness::runner::{AovTargets, render_frame};
 use methods::polygonal_light_volumes::PolygonalLightVolumes;
 use scenes::Scene;
 
@@ -22,27 +20,8 @@ fn scene(name: &str) -> Scene {
 
 /// The in-scatter AOV of frame 0 of `scene` at `res`² with `list` over the defaults, and the report.
 fn render(gpu: &Gpu, scene: &Scene, res: u32, list: &[(&str, ParamValue)]) -> (Image, FrameReport) {
-    let mut m = PolygonalLightVolumes::default();
-    let params = resolve_params(&m.params(), &knobs(list)).unwrap();
-    m.prepare(&PrepareContext {
-        gpu,
-        scene,
-        params: &params,
-        width: res,
-        height: res,
-        no_skip: false,
-    })
-    .unwrap();
-    let aovs = AovTargets::new(gpu, res, res);
-    let t = render_frame(gpu, &mut m, scene, 0, &aovs, None).unwrap();
-    let [ins, _, _] = aovs.read(gpu).unwrap();
-    (ins, t.report)
-}
-
-fn rel_rmse(test: &Image, reference: &Image) -> f64 {
-    compare(test, reference, &ToneMap { exposure: 0.0 })
-        .unwrap()
-        .rel_rmse
+    let r = render_method(gpu, &PolygonalLightVolumes, scene, res, list).unwrap();
+    (r.inscatter, r.report)
 }
 
 fn reference_inscatter(s: &Scene, res: u32) -> Image {

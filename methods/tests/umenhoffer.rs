@@ -10,11 +10,9 @@ use std::path::Path;
 
 use harness::Gpu;
 use harness::image::Image;
-use harness::image::metrics::{ToneMap, compare};
-use harness::method::{Method, ParamValue, PrepareContext, Support, resolve_params};
-use harness::reference::{Settings, cache};
+use harness::method::{KnobError, Method, ParamValue, Support};
 use harness::runner::{AovTargets, render_frame};
-use harness::testing::{gpu_or_skip as gpu, knobs};
+use harness::testing::{self, gpu_or_skip as gpu, reference, rel_rmse};
 use methods::umenhoffer_particle_blocks::{ParticleSplat, UmenhofferParticleBlocks};
 use scenes::{Scene, parse_scene};
 
@@ -22,33 +20,13 @@ fn scene(text: &str) -> Scene {
     parse_scene(text, "test.json", "test", Path::new(".")).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn method(id: &str) -> Box<dyn Method> {
-    (methods::find(id).expect("registered").make)()
-}
-
-/// Prepares `m` on `scene` with `list` over its defaults.
-fn prepare(
-    gpu: &Gpu,
-    m: &mut dyn Method,
-    scene: &Scene,
-    res: u32,
-    list: &[(&str, ParamValue)],
-) -> anyhow::Result<()> {
-    let params = resolve_params(&m.params(), &knobs(list)).map_err(anyhow::Error::msg)?;
-    m.prepare(&PrepareContext {
-        gpu,
-        scene,
-        params: &params,
-        width: res,
-        height: res,
-        no_skip: false,
-    })
+fn method(id: &str) -> &'static dyn Method {
+    methods::find(id).expect("registered")
 }
 
 /// [inscatter, surface, total] of frame 0.
 fn render(gpu: &Gpu, id: &str, scene: &Scene, res: u32, list: &[(&str, ParamValue)]) -> [Image; 3] {
-    let mut m = method(id);
-    prepare(gpu, m.as_mut(), scene, res, list).unwrap();
+    let mut m = testing::prepare(gpu, method(id), scene, res, list, false).unwrap();
     let aovs = AovTargets::new(gpu, res, res);
     render_frame(gpu, m.as_mut(), scene, 0, &aovs, None).unwrap();
     let out = aovs.read(gpu).unwrap();
@@ -59,21 +37,6 @@ fn render(gpu: &Gpu, id: &str, scene: &Scene, res: u32, list: &[(&str, ParamValu
         );
     }
     out
-}
-
-/// The reference, cached across runs in the system temp dir.
-fn reference(s: &Scene, res: u32) -> harness::reference::ReferenceImages {
-    let dir = std::env::temp_dir().join("scatterbench-test-reference-cache");
-    std::fs::create_dir_all(&dir).unwrap();
-    cache::render_cached(Some(&dir), s, 0, res, res, Settings::default(), &|_| {})
-        .unwrap()
-        .0
-}
-
-fn rel_rmse(test: &Image, reference: &Image) -> f64 {
-    compare(test, reference, &ToneMap { exposure: 0.0 })
-        .unwrap()
-        .rel_rmse
 }
 
 fn blocks(n: i64, mode: &str) -> Vec<(&'static str, ParamValue)> {
@@ -346,10 +309,15 @@ fn homogeneous_scenes_and_bad_knobs_are_refused() {
         ),
         ("particle-splat", vec![("light_res", ParamValue::Int(1))]),
     ] {
-        let mut m = method(id);
-        let err = prepare(&gpu, m.as_mut(), &cloud, 16, &list).expect_err("refused");
+        let err = match testing::prepare(&gpu, method(id), &cloud, 16, &list, false) {
+            Ok(_) => panic!("{id} {list:?}: accepted"),
+            Err(e) => e,
+        };
+        let knob = err
+            .downcast_ref::<KnobError>()
+            .unwrap_or_else(|| panic!("{id} {list:?}: not a knob error: {err}"));
+        assert_eq!(knob.knob, list[0].0, "{err}");
         println!("{id} {list:?}: {err}");
     }
-    let _ = UmenhofferParticleBlocks::default();
-    let _ = ParticleSplat::default();
+    let _ = (UmenhofferParticleBlocks, ParticleSplat);
 }

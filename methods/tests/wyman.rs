@@ -5,13 +5,14 @@
 //! Without an adapter these tests skip with a message — except when `CI` is set, where a missing
 //! adapter is a failure.
 
-use harness::testing::{gpu_or_skip as gpu, knobs, run_config as config, temp_dir as tmp};
+use harness::testing::{
+    self, gpu_or_skip as gpu, knobs, max_rel_diff, rel_rmse, run_config as config, temp_dir as tmp,
+};
 use std::path::PathBuf;
 
 use harness::Gpu;
 use harness::image::Image;
-use harness::image::metrics::{ToneMap, compare};
-use harness::method::{FrameReport, Method, ParamValue, PrepareContext, resolve_params};
+use harness::method::{FrameReport, ParamValue, Prepared};
 use harness::reference::{self, Settings};
 use harness::results::{Record, Status};
 use harness::runner::{AovTargets, render_frame, run};
@@ -51,25 +52,14 @@ fn record(
 }
 
 /// A prepared wyman-hybrid with `list` over its defaults.
-fn prepared(gpu: &Gpu, scene: &Scene, res: u32, list: &[(&str, ParamValue)]) -> WymanHybrid {
-    let mut m = WymanHybrid::default();
-    let params = resolve_params(&m.params(), &knobs(list)).unwrap();
-    m.prepare(&PrepareContext {
-        gpu,
-        scene,
-        params: &params,
-        width: res,
-        height: res,
-        no_skip: false,
-    })
-    .unwrap();
-    m
+fn prepared(gpu: &Gpu, scene: &Scene, res: u32, list: &[(&str, ParamValue)]) -> Box<dyn Prepared> {
+    testing::prepare(gpu, &WymanHybrid, scene, res, list, false).unwrap()
 }
 
 /// The in-scatter AOV of frame `index` rendered by `m` (which keeps its state), and its report.
 fn render(
     gpu: &Gpu,
-    m: &mut WymanHybrid,
+    m: &mut dyn Prepared,
     scene: &Scene,
     index: u32,
     aovs: &AovTargets,
@@ -77,12 +67,6 @@ fn render(
     let t = render_frame(gpu, m, scene, index, aovs, None).unwrap();
     let [ins, _, _] = aovs.read(gpu).unwrap();
     (ins, t.report)
-}
-
-fn rel_rmse(test: &Image, reference: &Image) -> f64 {
-    compare(test, reference, &ToneMap { exposure: 0.0 })
-        .unwrap()
-        .rel_rmse
 }
 
 /// In-scatter rel RMSE of wyman-hybrid against `refimg` for each knob set, one method per set.
@@ -97,7 +81,7 @@ fn errors(
     sets.iter()
         .map(|list| {
             let mut m = prepared(gpu, scene, res, list);
-            let (ins, _) = render(gpu, &mut m, scene, 0, &aovs);
+            let (ins, _) = render(gpu, m.as_mut(), scene, 0, &aovs);
             rel_rmse(&ins, refimg)
         })
         .collect()
@@ -105,22 +89,6 @@ fn errors(
 
 fn samples(n: i64) -> Vec<(&'static str, ParamValue)> {
     vec![("samples", ParamValue::Int(n))]
-}
-
-/// The largest per-pixel, per-channel difference relative to the image's largest value.
-fn max_rel_diff(a: &Image, b: &Image) -> f64 {
-    let scale = b
-        .pixels
-        .iter()
-        .flat_map(|p| p.iter())
-        .fold(0.0f32, |m, v| m.max(v.abs())) as f64;
-    let diff = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
-        .fold(0.0f32, f32::max);
-    diff as f64 / scale.max(1e-30)
 }
 
 /// On clear-fog (nothing casts a volumetric shadow) every pixel is Sun et al.'s airlight from the
@@ -201,7 +169,7 @@ fn airlight_table_agrees_with_quadrature_on_sphere_point() {
                 ("airlight", ParamValue::Bool(analytic)),
             ],
         );
-        images.push(render(&gpu, &mut m, &s, 0, &aovs).0);
+        images.push(render(&gpu, m.as_mut(), &s, 0, &aovs).0);
     }
     let (table, quad) = (
         rel_rmse(&images[0], &refimg.inscatter),
@@ -274,14 +242,14 @@ fn silhouettes_are_rebuilt_only_when_something_moved() {
 
     let pen = scene("pen-orbit");
     let mut m = prepared(&gpu, &pen, res, &[]);
-    let (frame0, r0) = render(&gpu, &mut m, &pen, 0, &aovs);
-    let (after, r1) = render(&gpu, &mut m, &pen, 1, &aovs);
+    let (frame0, r0) = render(&gpu, m.as_mut(), &pen, 0, &aovs);
+    let (after, r1) = render(&gpu, m.as_mut(), &pen, 1, &aovs);
     assert!(
         ran(&r0) && ran(&r1) && !skipped(&r1),
         "pen-orbit frames: {r0:?} / {r1:?}"
     );
     let mut fresh = prepared(&gpu, &pen, res, &[]);
-    let (direct, _) = render(&gpu, &mut fresh, &pen, 1, &aovs);
+    let (direct, _) = render(&gpu, fresh.as_mut(), &pen, 1, &aovs);
     let moved = max_rel_diff(&frame0, &direct);
     assert!(moved > 1e-3, "frames 0 and 1 differ by only {moved}");
     let d = max_rel_diff(&after, &direct);
@@ -292,8 +260,8 @@ fn silhouettes_are_rebuilt_only_when_something_moved() {
 
     let sphere = scene("sphere-point");
     let mut m = prepared(&gpu, &sphere, res, &[]);
-    let (first, r0) = render(&gpu, &mut m, &sphere, 0, &aovs);
-    let (second, r1) = render(&gpu, &mut m, &sphere, 1, &aovs);
+    let (first, r0) = render(&gpu, m.as_mut(), &sphere, 0, &aovs);
+    let (second, r1) = render(&gpu, m.as_mut(), &sphere, 1, &aovs);
     assert!(ran(&r0), "sphere-point frame 0: {r0:?}");
     assert!(skipped(&r1) && !ran(&r1), "sphere-point frame 1: {r1:?}");
     assert_eq!(

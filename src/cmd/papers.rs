@@ -468,8 +468,7 @@ pub fn experiments() -> Vec<Experiment> {
 pub fn params_text(method: &str, params: &Params) -> String {
     let defaults: Params = methods::find(method)
         .map(|e| {
-            (e.make)()
-                .params()
+            e.knobs()
                 .into_iter()
                 .map(|s| (s.name.to_string(), s.default))
                 .collect()
@@ -515,14 +514,9 @@ mod tests {
                 let Some(entry) = methods::find(c.method) else {
                     continue; // not implemented yet: `reproduce` says so
                 };
-                let specs = (entry.make)().params();
                 for (k, v) in c.params {
-                    let spec = specs
-                        .iter()
-                        .find(|s| s.name == *k)
-                        .unwrap_or_else(|| panic!("{}: {} has no knob {k}", e.paper, c.method));
-                    harness::method::ParamValue::parse_like(v, &spec.default)
-                        .unwrap_or_else(|err| panic!("{}: {}.{k}={v}: {err}", e.paper, c.method));
+                    harness::method::parse_knob(entry, k, v)
+                        .unwrap_or_else(|err| panic!("{}: {err}", e.paper));
                 }
             }
             if e.configs.iter().all(|c| methods::find(c.method).is_some()) {

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use harness::method::{ParamValue, Params, resolve_params};
+use harness::method::{Params, parse_knob, resolve_params};
 use harness::reference::Settings;
 use harness::results::{Record, Results, Status, record_key};
 use harness::runner::{Event, RunConfig, WorkItem, run_items};
@@ -122,7 +122,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
             }
             for c in &e.configs {
                 let (entry, params) = resolve(c)?;
-                if keys.insert(record_key(s, entry.id, &params)) {
+                if keys.insert(record_key(s, entry.id(), &params)) {
                     work.push(WorkItem {
                         scene: si,
                         entry,
@@ -219,26 +219,18 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
 }
 
 /// A configuration's registry entry and full parameter set.
-fn resolve(c: &Config) -> Result<(&'static harness::method::Entry, Params)> {
+fn resolve(c: &Config) -> Result<(&'static dyn harness::Method, Params)> {
     let entry = methods::find(c.method).ok_or_else(|| anyhow!("unknown method {}", c.method))?;
-    let specs = (entry.make)().params();
     let mut overrides = Params::new();
     for (k, v) in c.params {
-        let spec = specs
-            .iter()
-            .find(|s| s.name == *k)
-            .ok_or_else(|| anyhow!("{}: no knob '{k}' (paper table out of date)", c.method))?;
-        let v = ParamValue::parse_like(v, &spec.default)
-            .map_err(|e| anyhow!("{}.{k}: {e}", c.method))?;
-        overrides.insert(k.to_string(), v);
+        overrides.insert(k.to_string(), parse_knob(entry, k, v)?);
     }
-    let params = resolve_params(&specs, &overrides).map_err(|e| anyhow!("{}: {e}", c.method))?;
-    Ok((entry, params))
+    Ok((entry, resolve_params(entry, &overrides)?))
 }
 
 fn find<'a>(results: &'a Results, scene: &str, c: &Config) -> Option<&'a Record> {
     let (entry, params) = resolve(c).ok()?;
-    let key = record_key(scene, entry.id, &params);
+    let key = record_key(scene, entry.id(), &params);
     results.records.iter().find(|r| r.key() == key)
 }
 

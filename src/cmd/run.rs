@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
 use clap::{Args, Subcommand};
-use harness::method::{Entry, ParamValue, Params};
+use harness::method::{Method, Params, parse_knob};
 use harness::reference::Settings;
 use harness::results::Status;
 use harness::runner::{Event, RunConfig};
@@ -75,9 +75,9 @@ pub fn dispatch(c: BenchCommand) -> Result<()> {
 
 /// Registry entries named by a comma-separated list, or all of them; unknown ids are refused
 /// with the valid ones.
-pub fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
+pub fn pick_methods(spec: &str) -> Result<Vec<&'static dyn Method>> {
     if spec == "all" {
-        return Ok(methods::REGISTRY.iter().collect());
+        return Ok(methods::REGISTRY.to_vec());
     }
     spec.split(',')
         .map(|id| {
@@ -86,7 +86,7 @@ pub fn pick_methods(spec: &str) -> Result<Vec<&'static Entry>> {
                     "unknown method '{id}': valid methods are {}",
                     methods::REGISTRY
                         .iter()
-                        .map(|e| e.id)
+                        .map(|e| e.id())
                         .collect::<Vec<_>>()
                         .join(", ")
                 )
@@ -110,7 +110,7 @@ fn pick_scenes(spec: &str) -> Result<Vec<scenes::Scene>> {
         .collect()
 }
 
-fn parse_overrides(items: &[String], chosen: &[&Entry]) -> Result<BTreeMap<String, Params>> {
+fn parse_overrides(items: &[String], chosen: &[&dyn Method]) -> Result<BTreeMap<String, Params>> {
     let mut out: BTreeMap<String, Params> = BTreeMap::new();
     for item in items {
         let (lhs, value) = item
@@ -121,19 +121,12 @@ fn parse_overrides(items: &[String], chosen: &[&Entry]) -> Result<BTreeMap<Strin
             .ok_or_else(|| anyhow!("--param '{item}': expected METHOD.KNOB=VALUE"))?;
         let entry = methods::find(method)
             .ok_or_else(|| anyhow!("--param '{item}': unknown method '{method}'"))?;
-        if !chosen.iter().any(|e| e.id == entry.id) {
+        if !chosen.iter().any(|e| e.id() == entry.id()) {
             bail!("--param '{item}': method '{method}' is not in --methods");
         }
-        let specs = (entry.make)().params();
-        let spec = specs.iter().find(|s| s.name == knob).ok_or_else(|| {
-            anyhow!(
-                "--param '{item}': '{method}' has no knob '{knob}'; knobs are {}",
-                specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
-            )
-        })?;
-        let v = ParamValue::parse_like(value, &spec.default)
-            .map_err(|e| anyhow!("--param '{item}': {e}"))?;
-        out.entry(entry.id.to_string())
+        // A refused value is a harness::KnobError (names the knob and its range; exit 2).
+        let v = parse_knob(entry, knob, value)?;
+        out.entry(entry.id().to_string())
             .or_default()
             .insert(knob.to_string(), v);
     }
@@ -143,7 +136,10 @@ fn parse_overrides(items: &[String], chosen: &[&Entry]) -> Result<BTreeMap<Strin
 pub fn run(a: RunArgs) -> Result<()> {
     let (width, height) = super::parse_res(&a.res)?;
     if !a.time_budget.is_finite() || a.time_budget < 0.0 {
-        bail!("--time-budget: {} is not a number of seconds ≥ 0", a.time_budget);
+        bail!(
+            "--time-budget: {} is not a number of seconds ≥ 0",
+            a.time_budget
+        );
     }
     let chosen = pick_methods(&a.methods)?;
     let scenes = pick_scenes(&a.scenes)?;
@@ -226,15 +222,14 @@ pub fn methods_json() -> serde_json::Value {
     serde_json::Value::Array(
         methods::REGISTRY
             .iter()
-            .map(|e| {
-                let m = (e.make)();
+            .map(|m| {
                 let info = m.info();
                 let support: BTreeMap<String, serde_json::Value> = scenes::library::names()
                     .into_iter()
                     .filter_map(|n| scenes::library::resolve(n).ok())
                     .map(|s| (s.name.clone(), serde_json::to_value(m.support(&s.features(), wgpu::Features::all())).unwrap_or_default()))
                     .collect();
-                serde_json::json!({"id": info.id, "paper": info.paper, "summary": info.summary, "params": m.params(), "support": support})
+                serde_json::json!({"id": info.id, "paper": info.paper, "summary": info.summary, "params": m.knobs(), "support": support})
             })
             .collect(),
     )
@@ -242,17 +237,17 @@ pub fn methods_json() -> serde_json::Value {
 
 pub fn print_methods() {
     println!("methods:");
-    for e in methods::REGISTRY {
-        let m = (e.make)();
+    for m in methods::REGISTRY {
         let info = m.info();
         println!("  {:<20} {}", info.id, info.summary);
-        for p in m.params() {
+        for p in m.knobs() {
             let sweep: Vec<String> = p.sweep.iter().map(|v| v.to_string()).collect();
             println!(
-                "  {:<20}   {} = {} (sweep: {}) — {}",
+                "  {:<20}   {} = {} ({}; sweep: {}) — {}",
                 "",
                 p.name,
                 p.default,
+                p.range,
                 if sweep.is_empty() {
                     "-".into()
                 } else {

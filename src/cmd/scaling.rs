@@ -247,7 +247,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
     );
     let defaults: Vec<Params> = chosen
         .iter()
-        .map(|e| resolve_params(&(e.make)().params(), &Params::new()).map_err(|m| anyhow!(m)))
+        .map(|e| resolve_params(*e, &Params::new()).map_err(anyhow::Error::from))
         .collect::<Result<_>>()?;
     let mut cfg = RunConfig {
         out_dir: out.clone(),
@@ -299,7 +299,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
             .flat_map(|s| {
                 chosen.iter().zip(&defaults).map(move |(e, p)| WorkItem {
                     scene: s,
-                    entry: e,
+                    entry: *e,
                     params: p.clone(),
                 })
             })
@@ -328,7 +328,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
         let work: Vec<WorkItem> = items(1)
             .into_iter()
             .filter(|w| {
-                let Some(&(m, ms)) = last.get(w.entry.id) else {
+                let Some(&(m, ms)) = last.get(w.entry.id()) else {
                     return true;
                 };
                 let predicted_s = ms * (*n as f64 / m as f64).powi(2) / 1e3;
@@ -336,7 +336,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
                 if !keep {
                     capped.push(format!(
                         "{} at {n}² (~{predicted_s:.0} s/frame)",
-                        w.entry.id
+                        w.entry.id()
                     ));
                 }
                 keep
@@ -354,8 +354,11 @@ pub fn run(a: ScalingArgs) -> Result<()> {
         cfg.resume = true;
         for rec in r.records.iter().filter(|r| r.scene == scene.name) {
             if let (Status::Ok, Some(t)) = (rec.status, &rec.timing) {
-                let e = chosen.iter().find(|e| e.id == rec.method).expect("chosen");
-                last.insert(e.id, (*n, t.wall_ms.median));
+                let e = chosen
+                    .iter()
+                    .find(|e| e.id() == rec.method)
+                    .expect("chosen");
+                last.insert(e.id(), (*n, t.wall_ms.median));
             }
         }
     }

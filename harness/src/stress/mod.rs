@@ -19,7 +19,7 @@ use std::path::PathBuf;
 pub use cases::{BuildContext, CASES, Case, find, names};
 
 use crate::gpu::Gpu;
-use crate::method::{Entry, Params};
+use crate::method::{Method, Params};
 use crate::reference::Settings;
 use crate::results::{
     Machine, Record, Results, RunInfo, SCHEMA_VERSION, STRESS_KIND, Status, git_commit, record_key,
@@ -146,7 +146,7 @@ fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
 /// written or a lost device cannot be reopened.
 pub fn run(
     gpu: &mut Gpu,
-    methods: &[&Entry],
+    methods: &[&dyn Method],
     cfg: &StressConfig,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<Results, String> {
@@ -176,10 +176,10 @@ pub fn run(
         let scene = std::panic::catch_unwind(|| case.scene(&ctx))
             .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))));
         for entry in methods {
-            let method = (entry.make)();
-            let bound = method.stress_bound(case.name);
-            let params = crate::method::resolve_params(&method.params(), &Params::new())?;
-            let key = record_key(case.name, entry.id, &params);
+            let bound = entry.stress_bound(case.name);
+            let params =
+                crate::method::resolve_params(*entry, &Params::new()).map_err(|e| e.to_string())?;
+            let key = record_key(case.name, entry.id(), &params);
             let mut results = Results::load(&path)?;
             if results.records.iter().any(|r| r.key() == key) {
                 on_event(Event::Resumed(&key));
@@ -211,7 +211,7 @@ pub fn run(
                         }
                     };
                     std::panic::catch_unwind(AssertUnwindSafe(|| {
-                        runner::run(g, std::slice::from_ref(scene), &[entry], &rc, &mut inner)
+                        runner::run(g, std::slice::from_ref(scene), &[*entry], &rc, &mut inner)
                     }))
                     .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))))
                     .map_err(|e| format!("no record (reference or harness): {e}"))
@@ -223,7 +223,7 @@ pub fn run(
                     results = Results::load(&path)?;
                     results
                         .records
-                        .push(failed_record(case.name, entry.id, &params, why));
+                        .push(failed_record(case.name, entry.id(), &params, why));
                 }
             }
             if let Some(rec) = results.records.iter_mut().find(|r| r.key() == key) {

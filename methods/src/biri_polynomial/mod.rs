@@ -53,8 +53,11 @@
 //! (`Partial`).
 
 use anyhow::Result;
-use harness::method::PrepareContext;
-use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use harness::method::{PrepareContext, ShaderCheck};
+use harness::{
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
+    Targets,
+};
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::renderer::{SceneRenderer, unsupported};
@@ -90,12 +93,19 @@ pub fn resolve_source() -> String {
     resolve::source(RESOLVE_WGSL)
 }
 
-#[derive(Default)]
-pub struct BiriPolynomial {
-    state: Option<State>,
+/// `mode` in resolve.wgsl, field for field.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ResolveUniform {
+    unorm8: u32,
+    _pad: [u32; 3],
 }
 
-struct State {
+/// The method (a description; [`State`] is the prepared instance).
+pub struct BiriPolynomial;
+
+/// The prepared method.
+pub struct State {
     renderer: SceneRenderer,
     passes: passes::Passes,
     resolve: ResolvePass,
@@ -106,40 +116,16 @@ struct State {
 /// The knobs, parsed and checked.
 fn config(ctx: &PrepareContext) -> Result<passes::Config> {
     let p = ctx.params;
-    let int = |k: &str, d: i64| p.get(k).and_then(ParamValue::as_i64).unwrap_or(d);
-    let text = |k: &str, d: &'static str| {
-        p.get(k)
-            .and_then(ParamValue::as_str)
-            .unwrap_or(d)
-            .to_string()
-    };
-    let order = int("order", 4);
-    if !(2..=poly::MAX_ORDER as i64).contains(&order) {
-        anyhow::bail!("order must be 2…{}, not {order}", poly::MAX_ORDER);
-    }
-    let fit = poly::Fit::parse(&text("fit", "taylor")).map_err(anyhow::Error::msg)?;
-    let eval = match text("eval", "fragment").as_str() {
+    let order: u32 = p.knob("order")?;
+    let fit = poly::Fit::parse(&p.knob::<String>("fit")?).map_err(anyhow::Error::msg)?;
+    let eval = match p.knob::<String>("eval")?.as_str() {
         "vertex" => Eval::Vertex,
-        "fragment" => Eval::Fragment,
-        e => anyhow::bail!("eval must be `vertex` or `fragment`, not `{e}`"),
+        _ => Eval::Fragment,
     };
-    let accumulate = match text("accumulate", "float").as_str() {
-        "float" => Accumulate::Float,
+    let accumulate = match p.knob::<String>("accumulate")?.as_str() {
         "unorm8" => Accumulate::Unorm8,
-        e => anyhow::bail!("accumulate must be `float` or `unorm8`, not `{e}`"),
+        _ => Accumulate::Float,
     };
-    let tessellation = int("tessellation", 3);
-    if !(0..=6).contains(&tessellation) {
-        anyhow::bail!("tessellation must be 0…6 subdivision levels, not {tessellation}");
-    }
-    let plane_segments = int("plane_segments", 16);
-    if !(1..=256).contains(&plane_segments) {
-        anyhow::bail!("plane_segments must be 1…256, not {plane_segments}");
-    }
-    let half_circles = int("half_circles", 32);
-    if !(2..=48).contains(&half_circles) {
-        anyhow::bail!("half_circles must be 2…48, not {half_circles}");
-    }
     let phase = ctx
         .scene
         .medium()
@@ -156,16 +142,13 @@ fn config(ctx: &PrepareContext) -> Result<passes::Config> {
     Ok(passes::Config {
         eval,
         accumulate,
-        tessellation: tessellation as u32,
-        plane_segments: plane_segments as u32,
-        stencil_rules: p
-            .get("stencil_rules")
-            .and_then(ParamValue::as_bool)
-            .unwrap_or(true),
-        order: order as u32,
+        tessellation: p.knob("tessellation")?,
+        plane_segments: p.knob("plane_segments")?,
+        stencil_rules: p.knob("stencil_rules")?,
+        order,
         fit: (fit == poly::Fit::Chebyshev) as u32,
         series,
-        half_circles: half_circles as u32,
+        half_circles: p.knob("half_circles")?,
     })
 }
 
@@ -175,74 +158,43 @@ impl Method for BiriPolynomial {
             id: "biri-polynomial",
             paper: "Biri, Michelin & Arquès, Real-time single scattering with volumetric shadows (software-assisted precursor of Biri et al. 2006)",
             summary: "Angular RTE with a polynomial kernel: constant-time Γ per vertex or fragment, shadow planes front to back with stencil counting",
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
         }
     }
 
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         vec![
-            ParamSpec {
-                name: "order",
-                default: ParamValue::Int(4),
-                sweep: [2, 3, 5, 6, 7, 8].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "polynomial order n of the kernel Λ(θ), 2…8",
-            },
-            ParamSpec {
-                name: "fit",
-                default: ParamValue::Text("taylor".into()),
-                sweep: vec![ParamValue::Text("chebyshev".into())],
-                choices: vec!["taylor", "chebyshev"],
-                meaning: "taylor: the paper's expansion around θ = 0; chebyshev: interpolation over the segment's own θ range",
-            },
-            ParamSpec {
-                name: "eval",
-                default: ParamValue::Text("fragment".into()),
-                sweep: vec![ParamValue::Text("vertex".into())],
-                choices: vec!["fragment", "vertex"],
-                meaning: "where Γ is evaluated: per fragment (modern), or per vertex with Gouraud interpolation (the paper)",
-            },
-            ParamSpec {
-                name: "tessellation",
-                default: ParamValue::Int(3),
-                sweep: [0, 1, 2, 4, 5].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "eval = vertex: midpoint-subdivision levels of every surface (×4 triangles each), 0…6; the far-plane grid has 2^(levels+1) cells per side",
-            },
-            ParamSpec {
-                name: "plane_segments",
-                default: ParamValue::Int(16),
-                sweep: [2, 4, 8, 32, 64].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "eval = vertex: strips per shadow plane, at (i/n)² of its length (finer near the light), 1…256",
-            },
-            ParamSpec {
-                name: "surface_shadows",
-                default: ParamValue::Text("stencil".into()),
-                sweep: vec![],
-                choices: vec!["stencil", "shadow-map"],
-                meaning: "surface shadows: §4.3's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass",
-            },
-            ParamSpec {
-                name: "accumulate",
-                default: ParamValue::Text("float".into()),
-                sweep: vec![ParamValue::Text("unorm8".into())],
-                choices: vec!["float", "unorm8"],
-                meaning: "float: signed Rgba32Float sums; unorm8: the paper's 8-bit frame buffer, clamped after each blend (§5.2's quantization problem)",
-            },
-            ParamSpec {
-                name: "half_circles",
-                default: ParamValue::Int(32),
-                sweep: [4, 8, 16, 48].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "spots (eq. 7): Δ_i tables on N×2N half circles (plane normal: N values of its axis component, 2N azimuths), 128 γ samples each, 2…48",
-            },
-            ParamSpec {
-                name: "stencil_rules",
-                default: ParamValue::Bool(true),
-                sweep: vec![ParamValue::Bool(false)],
-                choices: vec![],
-                meaning: "§4.4: count a plane only where it is lit (stencil 0 entering, 1 leaving); false: every crossing counts (exact for disjoint shadow volumes only)",
-            },
+            Knob::int("order", 4, 2..=poly::MAX_ORDER as i64)
+                .sweep([2, 3, 5, 6, 7, 8])
+                .meaning("polynomial order n of the kernel Λ(θ)"),
+            Knob::choice("fit", "taylor", &["taylor", "chebyshev"])
+                .sweep(["chebyshev"])
+                .meaning("taylor: the paper's expansion around θ = 0; chebyshev: interpolation over the segment's own θ range"),
+            Knob::choice("eval", "fragment", &["fragment", "vertex"])
+                .sweep(["vertex"])
+                .meaning("where Γ is evaluated: per fragment (modern), or per vertex with Gouraud interpolation (the paper)"),
+            // Each level multiplies the triangles by 4: 6 levels is 4096× the scene's.
+            Knob::int("tessellation", 3, 0..=6)
+                .sweep([0, 1, 2, 4, 5])
+                .unit("subdivision levels")
+                .meaning("eval = vertex: midpoint-subdivision levels of every surface (×4 triangles each); the far-plane grid has 2^(levels+1) cells per side"),
+            Knob::int("plane_segments", 16, 1..=256)
+                .sweep([2, 4, 8, 32, 64])
+                .unit("strips")
+                .meaning("eval = vertex: strips per shadow plane, at (i/n)² of its length (finer near the light)"),
+            Knob::choice("surface_shadows", "stencil", &["stencil", "shadow-map"])
+                .meaning("surface shadows: §4.3's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass"),
+            Knob::choice("accumulate", "float", &["float", "unorm8"])
+                .sweep(["unorm8"])
+                .meaning("float: signed Rgba32Float sums; unorm8: the paper's 8-bit frame buffer, clamped after each blend (§5.2's quantization problem)"),
+            // 48 × 96 half circles × 128 γ samples is the largest table the uniforms index.
+            Knob::int("half_circles", 32, 2..=48)
+                .sweep([4, 8, 16, 48])
+                .unit("half circles")
+                .meaning("spots (eq. 7): Δ_i tables on N×2N half circles (plane normal: N values of its axis component, 2N azimuths), 128 γ samples each"),
+            Knob::boolean("stencil_rules", true)
+                .meaning("§4.4: count a plane only where it is lit (stencil 0 entering, 1 leaving); false: every crossing counts (exact for disjoint shadow volumes only)"),
         ]
     }
 
@@ -266,8 +218,44 @@ impl Method for BiriPolynomial {
         Support::Full
     }
 
-    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
-        if let Support::No(why) = self.support(&ctx.scene.features(), ctx.gpu.device.features()) {
+    fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
+        Ok(Box::new(State::new(ctx)?))
+    }
+
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        let orders: Vec<f64> = (2..=poly::MAX_ORDER).map(|n| n as f64).collect();
+        let flags: &[f64] = &[0.0, 1.0];
+        [
+            ShaderCheck::combinations(
+                "biri-polynomial/passes",
+                &passes_source(),
+                &[
+                    ("ORDER", &orders),
+                    ("FIT", flags),
+                    ("ANY_SPOT", flags),
+                    ("ALL_SPOT", flags),
+                ],
+            ),
+            ShaderCheck::combinations("biri-polynomial/resolve", &resolve_source(), &[]),
+        ]
+        .concat()
+    }
+
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.1),
+            ConformanceCase::new("fence-spot", 48, Aov::Inscatter, 0.2).knob("fit", "chebyshev"),
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.2)
+                .knob("eval", "vertex")
+                .knob("tessellation", 2),
+        ]
+    }
+}
+
+impl State {
+    pub fn new(ctx: &PrepareContext) -> Result<State> {
+        let features = ctx.scene.features();
+        if let Support::No(why) = BiriPolynomial.support(&features, ctx.gpu.device.features()) {
             anyhow::bail!(why);
         }
         let cfg = config(ctx)?;
@@ -280,16 +268,7 @@ impl Method for BiriPolynomial {
                 );
             }
         }
-        let stencil_shadows = match ctx
-            .params
-            .get("surface_shadows")
-            .and_then(ParamValue::as_str)
-            .unwrap_or("stencil")
-        {
-            "stencil" => true,
-            "shadow-map" => false,
-            e => anyhow::bail!("surface_shadows must be `stencil` or `shadow-map`, not `{e}`"),
-        };
+        let stencil_shadows = ctx.params.knob::<String>("surface_shadows")? == "stencil";
         let renderer = SceneRenderer::with_shadow_maps(ctx, 1024, 16, !stencil_shadows)?;
         let passes = passes::Passes::new(ctx, &renderer, cfg);
         let surface_shadows = stencil_shadows.then(|| {
@@ -305,24 +284,28 @@ impl Method for BiriPolynomial {
             &renderer,
             "biri-poly resolve",
             RESOLVE_WGSL,
-            Some(16),
+            Some(std::mem::size_of::<ResolveUniform>() as u64),
             1,
         );
-        let mode = [(cfg.accumulate == Accumulate::Unorm8) as u32, 0, 0, 0];
+        let mode = ResolveUniform {
+            unorm8: (cfg.accumulate == Accumulate::Unorm8) as u32,
+            _pad: [0; 3],
+        };
         ctx.gpu.queue.write_buffer(
             resolve.uniform.as_ref().expect("uniform"),
             0,
-            bytemuck::cast_slice(&mode),
+            bytemuck::bytes_of(&mode),
         );
-        self.state = Some(State {
+        Ok(State {
             renderer,
             passes,
             resolve,
             surface_shadows,
-        });
-        Ok(())
+        })
     }
+}
 
+impl Prepared for State {
     fn render(
         &mut self,
         gpu: &Gpu,
@@ -330,10 +313,7 @@ impl Method for BiriPolynomial {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self
-            .state
-            .as_mut()
-            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+        let st = self;
         let mut report = FrameReport::default();
         st.renderer.update(gpu, frame);
         st.passes.update(gpu, frame, &mut report);

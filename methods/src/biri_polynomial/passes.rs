@@ -76,10 +76,13 @@ pub struct Config {
     pub half_circles: u32,
 }
 
+/// `poly` in passes.wgsl, field for field (order and fit are the overrides ORDER and FIT).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct PolyUniform {
-    config: [u32; 4],
+    light: u32,
+    signed_output: u32,
+    _pad: [u32; 2],
     series: [f32; 12],
     spot: [u32; 4],
     spot_f: [f32; 4],
@@ -245,7 +248,9 @@ impl Passes {
             .flat_map(|k| {
                 let (spot, spot_f) = spots.slots.get(k as usize).copied().unwrap_or_default();
                 let u = PolyUniform {
-                    config: [cfg.order, cfg.fit, k, signed],
+                    light: k,
+                    signed_output: signed,
+                    _pad: [0; 2],
                     series: cfg.series,
                     spot,
                     spot_f,

@@ -1,4 +1,4 @@
-// biri-polynomial's passes, one light at a time (poly.config.z), after PRELUDE, FULLSCREEN and
+// biri-polynomial's passes, one light at a time (poly.light), after PRELUDE, FULLSCREEN and
 // kernel.wgsl. Every stage writes Γ(M) of eq. 11 — the medium contribution from the eye O to a
 // point M at distance x along the ray through M, σ_s I e^(−σ_t t)/h ∫_{θ0}^{θM} Λ (eq. 3 + 6), which
 // is 0 at the eye — so that eq. 12's sum of differences is a signed sum of Γ terms:
@@ -7,11 +7,14 @@
 // `_frag` entry points evaluate Γ per fragment (the pixel's own ray); `_vert` ones per vertex,
 // Gouraud-interpolated by the rasteriser (the paper's choice).
 
+// Mirrors `PolyUniform` in passes.rs, field for field.
 struct Poly {
-    // x: order n; y: fit (0 Taylor, 1 Chebyshev); z: light index;
-    // w: 1 when plane fragments output a signed value (float target), 0 when the blend
-    //    operation subtracts (unorm8 target: the output must stay positive)
-    config: vec4<u32>,
+    light: u32,          // the light this pipeline slot handles
+    // 1 when plane fragments output a signed value (float target), 0 when the blend operation
+    // subtracts (unorm8 target: the output must stay positive)
+    signed_output: u32,
+    _pad0: u32,
+    _pad1: u32,
     // Taylor series in θ of p(θ + π/2), coefficients 0…8 (k-independent; from the CPU).
     series: array<vec4<f32>, 3>,
     // spot tables (spot.wgsl): [offset, n_u, n_phi, m] into `delta`
@@ -21,8 +24,7 @@ struct Poly {
 };
 // The order n (≤ 8) and the fit (0 Taylor, 1 Chebyshev), baked (passes.rs): the kernel's loops
 // to n get constant trip counts, so their small arrays stay in registers, and the fit not chosen
-// is not evaluated (lavapipe runs both sides of a branch on a uniform value). The uniform's
-// config.x/y hold the same values.
+// is not evaluated (lavapipe runs both sides of a branch on a uniform value).
 override ORDER: u32 = 4u;
 override FIT: u32 = 0u;
 
@@ -37,7 +39,7 @@ fn biri_phase(c: f32) -> f32 {
 
 // Γ(M) per unit σ_s·I for a point light, M at distance x from the eye along the unit `dir`.
 fn biri_point_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
-    let k = poly.config.z;
+    let k = poly.light;
     let v = lights.lights[k].position.xyz - camera.position.xyz;
     let t = dot(v, dir);
     let h = length(v - t * dir);
@@ -55,7 +57,7 @@ fn biri_point_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
 }
 
 fn biri_light_scale() -> vec3<f32> {
-    return medium.sigma_s.rgb * lights.lights[poly.config.z].intensity.rgb;
+    return medium.sigma_s.rgb * lights.lights[poly.light].intensity.rgb;
 }
 
 // Which of the scene's lights are spots, baked (passes.rs): the light index is a uniform here,
@@ -68,7 +70,7 @@ fn is_spot() -> bool {
     return ALL_SPOT || (ANY_SPOT && poly.spot_f.y > 0.5);
 }
 
-// Γ(M) for light poly.config.z, M at distance x from the eye along the unit direction `dir`.
+// Γ(M) for light poly.light, M at distance x from the eye along the unit direction `dir`.
 fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
     if is_spot() {
         return biri_light_scale() * biri_spot_gamma(dir, x);
@@ -157,7 +159,7 @@ fn vs_plane(@location(0) p: vec3<f32>) -> PlaneFrag {
 }
 
 fn plane_sign(front: bool, g: vec3<f32>) -> vec3<f32> {
-    return select(g, select(-g, g, front), poly.config.w == 1u);
+    return select(g, select(-g, g, front), poly.signed_output == 1u);
 }
 
 // Shadow planes, per fragment: ±Γ at the plane point, on the pixel's own ray.

@@ -160,7 +160,7 @@ struct SpotGeometry {
 };
 
 fn biri_spot_geometry(dir: vec3<f32>) -> SpotGeometry {
-    let k = poly.config.z;
+    let k = poly.light;
     // Field by field: copying a whole `Light` (480 bytes) per call is slow on lavapipe.
     let v = lights.lights[k].position.xyz - camera.position.xyz;
     let t = dot(v, dir);

@@ -31,7 +31,7 @@ fn cs_spot_rays(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let n = ORDER;
-    let k = poly.config.z;
+    let k = poly.light;
     let scale = medium.sigma_s.rgb * lights.lights[k].intensity.rgb / g.h;
     let c = biri_spot_coefficients(g, biri_spot_far_theta(g, dir));
     let cell = biri_spot_cell(g.m);

@@ -61,10 +61,14 @@ pub use gamma::{GammaTable, gamma_direct, gamma_of_w, w_of_gamma};
 
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
-use harness::method::PrepareContext;
-use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use harness::method::{PrepareContext, ShaderCheck};
+use harness::{
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
+    Targets,
+};
 use scenes::{FrameState, SceneFeatures};
 
+use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
@@ -82,18 +86,20 @@ pub fn planes_source() -> String {
     planes::source()
 }
 
+/// `config` in resolve.wgsl, field for field.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct ConfigUniform {
-    flags: [u32; 4],
+    shadowed: u32,
+    eye_lit: u32,
+    _pad: [u32; 2],
 }
 
-#[derive(Default)]
-pub struct BiriShadowVolumes {
-    state: Option<State>,
-}
+/// The method (a description; [`State`] is the prepared instance).
+pub struct BiriShadowVolumes;
 
-struct State {
+/// The prepared method.
+pub struct State {
     renderer: SceneRenderer,
     resolve: ResolvePass,
     planes: planes::Planes,
@@ -117,74 +123,39 @@ impl Method for BiriShadowVolumes {
             id: "biri-shadow-volumes",
             paper: "Biri, Arquès, Michelin, Real time rendering of atmospheric scattering and volumetric shadows, J. WSCG 14, 2006",
             summary: "Precomputed Γ(λ,γ) table: direct single scattering from two lookups per ray (eq. 7)",
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
         }
     }
 
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         vec![
-            ParamSpec {
-                name: "table",
-                default: ParamValue::Int(256),
-                sweep: [32, 64, 128, 512].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "Γ(λ, γ) table size per side (λ rows × γ columns)",
-            },
-            ParamSpec {
-                name: "resolve",
-                default: ParamValue::Text("per-pixel".into()),
-                sweep: vec![ParamValue::Text("stencil".into())],
-                choices: vec!["per-pixel", "stencil"],
-                meaning: "per-pixel: crossing lists sorted and walked on the GPU (exact shadow in shadow); stencil: the paper's steps 4-5 (CPU-sorted planes, stencil counting)",
-            },
-            ParamSpec {
-                name: "stencil_rules",
-                default: ParamValue::Bool(true),
-                sweep: vec![ParamValue::Bool(false)],
-                choices: vec![],
-                meaning: "resolve=stencil: step 5's stencil rules (draw only the lit/shadow boundaries, in the CPU order); false: every crossing counts (exact without overlapping volumes)",
-            },
-            ParamSpec {
-                name: "accumulate",
-                default: ParamValue::Text("float".into()),
-                sweep: vec![ParamValue::Text("unorm8".into())],
-                choices: vec!["float", "unorm8"],
-                meaning: "resolve=stencil: crossing accumulation target; unorm8 is the paper's 8-bit target with reverse-subtract blending (clamps and quantises)",
-            },
-            ParamSpec {
-                name: "crossings",
-                default: ParamValue::Int(16),
-                sweep: vec![ParamValue::Int(8), ParamValue::Int(32)],
-                choices: vec![],
-                meaning: "resolve=per-pixel: crossing-list capacity per pixel (4 bytes each; overflow counted in crossing_overflows)",
-            },
-            ParamSpec {
-                name: "indirect",
-                default: ParamValue::Bool(true),
-                sweep: vec![ParamValue::Bool(false)],
-                choices: vec![],
-                meaning: "scenes with indirect_single_scattering: add §III.C's term (Γ_L, Γ_P tables, the Fig. 8 pass); false skips it",
-            },
-            ParamSpec {
-                name: "indirect_table",
-                default: ParamValue::Int(64),
-                sweep: [16, 32, 128].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "Γ_L(λ, φ_n) and Γ_P(λ, ψ_s) table size per side",
-            },
-            ParamSpec {
-                name: "surface_shadows",
-                default: ParamValue::Text("stencil".into()),
-                sweep: vec![],
-                choices: vec!["stencil".into(), "shadow-map".into()],
-                meaning: "surface shadows: the paper's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass",
-            },
-            ParamSpec {
-                name: "shadow_map",
-                default: ParamValue::Int(1024),
-                sweep: vec![],
-                choices: vec![],
-                meaning: "shadow-map resolution per face, texels (surface_shadows = shadow-map only)",
-            },
+            Knob::int("table", 256, 4..=4096)
+                .sweep([32, 64, 128, 512])
+                .unit("samples per side")
+                .meaning("Γ(λ, γ) table size per side (λ rows × γ columns)"),
+            Knob::choice("resolve", "per-pixel", &["per-pixel", "stencil"])
+                .sweep(["stencil"])
+                .meaning("per-pixel: crossing lists sorted and walked on the GPU (exact shadow in shadow); stencil: the paper's steps 4-5 (CPU-sorted planes, stencil counting)"),
+            Knob::boolean("stencil_rules", true)
+                .meaning("resolve=stencil: step 5's stencil rules (draw only the lit/shadow boundaries, in the CPU order); false: every crossing counts (exact without overlapping volumes)"),
+            Knob::choice("accumulate", "float", &["float", "unorm8"])
+                .sweep(["unorm8"])
+                .meaning("resolve=stencil: crossing accumulation target; unorm8 is the paper's 8-bit target with reverse-subtract blending (clamps and quantises; needs resolve=stencil)"),
+            Knob::int("crossings", 16, 1..=256)
+                .sweep([8, 32])
+                .unit("crossings per pixel")
+                .meaning("resolve=per-pixel: crossing-list capacity per pixel (4 bytes each; overflow counted in crossing_overflows)"),
+            Knob::boolean("indirect", true)
+                .meaning("scenes with indirect_single_scattering: add §III.C's term (Γ_L, Γ_P tables, the Fig. 8 pass); false skips it"),
+            Knob::int("indirect_table", 64, 4..=1024)
+                .sweep([16, 32, 128])
+                .unit("samples per side")
+                .meaning("Γ_L(λ, φ_n) and Γ_P(λ, ψ_s) table size per side"),
+            Knob::choice("surface_shadows", "stencil", &["stencil", "shadow-map"])
+                .meaning("surface shadows: the paper's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass"),
+            knobs::shadow_map(1024)
+                .meaning("shadow-map resolution per face (surface_shadows = shadow-map only)"),
         ]
     }
 
@@ -196,33 +167,51 @@ impl Method for BiriShadowVolumes {
             return Support::No("Biri et al.'s Γ table assumes isotropic point lights; spot and directional lights are not implemented".into());
         }
         if scene.indirect_single_scattering && !indirect::device_can(device) {
-            return Support::Partial(vec!["indirect_single_scattering (needs FLOAT32_BLENDABLE)".into()]);
+            return Support::Partial(vec![
+                "indirect_single_scattering (needs FLOAT32_BLENDABLE)".into(),
+            ]);
         }
         Support::Full
     }
 
-    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
-        let get = |k: &str| ctx.params.get(k).and_then(ParamValue::as_i64).unwrap_or(0);
-        let res = get("table").clamp(4, 4096) as u32;
+    fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
+        Ok(Box::new(State::new(ctx)?))
+    }
+
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        [
+            ShaderCheck::combinations("biri-shadow-volumes/ldss", &resolve_source(), &[]),
+            ShaderCheck::combinations("biri-shadow-volumes/planes", &planes_source(), &[]),
+            ShaderCheck::combinations("biri-shadow-volumes/indirect", &indirect::source(), &[]),
+        ]
+        .concat()
+    }
+
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.1),
+            ConformanceCase::new("overlap-point", 48, Aov::Inscatter, 0.2)
+                .knob("resolve", "stencil"),
+            ConformanceCase::new("indirect-point", 48, Aov::Total, 0.2),
+        ]
+    }
+}
+
+impl State {
+    pub fn new(ctx: &PrepareContext) -> Result<State> {
+        let p = ctx.params;
+        let res: u32 = p.knob("table")?;
         let features = ctx.scene.features();
-        if let Support::No(why) = self.support(&features, ctx.gpu.device.features()) {
+        if let Support::No(why) = BiriShadowVolumes.support(&features, ctx.gpu.device.features()) {
             anyhow::bail!(why);
         }
         let table = GammaTable::build(&ctx.scene.medium().background().phase, res, res);
         let texture = upload(ctx.gpu, &table);
         let table_view = texture.create_view(&Default::default());
-        let text = |k: &str| ctx.params.get(k).and_then(ParamValue::as_str).unwrap_or("");
-        let stencil_shadows = match text("surface_shadows") {
-            "stencil" => true,
-            "shadow-map" => false,
-            other => anyhow::bail!("surface_shadows = {other:?}: expected stencil or shadow-map"),
-        };
-        let renderer = SceneRenderer::with_shadow_maps(
-            ctx,
-            get("shadow_map").clamp(16, 8192) as u32,
-            16,
-            !stencil_shadows,
-        )?;
+        let stencil_shadows = p.knob::<String>("surface_shadows")? == "stencil";
+        // No spot lights (support): the pattern texture is never sampled.
+        let renderer =
+            SceneRenderer::with_shadow_maps(ctx, p.knob("shadow_map")?, 16, !stencil_shadows)?;
         let surface_shadows = stencil_shadows.then(|| {
             StencilSurfaceShadows::new(ctx.gpu, &renderer, planes::DEPTH, features.lights)
         });
@@ -234,41 +223,29 @@ impl Method for BiriShadowVolumes {
             Some(std::mem::size_of::<ConfigUniform>() as u64),
             2,
         );
-        let mode = match text("resolve") {
+        let mode = match p.knob::<String>("resolve")?.as_str() {
             "stencil" => planes::Resolve::Stencil,
-            "per-pixel" => planes::Resolve::PerPixel,
-            other => anyhow::bail!("resolve = {other:?}: expected per-pixel or stencil"),
+            _ => planes::Resolve::PerPixel,
         };
-        let unorm8 = match text("accumulate") {
-            "float" => false,
-            "unorm8" => true,
-            other => anyhow::bail!("accumulate = {other:?}: expected float or unorm8"),
-        };
+        let unorm8 = p.knob::<String>("accumulate")? == "unorm8";
         if unorm8 && mode != planes::Resolve::Stencil {
             anyhow::bail!(
                 "accumulate = unorm8 is the paper's blended stencil target: it needs resolve = stencil"
             );
         }
-        let crossings = get("crossings");
-        if !(1..=256).contains(&crossings) {
-            anyhow::bail!("crossings = {crossings}: expected 1 to 256");
-        }
         let options = planes::Options {
             resolve: mode,
-            rules: ctx
-                .params
-                .get("stencil_rules")
-                .and_then(ParamValue::as_bool)
-                .unwrap_or(true),
+            rules: p.knob("stencil_rules")?,
             unorm8,
-            crossings: crossings as u32,
+            crossings: p.knob("crossings")?,
         };
         let planes = planes::Planes::new(ctx, &renderer, options);
-        let want_iss = ctx.params.get("indirect").and_then(ParamValue::as_bool) != Some(false);
+        let want_iss: bool = p.knob("indirect")?;
+        let iss_res: u32 = p.knob("indirect_table")?;
         let indirect = (features.indirect_single_scattering && want_iss)
-            .then(|| indirect::IndirectPass::new(ctx, &renderer, get("indirect_table").clamp(4, 1024) as u32))
+            .then(|| indirect::IndirectPass::new(ctx, &renderer, iss_res))
             .transpose()?;
-        self.state = Some(State {
+        Ok(State {
             renderer,
             resolve,
             planes,
@@ -277,10 +254,11 @@ impl Method for BiriShadowVolumes {
             _table: texture,
             table_view,
             timer: harness::gpu::PhaseTimer::new(ctx.gpu, 5 + 3 * features.lights as u32),
-        });
-        Ok(())
+        })
     }
+}
 
+impl Prepared for State {
     fn render(
         &mut self,
         gpu: &Gpu,
@@ -288,10 +266,7 @@ impl Method for BiriShadowVolumes {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self
-            .state
-            .as_mut()
-            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+        let st = self;
         let mut report = FrameReport::default();
         st.renderer.update(gpu, frame);
         let shadowed = st.renderer.scene.features().volumetric_occluders;
@@ -306,7 +281,9 @@ impl Method for BiriShadowVolumes {
                 u,
                 0,
                 bytemuck::bytes_of(&ConfigUniform {
-                    flags: [shadowed as u32, eye_lit, 0, 0],
+                    shadowed: shadowed as u32,
+                    eye_lit,
+                    _pad: [0; 2],
                 }),
             );
         }
@@ -370,6 +347,6 @@ impl Method for BiriShadowVolumes {
     }
 
     fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
-        self.state.as_ref()?.timer.as_ref()
+        self.timer.as_ref()
     }
 }

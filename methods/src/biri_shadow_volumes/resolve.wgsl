@@ -1,13 +1,16 @@
 // Step 3 of Biri et al. (lit surface fragments and the far plane): per pixel, L_dss from the
 // eye to the visible surface for every point light (eq. 7), plus the surface AOV and ambient.
-// With shadow planes (config.flags.x = 1) the signed sum of the lit surface and plane terms is
+// With shadow planes (config.shadowed = 1) the signed sum of the lit surface and plane terms is
 // read from binding 4 and the eye's term −C Γ(w(0)) is added for the lights whose eye is lit
-// (bit k of config.flags.y).
+// (bit k of config.eye_lit).
 // Needs PRELUDE, FULLSCREEN and ldss.wgsl.
 
+// Mirrors `ConfigUniform` in mod.rs, field for field.
 struct Config {
-    // x: 1 when binding 4 holds the accumulated crossing terms; y: bit k set when light k sees the eye
-    flags: vec4<u32>,
+    shadowed: u32,  // 1 when binding 4 holds the accumulated crossing terms
+    eye_lit: u32,   // bit k set when light k sees the eye
+    _pad0: u32,
+    _pad1: u32,
 };
 @group(1) @binding(2) var<uniform> config: Config;
 @group(1) @binding(3) var gamma_table: texture_2d<f32>;
@@ -21,13 +24,13 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     var l_in = vec3<f32>(0.0);
     for (var k = 0u; k < lights.count.x; k++) {
         if (light_kind(k) != LIGHT_POINT) { continue; }
-        if (config.flags.x == 0u) {
+        if (config.shadowed == 0u) {
             l_in += ldss(gamma_table, k, dir, d);
-        } else if ((config.flags.y & (1u << k)) != 0u) {
+        } else if ((config.eye_lit & (1u << k)) != 0u) {
             l_in -= ldss_term(gamma_table, k, dir, 0.0);
         }
     }
-    if (config.flags.x != 0u) {
+    if (config.shadowed != 0u) {
         l_in = max(l_in + textureLoad(crossings, px, 0).rgb, vec3<f32>(0.0));
     }
     let surf = textureLoad(surface, px, 0).rgb;

@@ -3,6 +3,7 @@
 
 pub mod counters;
 pub mod gpu_scene;
+pub mod knobs;
 pub mod layouts;
 pub mod patterns;
 pub mod renderer;

@@ -14,8 +14,8 @@ use scenes::{FrameState, Scene};
 use super::gpu_scene::{GpuScene, mesh_pipeline};
 use super::patterns::PatternTextures;
 use super::shadow_maps::ShadowMaps;
-use super::uniforms::{CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform};
 use super::specialize::Specialization;
+use super::uniforms::{CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform};
 use super::wgsl;
 
 pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -58,6 +58,30 @@ pub fn unsupported(features: &scenes::SceneFeatures) -> Option<String> {
         );
     }
     renderer_limits(features)
+}
+
+/// The support answer of a homogeneous-medium method built on the shared renderer: refused where
+/// [`unsupported`] says so, or (with `needs_blend = Some(why)`) on a device that cannot blend
+/// Rgba32Float targets; partial on scenes with indirect single scattering, which these methods
+/// ignore; full otherwise.
+pub fn homogeneous_support(
+    scene: &scenes::SceneFeatures,
+    device: wgpu::Features,
+    needs_blend: Option<&str>,
+) -> harness::Support {
+    use harness::Support;
+    if let Some(why) = unsupported(scene) {
+        return Support::No(why);
+    }
+    if let Some(why) = needs_blend
+        && !device.contains(wgpu::Features::FLOAT32_BLENDABLE)
+    {
+        return Support::No(why.into());
+    }
+    if scene.indirect_single_scattering {
+        return Support::Partial(vec!["indirect_single_scattering".into()]);
+    }
+    Support::Full
 }
 
 /// What the shared renderer itself cannot handle (any medium): more lights than the uniforms hold.
@@ -271,6 +295,22 @@ impl SceneRenderer {
         }
         gpu.queue
             .write_buffer(&self.lights, 0, bytemuck::bytes_of(&lu));
+    }
+
+    /// How every rasterising method's frame starts: this frame's uniforms, then the shadow-map
+    /// and surface passes. Returns the frame's report so far.
+    pub fn begin_frame(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        enc: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+    ) -> FrameReport {
+        let mut report = FrameReport::default();
+        self.update(gpu, frame);
+        self.encode_shadows(enc, &mut report);
+        self.encode_surface(enc, targets, &mut report);
+        report
     }
 
     /// The shadow-map passes, or their skip record.

@@ -1,6 +1,6 @@
 //! Shared WGSL modules and their composition. A shader is the concatenation of the shared
 //! modules it names (in dependency order) and its own source; every composed module is
-//! validated by naga in a GPU-less test (`tests/shaders.rs`).
+//! validated by naga in a GPU-less test (`Method::shaders`, `tests/conformance.rs`).
 
 pub const CAMERA: &str = include_str!("wgsl/camera.wgsl");
 pub const MEDIUM: &str = include_str!("wgsl/medium.wgsl");

@@ -2,14 +2,20 @@
 // factor ξ is evaluated on the planes' lattice (or per fragment), the light map I(θ, φ) and the
 // visibility H per fragment. Shared by the plane, resolve and probe passes. Needs PRELUDE.
 
+// Mirrors `PlanesUniform` in passes.rs, field for field.
 struct Planes {
-    // x: planes n; y: lattice points per row (nu); z: per column (nv);
-    // w: flags (FLAG_JITTER | FLAG_CLIP_LAST)
-    config: vec4<u32>,
-    // x: frame index (jitter seed); yzw: unused
-    frame: vec4<u32>,
-    // x: accumulation scale s (the target holds s·L_in; 1 for float targets); yzw: unused
-    scale: vec4<f32>,
+    count: u32,     // the `planes` knob: virtual planes n, 1 … 4096
+    nu: u32,        // the `lattice` knob: lattice points per row, 2 … 1024
+    nv: u32,        // lattice points per column
+    flags: u32,     // FLAG_JITTER | FLAG_CLIP_LAST
+    frame: u32,     // frame index (jitter seed)
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    scale: f32,     // accumulation scale s (the target holds s·L_in; 1 for float targets)
+    _pad3: f32,
+    _pad4: f32,
+    _pad5: f32,
 };
 
 const FLAG_JITTER: u32 = 1u;

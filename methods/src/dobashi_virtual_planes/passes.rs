@@ -14,7 +14,7 @@ pub const FAR_WGSL: &str = include_str!("far.wgsl");
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
 pub const PROBE_WGSL: &str = include_str!("probe.wgsl");
 
-/// Composed sources, by pass (also validated by naga via `crate::shader_sources`).
+/// Composed sources, by pass (also validated by naga via `Method::shaders`).
 pub fn planes_source() -> String {
     wgsl::compose(&[wgsl::PRELUDE, &[DOBASHI_WGSL]].concat(), PLANES_WGSL)
 }
@@ -36,9 +36,14 @@ pub fn probe_source() -> String {
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PlanesUniform {
-    pub config: [u32; 4],
-    pub frame: [u32; 4],
-    pub scale: [f32; 4],
+    pub count: u32,
+    pub nu: u32,
+    pub nv: u32,
+    pub flags: u32,
+    pub frame: u32,
+    pub _pad0: [u32; 3],
+    pub scale: f32,
+    pub _pad1: [f32; 3],
 }
 
 pub const FLAG_JITTER: u32 = 1;

@@ -38,8 +38,8 @@ struct VsOut {
 
 @vertex
 fn vs(@builtin(vertex_index) v: u32, @builtin(instance_index) k: u32) -> VsOut {
-    let nu = max(planes.config.y, 2u);
-    let nv = max(planes.config.z, 2u);
+    let nu = planes.nu;
+    let nv = planes.nv;
     let ndc = vec2<f32>(
         -1.0 + 2.0 * f32(v % nu) / f32(nu - 1u),
         -1.0 + 2.0 * f32(v / nu) / f32(nv - 1u),
@@ -47,7 +47,7 @@ fn vs(@builtin(vertex_index) v: u32, @builtin(instance_index) k: u32) -> VsOut {
     let p = camera.world_from_clip * vec4<f32>(ndc, 1.0, 1.0);
     let dir = normalize(p.xyz / p.w - camera.position.xyz);
     let cos_v = dot(dir, camera.forward.xyz);
-    let z = (f32(k) + 0.5) * far_extent() / f32(max(planes.config.x, 1u));
+    let z = (f32(k) + 0.5) * far_extent() / f32(planes.count);
     let t = z / cos_v;
     var o: VsOut;
     // The plane is drawn inside the depth range (its depth decides only coverage: every plane
@@ -73,19 +73,19 @@ fn vs(@builtin(vertex_index) v: u32, @builtin(instance_index) k: u32) -> VsOut {
 
 @fragment
 fn fs(in: VsOut) -> @location(0) vec4<f32> {
-    let flags = planes.config.w;
+    let flags = planes.flags;
     let px = vec2<i32>(in.clip.xy);
     let dir = camera_ray_dir(camera, in.clip.xy);
     let cos_v = dot(dir, camera.forward.xyz);
     let z_surf = camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r) * cos_v;
-    let dz = far_extent() / f32(max(planes.config.x, 1u));
+    let dz = far_extent() / f32(planes.count);
     // This plane's slab of view depth, [z_lo, z_lo + Δz]; with FLAG_CLIP_LAST the slab the surface
     // cuts is shortened to end there (otherwise the paper's rule: a plane behind the surface is
     // rejected, the piece before the surface is lost).
     let z_lo = f32(in.plane) * dz;
     let z_end = select(z_lo + dz, min(z_lo + dz, z_surf), (flags & FLAG_CLIP_LAST) != 0u);
     if (z_end <= z_lo) { discard; }
-    let u = select(0.5, jitter_offset(in.clip.xy, planes.frame.x), (flags & FLAG_JITTER) != 0u);
+    let u = select(0.5, jitter_offset(in.clip.xy, planes.frame), (flags & FLAG_JITTER) != 0u);
     let z = z_lo + u * (z_end - z_lo);
     if (z >= z_surf) { discard; }
     let t = z / cos_v;
@@ -111,5 +111,5 @@ fn fs(in: VsOut) -> @location(0) vec4<f32> {
     }
     // Δs: the ray length between the slab's bounds for this pixel, Δz / cos(angle to the view axis).
     let ds = (z_end - z_lo) / cos_v;
-    return vec4<f32>(sum * ds * planes.scale.x, 0.0);
+    return vec4<f32>(sum * ds * planes.scale, 0.0);
 }

@@ -6,18 +6,50 @@
 //! its `surface` AOV is directly comparable; its `inscatter` AOV is zero by construction.
 
 use anyhow::Result;
-use harness::method::PrepareContext;
-use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use harness::method::{PrepareContext, ShaderCheck};
+use harness::{
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
+    Targets,
+};
 use scenes::{FrameState, SceneFeatures};
 
+use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
-use crate::common::resolve::ResolvePass;
+use crate::common::resolve::{self, ResolvePass};
 
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
 
-#[derive(Default)]
-pub struct NoScatter {
-    state: Option<(SceneRenderer, ResolvePass)>,
+/// The method (a description; [`State`] is the prepared instance).
+pub struct NoScatter;
+
+/// The prepared method: the shared renderer and the fog resolve.
+pub struct State {
+    renderer: SceneRenderer,
+    resolve: ResolvePass,
+}
+
+impl State {
+    pub fn new(ctx: &PrepareContext) -> Result<State> {
+        // No spot pattern reaches the image without in-scattering: the smallest useful texture.
+        let renderer = SceneRenderer::new(ctx, ctx.params.knob("shadow_map")?, 256)?;
+        let resolve = ResolvePass::new(ctx.gpu, &renderer, "fog resolve", RESOLVE_WGSL, None);
+        Ok(State { renderer, resolve })
+    }
+}
+
+impl Prepared for State {
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let mut report = self.renderer.begin_frame(gpu, frame, enc, targets);
+        self.resolve.encode(gpu, enc, &self.renderer, targets);
+        report.ran("fog-resolve");
+        Ok(report)
+    }
 }
 
 impl Method for NoScatter {
@@ -26,17 +58,13 @@ impl Method for NoScatter {
             id: "no-scatter",
             paper: "baseline (fixed-function fog: attenuation only)",
             summary: "Attenuated surfaces, no in-scattering",
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
         }
     }
 
-    fn params(&self) -> Vec<ParamSpec> {
-        vec![ParamSpec {
-            name: "shadow_map",
-            default: ParamValue::Int(1024),
-            sweep: vec![],
-            choices: vec![],
-            meaning: "shadow-map resolution per face for surface shadows, texels",
-        }]
+    fn knobs(&self) -> Vec<Knob> {
+        vec![knobs::shadow_map(1024).meaning("shadow-map resolution per face for surface shadows")]
     }
 
     fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {
@@ -46,36 +74,16 @@ impl Method for NoScatter {
         }
     }
 
-    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
-        let size = ctx
-            .params
-            .get("shadow_map")
-            .and_then(ParamValue::as_i64)
-            .unwrap_or(1024)
-            .clamp(16, 8192) as u32;
-        let renderer = SceneRenderer::new(ctx, size, 256)?;
-        let resolve = ResolvePass::new(ctx.gpu, &renderer, "fog resolve", RESOLVE_WGSL, None);
-        self.state = Some((renderer, resolve));
-        Ok(())
+    fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
+        Ok(Box::new(State::new(ctx)?))
     }
 
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        enc: &mut wgpu::CommandEncoder,
-    ) -> Result<FrameReport> {
-        let (renderer, resolve) = self
-            .state
-            .as_mut()
-            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
-        let mut report = FrameReport::default();
-        renderer.update(gpu, frame);
-        renderer.encode_shadows(enc, &mut report);
-        renderer.encode_surface(enc, targets, &mut report);
-        resolve.encode(gpu, enc, renderer, targets);
-        report.ran("fog-resolve");
-        Ok(report)
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        ShaderCheck::combinations("no-scatter/resolve", &resolve::source(RESOLVE_WGSL), &[])
+    }
+
+    /// The surface AOV only: the in-scatter AOV is zero by construction.
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![ConformanceCase::new("sphere-point", 48, Aov::Surface, 0.1)]
     }
 }

@@ -2,9 +2,12 @@
 // surface (or the far plane), shadow-map visibility and the exact integrand at each step.
 // Needs PRELUDE and FULLSCREEN.
 
+// Mirrors MarchUniform in mod.rs (field for field).
 struct March {
-    // x: steps; y: jitter (0/1); z: frame index; w: unused
-    config: vec4<u32>,
+    steps: u32,   // the `steps` knob, 1 … 65536
+    jitter: u32,  // the `jitter` knob (0/1)
+    frame: u32,   // frame index (decorrelates the jitter)
+    _pad: u32,
 };
 @group(1) @binding(2) var<uniform> march: March;
 
@@ -44,9 +47,9 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
     let d = pixel_ray_length(px, dir);
-    let n = max(march.config.x, 1u);
+    let n = march.steps;
     let dt = d / f32(n);
-    let offset = select(0.5, hash01(vec2<u32>(px), march.config.z), march.config.y != 0u);
+    let offset = select(0.5, hash01(vec2<u32>(px), march.frame), march.jitter != 0u);
     var l_in = vec3<f32>(0.0);
     for (var k = 0u; k < n; k++) {
         l_in += inscatter_at(dir, (f32(k) + offset) * dt);

@@ -71,10 +71,14 @@ pub mod passes;
 
 use anyhow::{Result, bail};
 use glam::Vec3;
-use harness::method::PrepareContext;
-use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use harness::method::{PrepareContext, ShaderCheck};
+use harness::{
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
+    Targets,
+};
 use scenes::{FrameState, LightState, SceneFeatures};
 
+use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, renderer_limits};
 use blocks::{BlockSet, Instancing, Prim};
 use passes::{Passes, PbUniform, Sizes};
@@ -84,18 +88,14 @@ const ATLAS_MAX: u32 = 2048;
 /// Steps of the background medium's march in the resolve pass (only if it scatters).
 const BACKGROUND_STEPS: f32 = 32.0;
 
-#[derive(Default)]
-pub struct UmenhofferParticleBlocks {
-    state: Option<State>,
-}
+/// The method (a description; [`State`] is the prepared instance of both ids).
+pub struct UmenhofferParticleBlocks;
 
 /// The unblocked baseline: every particle its own analytic billboard.
-#[derive(Default)]
-pub struct ParticleSplat {
-    state: Option<State>,
-}
+pub struct ParticleSplat;
 
-struct State {
+/// The prepared method (either id).
+pub struct State {
     renderer: SceneRenderer,
     passes: Passes,
     set: BlockSet,
@@ -109,59 +109,54 @@ struct State {
     timer: Option<harness::gpu::PhaseTimer>,
 }
 
-fn knob_i(ctx: &PrepareContext, k: &str, default: i64) -> i64 {
-    ctx.params
-        .get(k)
-        .and_then(ParamValue::as_i64)
-        .unwrap_or(default)
-}
-
-fn knob_b(ctx: &PrepareContext, k: &str, default: bool) -> bool {
-    ctx.params
-        .get(k)
-        .and_then(ParamValue::as_bool)
-        .unwrap_or(default)
-}
-
 /// Knobs shared by both ids.
-fn shared_params() -> Vec<ParamSpec> {
+fn shared_knobs() -> Vec<Knob> {
     vec![
-        ParamSpec {
-            name: "slices",
-            default: ParamValue::Int(4),
-            sweep: vec![ParamValue::Int(8)],
-            choices: vec![],
-            meaning: "light-pass depth slices stored in RGBA channels (4 or 8)",
-        },
-        ParamSpec {
-            name: "clip_fix",
-            default: ParamValue::Bool(true),
-            sweep: vec![ParamValue::Bool(false)],
-            choices: vec![],
-            meaning: "objects in the cloud: depth-interval opacity scaling (§2.4); false = plain billboard clipping",
-        },
-        ParamSpec {
-            name: "forward_scattering",
-            default: ParamValue::Bool(false),
-            sweep: vec![],
-            choices: vec![],
-            meaning: "the paper's multiple forward-scattering approximation (cone-averaged slice lookups); the reference is single scattering",
-        },
-        ParamSpec {
-            name: "light_res",
-            default: ParamValue::Int(256),
-            sweep: vec![],
-            choices: vec![],
-            meaning: "light-map (slice texture) resolution, texels",
-        },
-        ParamSpec {
-            name: "shadow_map",
-            default: ParamValue::Int(1024),
-            sweep: vec![],
-            choices: vec![],
-            meaning: "resolution of the objects' shadow maps (objects shadowing the cloud), texels",
-        },
+        // The slices are the RGBA channels of one or two render targets.
+        Knob::int_of("slices", 4, &[4, 8])
+            .sweep([8])
+            .unit("slices")
+            .meaning("light-pass depth slices stored in RGBA channels"),
+        Knob::boolean("clip_fix", true)
+            .meaning("objects in the cloud: depth-interval opacity scaling (§2.4); false = plain billboard clipping"),
+        Knob::boolean("forward_scattering", false)
+            .sweep(Vec::<bool>::new())
+            .meaning("the paper's multiple forward-scattering approximation (cone-averaged slice lookups); the reference is single scattering"),
+        Knob::int("light_res", 256, 8..=4096)
+            .unit("texels")
+            .meaning("light-map (slice texture) resolution per side"),
+        knobs::shadow_map(1024)
+            .meaning("resolution of the objects' shadow maps (objects shadowing the cloud)"),
     ]
+}
+
+/// Every composed WGSL module of both ids, for each value of the overrides their knobs set.
+fn shaders(id: &str) -> Vec<ShaderCheck> {
+    let flags: &[f64] = &[0.0, 1.0];
+    let axes = [
+        ("BLOCKS", flags),
+        ("FORWARD_SCATTERING", flags),
+        ("EIGHT_SLICES", flags),
+    ];
+    let mut out = Vec::new();
+    for (name, wgsl) in [
+        ("impostor", passes::IMPOSTOR_WGSL),
+        ("light", passes::LIGHT_WGSL),
+        ("gather", passes::GATHER_WGSL),
+        ("resolve", passes::RESOLVE_WGSL),
+    ] {
+        out.extend(ShaderCheck::combinations(
+            &format!("{id}/{name}"),
+            &passes::source(wgsl),
+            &axes,
+        ));
+    }
+    out.extend(ShaderCheck::combinations(
+        &format!("{id}/total"),
+        &crate::common::wgsl::compose(&[crate::common::wgsl::FULLSCREEN], passes::TOTAL_WGSL),
+        &[],
+    ));
+    out
 }
 
 fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
@@ -188,81 +183,77 @@ fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
     Support::Full
 }
 
-fn prepare_state(
-    ctx: &PrepareContext,
-    blocked_mode: Option<(usize, Instancing, u32)>,
-) -> Result<State> {
-    let medium = ctx.scene.medium();
-    let Some(particles) = medium.particles() else {
-        bail!("scene '{}' has no particle medium", ctx.scene.name);
-    };
-    if ctx.scene.desc.lights.len() > 1 {
-        bail!(
-            "one light at most (the scene has {})",
-            ctx.scene.desc.lights.len()
+impl State {
+    /// `blocked_mode`: (blocks, instancing, impostor resolution), or None for particle-splat.
+    pub fn new(
+        ctx: &PrepareContext,
+        blocked_mode: Option<(usize, Instancing, u32)>,
+    ) -> Result<State> {
+        let medium = ctx.scene.medium();
+        let Some(particles) = medium.particles() else {
+            bail!("scene '{}' has no particle medium", ctx.scene.name);
+        };
+        if ctx.scene.desc.lights.len() > 1 {
+            bail!(
+                "one light at most (the scene has {})",
+                ctx.scene.desc.lights.len()
+            );
+        }
+        let p = ctx.params;
+        let slices: u32 = p.knob("slices")?;
+        let light_res: u32 = p.knob("light_res")?;
+        let forward_scattering: bool = p.knob("forward_scattering")?;
+        let ps = &particles.particles;
+        let (set, tile_res_knob) = match blocked_mode {
+            None => (blocks::unblocked(ps), 1),
+            Some((b, mode, res)) => (blocks::blocked(ps, b, mode), res),
+        };
+        let tiles = set.tiles.len() as u32;
+        let cols = (tiles as f64).sqrt().ceil().max(1.0) as u32;
+        let tile_res = if tiles == 0 {
+            1
+        } else {
+            tile_res_knob.min(ATLAS_MAX / cols).max(4)
+        };
+        // The particle methods sample no spot pattern: a small texture.
+        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, 64)?;
+        let passes = Passes::new(
+            ctx.gpu,
+            &renderer,
+            Sizes {
+                prims: set.prims.len(),
+                imp: set.imp.len(),
+                tiles: set.tiles.len(),
+                atlas: cols * tile_res,
+                cols,
+                tile_res,
+                light_res,
+                slices,
+            },
+            passes::Modes {
+                blocks: blocked_mode.is_some(),
+                forward_scattering,
+            },
         );
+        if !set.imp.is_empty() {
+            ctx.gpu
+                .queue
+                .write_buffer(&passes.imp, 0, bytemuck::cast_slice(&set.imp));
+        }
+        let bg = particles.background;
+        Ok(State {
+            renderer,
+            passes,
+            blocked: blocked_mode.is_some(),
+            set,
+            clip_fix: p.knob("clip_fix")?,
+            forward_scattering,
+            slices,
+            sky: particles.sky,
+            background_scatters: bg.sigma_s.max_element() > 0.0,
+            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
+        })
     }
-    let slices = knob_i(ctx, "slices", 4);
-    if slices != 4 && slices != 8 {
-        bail!("slices must be 4 or 8 (got {slices})");
-    }
-    let light_res = knob_i(ctx, "light_res", 256);
-    if !(8..=4096).contains(&light_res) {
-        bail!("light_res must be in 8..=4096 (got {light_res})");
-    }
-    let ps = &particles.particles;
-    let (set, tile_res_knob) = match blocked_mode {
-        None => (blocks::unblocked(ps), 1),
-        Some((b, mode, res)) => (blocks::blocked(ps, b, mode), res),
-    };
-    let tiles = set.tiles.len() as u32;
-    let cols = (tiles as f64).sqrt().ceil().max(1.0) as u32;
-    let tile_res = if tiles == 0 {
-        1
-    } else {
-        tile_res_knob.min(ATLAS_MAX / cols).max(4)
-    };
-    let renderer = SceneRenderer::new(
-        ctx,
-        knob_i(ctx, "shadow_map", 1024).clamp(16, 8192) as u32,
-        64,
-    )?;
-    let passes = Passes::new(
-        ctx.gpu,
-        &renderer,
-        Sizes {
-            prims: set.prims.len(),
-            imp: set.imp.len(),
-            tiles: set.tiles.len(),
-            atlas: cols * tile_res,
-            cols,
-            tile_res,
-            light_res: light_res as u32,
-            slices: slices as u32,
-        },
-        passes::Modes {
-            blocks: blocked_mode.is_some(),
-            forward_scattering: knob_b(ctx, "forward_scattering", false),
-        },
-    );
-    if !set.imp.is_empty() {
-        ctx.gpu
-            .queue
-            .write_buffer(&passes.imp, 0, bytemuck::cast_slice(&set.imp));
-    }
-    let bg = particles.background;
-    Ok(State {
-        renderer,
-        passes,
-        blocked: blocked_mode.is_some(),
-        set,
-        clip_fix: knob_b(ctx, "clip_fix", true),
-        forward_scattering: knob_b(ctx, "forward_scattering", false),
-        slices: slices as u32,
-        sky: particles.sky,
-        background_scatters: bg.sigma_s.max_element() > 0.0,
-        timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
-    })
 }
 
 /// The light map for this frame: its projection, the depth range the primitives span along the
@@ -349,109 +340,114 @@ fn light_frame(st: &State, frame: &FrameState, u: &mut PbUniform) -> Result<bool
     Ok(true)
 }
 
-fn render_state(
-    state: &mut Option<State>,
-    gpu: &Gpu,
-    frame: &FrameState,
-    targets: &Targets,
-    enc: &mut wgpu::CommandEncoder,
-) -> Result<FrameReport> {
-    let st = state
-        .as_mut()
-        .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
-    let mut report = FrameReport::default();
-    st.renderer.update(gpu, frame);
-    let eye = frame.camera.position;
-    let mut u = PbUniform::default();
-    let lit = light_frame(st, frame, &mut u)?;
-    let sz = &st.passes.sizes;
-    u.atlas = [
-        sz.cols as f32,
-        sz.tile_res as f32,
-        st.set.imp.len() as f32,
-        sz.atlas as f32,
-    ];
-    u.flags = [
-        st.clip_fix as u32 as f32,
-        if st.background_scatters && lit {
-            BACKGROUND_STEPS
-        } else {
-            0.0
-        },
-        0.0,
-        0.0,
-    ];
-    u.sky = [st.sky.x, st.sky.y, st.sky.z, 0.0];
-    // Back to front from the eye (the gather composites "over").
-    let mut order: Vec<(f32, usize)> = st
-        .set
-        .prims
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let c = Vec3::new(p.center[0], p.center[1], p.center[2]);
-            (-(c - eye).length_squared(), i)
-        })
-        .collect();
-    order.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let sorted: Vec<Prim> = order.iter().map(|&(_, i)| st.set.prims[i]).collect();
-    let (ldir, lpos) = match frame.lights.first() {
-        Some(LightState::Directional { direction, .. }) => (Some(direction.normalize()), None),
-        Some(l) => (None, l.position()),
-        None => (None, None),
-    };
-    let tiles = blocks::tile_frames(&st.set.tiles, eye, ldir, lpos);
-    gpu.queue
-        .write_buffer(&st.passes.uniform, 0, bytemuck::bytes_of(&u));
-    if !sorted.is_empty() {
+impl Prepared for State {
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let st = self;
+        let mut report = FrameReport::default();
+        st.renderer.update(gpu, frame);
+        let eye = frame.camera.position;
+        let mut u = PbUniform::default();
+        let lit = light_frame(st, frame, &mut u)?;
+        let sz = &st.passes.sizes;
+        u.atlas = [
+            sz.cols as f32,
+            sz.tile_res as f32,
+            st.set.imp.len() as f32,
+            sz.atlas as f32,
+        ];
+        u.flags = [
+            st.clip_fix as u32 as f32,
+            if st.background_scatters && lit {
+                BACKGROUND_STEPS
+            } else {
+                0.0
+            },
+            0.0,
+            0.0,
+        ];
+        u.sky = [st.sky.x, st.sky.y, st.sky.z, 0.0];
+        // Back to front from the eye (the gather composites "over").
+        let mut order: Vec<(f32, usize)> = st
+            .set
+            .prims
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let c = Vec3::new(p.center[0], p.center[1], p.center[2]);
+                (-(c - eye).length_squared(), i)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let sorted: Vec<Prim> = order.iter().map(|&(_, i)| st.set.prims[i]).collect();
+        let (ldir, lpos) = match frame.lights.first() {
+            Some(LightState::Directional { direction, .. }) => (Some(direction.normalize()), None),
+            Some(l) => (None, l.position()),
+            None => (None, None),
+        };
+        let tiles = blocks::tile_frames(&st.set.tiles, eye, ldir, lpos);
         gpu.queue
-            .write_buffer(&st.passes.prims, 0, bytemuck::cast_slice(&sorted));
-    }
-    if !tiles.is_empty() {
-        gpu.queue
-            .write_buffer(&st.passes.tiles, 0, bytemuck::cast_slice(&tiles));
-    }
-    let mark = |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
-        if let Some(t) = timer.as_mut() {
-            t.mark(enc, name);
+            .write_buffer(&st.passes.uniform, 0, bytemuck::bytes_of(&u));
+        if !sorted.is_empty() {
+            gpu.queue
+                .write_buffer(&st.passes.prims, 0, bytemuck::cast_slice(&sorted));
         }
-    };
-    mark(&mut st.timer, enc, "surfaces");
-    st.renderer.encode_shadows(enc, &mut report);
-    let surface_targets = Targets {
-        inscatter: targets.inscatter,
-        surface: &st.passes.surface_view,
-        total: targets.total,
-        width: targets.width,
-        height: targets.height,
-    };
-    st.renderer
-        .encode_surface(enc, &surface_targets, &mut report);
-    if st.blocked {
-        mark(&mut st.timer, enc, "impostors");
-        st.passes.encode_impostors(enc, &st.renderer);
-        report.ran("impostors");
-        report.count("impostor_splats", 2.0 * st.set.imp.len() as f64);
+        if !tiles.is_empty() {
+            gpu.queue
+                .write_buffer(&st.passes.tiles, 0, bytemuck::cast_slice(&tiles));
+        }
+        let mark =
+            |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
+                if let Some(t) = timer.as_mut() {
+                    t.mark(enc, name);
+                }
+            };
+        mark(&mut st.timer, enc, "surfaces");
+        st.renderer.encode_shadows(enc, &mut report);
+        let surface_targets = Targets {
+            inscatter: targets.inscatter,
+            surface: &st.passes.surface_view,
+            total: targets.total,
+            width: targets.width,
+            height: targets.height,
+        };
+        st.renderer
+            .encode_surface(enc, &surface_targets, &mut report);
+        if st.blocked {
+            mark(&mut st.timer, enc, "impostors");
+            st.passes.encode_impostors(enc, &st.renderer);
+            report.ran("impostors");
+            report.count("impostor_splats", 2.0 * st.set.imp.len() as f64);
+        }
+        mark(&mut st.timer, enc, "light");
+        st.passes.encode_light(enc, &st.renderer, lit);
+        if lit {
+            report.ran("light-slices");
+        } else {
+            report.skip("light-slices", "no light or no particles");
+        }
+        mark(&mut st.timer, enc, "gather");
+        st.passes.encode_gather(enc, &st.renderer);
+        report.ran("gather");
+        mark(&mut st.timer, enc, "resolve");
+        st.passes.encode_resolve(gpu, enc, &st.renderer, targets);
+        report.ran("resolve");
+        if let Some(t) = st.timer.as_mut() {
+            t.finish(enc);
+        }
+        report.count("blocks", st.set.prims.len() as f64);
+        report.count("particles_per_block", st.set.per_block);
+        Ok(report)
     }
-    mark(&mut st.timer, enc, "light");
-    st.passes.encode_light(enc, &st.renderer, lit);
-    if lit {
-        report.ran("light-slices");
-    } else {
-        report.skip("light-slices", "no light or no particles");
+
+    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+        self.timer.as_ref()
     }
-    mark(&mut st.timer, enc, "gather");
-    st.passes.encode_gather(enc, &st.renderer);
-    report.ran("gather");
-    mark(&mut st.timer, enc, "resolve");
-    st.passes.encode_resolve(gpu, enc, &st.renderer, targets);
-    report.ran("resolve");
-    if let Some(t) = st.timer.as_mut() {
-        t.finish(enc);
-    }
-    report.count("blocks", st.set.prims.len() as f64);
-    report.count("particles_per_block", st.set.per_block);
-    Ok(report)
 }
 
 impl Method for UmenhofferParticleBlocks {
@@ -460,34 +456,26 @@ impl Method for UmenhofferParticleBlocks {
             id: "umenhoffer-particle-blocks",
             paper: "Umenhoffer, Szirmay-Kalos, Szijártó, Participating media as hierarchies of particle blocks (2006)",
             summary: "Particle blocks as depth impostors; RGBA light slices; back-to-front gathering; depth-interval opacity at objects",
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
         }
     }
 
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         let mut v = vec![
-            ParamSpec {
-                name: "blocks",
-                default: ParamValue::Int(40),
-                sweep: [1, 20, 40, 400, 800, 1600].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "number of particle blocks (Fig. 5: 20…1600; N = one particle per block, no hierarchy)",
-            },
-            ParamSpec {
-                name: "instancing",
-                default: ParamValue::Text("prototype".into()),
-                sweep: vec![ParamValue::Text("clusters".into())],
-                choices: vec!["prototype", "clusters"],
-                meaning: "prototype: one block impostor instanced per cluster (the paper); clusters: each cluster its own impostor (exact geometry)",
-            },
-            ParamSpec {
-                name: "impostor_res",
-                default: ParamValue::Int(64),
-                sweep: vec![],
-                choices: vec![],
-                meaning: "impostor tile resolution, texels (shrunk to fit a 2048² atlas in clusters mode)",
-            },
+            // One particle per block is the most blocks there can be; the largest cloud has 8000.
+            Knob::int("blocks", 40, 1..=65536)
+                .sweep([1, 20, 40, 400, 800, 1600])
+                .unit("blocks")
+                .meaning("number of particle blocks (Fig. 5: 20…1600; more blocks than particles = one particle per block, no hierarchy)"),
+            Knob::choice("instancing", "prototype", &["prototype", "clusters"])
+                .sweep(["clusters"])
+                .meaning("prototype: one block impostor instanced per cluster (the paper); clusters: each cluster its own impostor (exact geometry)"),
+            Knob::int("impostor_res", 64, 4..=1024)
+                .unit("texels")
+                .meaning("impostor tile resolution (shrunk to fit a 2048² atlas in clusters mode)"),
         ];
-        v.extend(shared_params());
+        v.extend(shared_knobs());
         v
     }
 
@@ -495,40 +483,27 @@ impl Method for UmenhofferParticleBlocks {
         support_for(scene, device)
     }
 
-    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
-        let blocks = knob_i(ctx, "blocks", 40);
-        if blocks < 1 {
-            bail!("blocks must be ≥ 1 (got {blocks})");
-        }
-        let mode = match ctx.params.get("instancing").and_then(ParamValue::as_str) {
-            None | Some("prototype") => Instancing::Prototype,
-            Some("clusters") => Instancing::Clusters,
-            Some(other) => bail!("instancing must be prototype or clusters (got '{other}')"),
+    fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
+        let p = ctx.params;
+        let mode = match p.knob::<String>("instancing")?.as_str() {
+            "clusters" => Instancing::Clusters,
+            _ => Instancing::Prototype,
         };
-        let res = knob_i(ctx, "impostor_res", 64);
-        if !(4..=1024).contains(&res) {
-            bail!("impostor_res must be in 4..=1024 (got {res})");
-        }
-        self.state = None;
-        self.state = Some(prepare_state(
-            ctx,
-            Some((blocks as usize, mode, res as u32)),
-        )?);
-        Ok(())
+        let blocked = (p.knob("blocks")?, mode, p.knob("impostor_res")?);
+        Ok(Box::new(State::new(ctx, Some(blocked))?))
     }
 
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        enc: &mut wgpu::CommandEncoder,
-    ) -> Result<FrameReport> {
-        render_state(&mut self.state, gpu, frame, targets, enc)
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        shaders(self.id())
     }
 
-    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
-        self.state.as_ref()?.timer.as_ref()
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![
+            ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.2),
+            ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.2)
+                .knob("instancing", "clusters")
+                .knob("slices", 8),
+        ]
     }
 }
 
@@ -538,48 +513,28 @@ impl Method for ParticleSplat {
             id: "particle-splat",
             paper: "baseline: per-particle billboards with a slice light pass and back-to-front gathering (the \"no block\" row of Umenhoffer et al. 2006, Fig. 5)",
             summary: "Every particle splatted with its exact sphere chord; no blocks",
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
         }
     }
 
-    fn params(&self) -> Vec<ParamSpec> {
-        shared_params()
+    fn knobs(&self) -> Vec<Knob> {
+        shared_knobs()
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
         support_for(scene, device)
     }
 
-    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
-        self.state = None;
-        self.state = Some(prepare_state(ctx, None)?);
-        Ok(())
+    fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
+        Ok(Box::new(State::new(ctx, None)?))
     }
 
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        enc: &mut wgpu::CommandEncoder,
-    ) -> Result<FrameReport> {
-        render_state(&mut self.state, gpu, frame, targets, enc)
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        shaders(self.id())
     }
 
-    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
-        self.state.as_ref()?.timer.as_ref()
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.2)]
     }
-}
-
-/// Every composed WGSL module of both methods, for naga validation.
-pub fn shader_sources() -> Vec<(&'static str, String)> {
-    vec![
-        ("umenhoffer/impostor", passes::source(passes::IMPOSTOR_WGSL)),
-        ("umenhoffer/light", passes::source(passes::LIGHT_WGSL)),
-        ("umenhoffer/gather", passes::source(passes::GATHER_WGSL)),
-        ("umenhoffer/resolve", passes::source(passes::RESOLVE_WGSL)),
-        (
-            "umenhoffer/total",
-            crate::common::wgsl::compose(&[crate::common::wgsl::FULLSCREEN], passes::TOTAL_WGSL),
-        ),
-    ]
 }

@@ -1,13 +1,20 @@
 // Sun et al.'s airlight (see airlight.rs for F(u,v) and the constant in the project's
 // convention), shared by the hybrid resolve and the per-frame F' table. Group 1 bindings 2 and 5.
+// Mirrors `HybridUniform` in mod.rs, field for field. (The knobs airlight and fprime are the
+// overrides AIRLIGHT and FPRIME of hybrid.wgsl.)
 struct Hybrid {
-    // x: samples between shadow polygons; y: F table width (u); z: F table height (v); w: unused
-    // (the knobs airlight and fprime are the overrides AIRLIGHT and FPRIME of hybrid.wgsl)
-    config: vec4<u32>,
-    // x: u_max of the F table; y: scattering resolution divisor (1, 2, 4); zw: unused
-    table: vec4<f32>,
-    // §3.4's F'(cos γ, x) table: x: x_max (m); y: cos γ samples; z: x samples; w: unused
-    fprime: vec4<f32>,
+    samples: u32,       // the `samples` knob: steps between the shadow polygons, 1 … 4096
+    table_nu: u32,      // F table width (u samples)
+    table_nv: u32,      // F table height (v samples)
+    _pad0: u32,
+    table_u_max: f32,   // u = σ_t h at the F table's last column
+    scale: f32,         // the `scale` knob: scattering resolution divisor
+    _pad1: f32,
+    _pad2: f32,
+    fprime_x_max: f32,  // §3.4's F'(cos γ, x) table: x at its last row (m)
+    fprime_ng: f32,     // cos γ samples
+    fprime_nx: f32,     // x samples
+    _pad3: f32,
 };
 @group(1) @binding(2) var<uniform> hybrid: Hybrid;
 @group(1) @binding(5) var f_table: texture_2d<f32>;
@@ -20,14 +27,14 @@ const QUARTER_PI: f32 = 0.7853981633974483;
 
 // F(u, v) = ∫_0^v exp(−u tan ξ) dξ, bilinear from the table (clamped).
 fn f_lookup(u: f32, v: f32) -> f32 {
-    let nu = f32(hybrid.config.y);
-    let nv = f32(hybrid.config.z);
-    let fu = clamp(u / hybrid.table.x, 0.0, 1.0) * (nu - 1.0);
+    let nu = f32(hybrid.table_nu);
+    let nv = f32(hybrid.table_nv);
+    let fu = clamp(u / hybrid.table_u_max, 0.0, 1.0) * (nu - 1.0);
     let fv = clamp(v / HALF_PI, 0.0, 1.0) * (nv - 1.0);
     let i0 = u32(fu);
     let j0 = u32(fv);
-    let i1 = min(i0 + 1u, hybrid.config.y - 1u);
-    let j1 = min(j0 + 1u, hybrid.config.z - 1u);
+    let i1 = min(i0 + 1u, hybrid.table_nu - 1u);
+    let j1 = min(j0 + 1u, hybrid.table_nv - 1u);
     let tu = fu - f32(i0);
     let tv = fv - f32(j0);
     let a = mix(textureLoad(f_table, vec2<u32>(i0, j0), 0).r, textureLoad(f_table, vec2<u32>(i1, j0), 0).r, tu);

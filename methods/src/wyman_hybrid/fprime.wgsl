@@ -5,12 +5,12 @@
 
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
-    let ng = hybrid.fprime.y;
+    let ng = hybrid.fprime_ng;
     let band = u32(frag.x / ng);
     if (band != LIGHT || light_kind(LIGHT) != LIGHT_POINT) { return Out(vec4<f32>(0.0), vec4<f32>(0.0)); }
     let i = frag.x - 0.5 - f32(band) * ng;
     let cg = cos(PI * i / (ng - 1.0));
-    let x = (frag.y - 0.5) / (hybrid.fprime.z - 1.0) * hybrid.fprime.x;
+    let x = (frag.y - 0.5) / (hybrid.fprime_nx - 1.0) * hybrid.fprime_x_max;
     let dl = length(lights.lights[LIGHT].position.xyz - camera.position.xyz);
     let sg = sqrt(max(1.0 - cg * cg, 0.0));
     let ap = Approach(dl * cg, max(dl * sg, 1e-5 * (dl + 1e-3)));

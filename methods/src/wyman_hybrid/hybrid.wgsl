@@ -12,9 +12,9 @@
 
 // §3.4: F'(γ, x) from this frame's table (light k's band of columns), at table position fi in γ.
 fn fprime_lookup(k: u32, fi: f32, x: f32) -> vec3<f32> {
-    let ng = hybrid.fprime.y;
-    let nx = hybrid.fprime.z;
-    let fj = clamp(x / hybrid.fprime.x, 0.0, 1.0) * (nx - 1.0);
+    let ng = hybrid.fprime_ng;
+    let nx = hybrid.fprime_nx;
+    let fj = clamp(x / hybrid.fprime_x_max, 0.0, 1.0) * (nx - 1.0);
     let i0 = u32(fi);
     let j0 = u32(fj);
     let i1 = min(i0 + 1u, u32(ng) - 1u);
@@ -35,7 +35,7 @@ const FPRIME_EXACT: f32 = 8.0;
 fn airlight_fprime(k: u32, dir: vec3<f32>, ap: Approach, a: f32, b: f32) -> vec3<f32> {
     if (b <= a) { return vec3<f32>(0.0); }
     let cg = dot(dir, normalize(lights.lights[k].position.xyz - camera.position.xyz));
-    let fi = acos(clamp(cg, -1.0, 1.0)) / PI * (hybrid.fprime.y - 1.0);
+    let fi = acos(clamp(cg, -1.0, 1.0)) / PI * (hybrid.fprime_ng - 1.0);
     if (fi < FPRIME_EXACT) { return airlight(k, ap, a, b); }
     return max(fprime_lookup(k, fi, b) - fprime_lookup(k, fi, a), vec3<f32>(0.0));
 }
@@ -126,14 +126,14 @@ fn channel(v: vec4<f32>, k: u32) -> f32 {
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     // At 1/scale resolution (§3.3) each fragment stands for the full-resolution pixel at the
     // middle of its block; `upsample.wgsl` spreads it back with a depth-aware filter.
-    let scale = hybrid.table.y;
+    let scale = hybrid.scale;
     let full = floor(frag.xy - 0.5) * scale + floor(0.5 * scale) + 0.5;
     let px = vec2<i32>(full);
     let dir = camera_ray_dir(camera, full);
     let len = pixel_ray_length(px, dir);
     let fronts = textureLoad(volume_front, px, 0);
     let backs = textureLoad(volume_back, px, 0);
-    let n = max(hybrid.config.x, 1u);
+    let n = hybrid.samples;
     var l_in = vec3<f32>(0.0);
     // This pipeline handles light LIGHT (common::resolve per-light mode): with the light index a
     // compile-time constant, lavapipe (Mesa 22.3) compiles the nested march; with a loop over

@@ -33,14 +33,18 @@ pub mod airlight;
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use harness::method::PrepareContext;
-use harness::{FrameReport, Gpu, Method, MethodInfo, ParamSpec, ParamValue, Support, Targets};
+use harness::method::{PrepareContext, ShaderCheck};
+use harness::{
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
+    Targets,
+};
 use scenes::{FrameState, LightState, SceneFeatures};
 
 use crate::common::counters::CounterReadback;
 use crate::common::gpu_scene::mesh_pipeline_with;
-use crate::common::renderer::{SceneRenderer, unsupported};
-use crate::common::resolve::ResolvePass;
+use crate::common::knobs;
+use crate::common::renderer::{SceneRenderer, homogeneous_support};
+use crate::common::resolve::{self, ResolvePass};
 use crate::common::silhouette::{EdgeMesh, LightPos, extrude};
 use crate::common::tables::r32_table;
 use crate::common::wgsl;
@@ -76,20 +80,37 @@ struct VolumeVertex {
     light: u32,
 }
 
+/// `upsample` in upsample.wgsl, field for field.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct UpsampleUniform {
+    scale: f32,
+    bilateral: u32,
+    _pad: [u32; 2],
+}
+
+/// `hybrid` in airlight.wgsl, field for field.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct HybridUniform {
-    config: [u32; 4],
-    table: [f32; 4],
-    fprime: [f32; 4],
+    samples: u32,
+    table_nu: u32,
+    table_nv: u32,
+    _pad0: u32,
+    table_u_max: f32,
+    scale: f32,
+    _pad1: [f32; 2],
+    fprime_x_max: f32,
+    fprime_ng: f32,
+    fprime_nx: f32,
+    _pad3: f32,
 }
 
-#[derive(Default)]
-pub struct WymanHybrid {
-    state: Option<State>,
-}
+/// The method (a description; [`State`] is the prepared instance).
+pub struct WymanHybrid;
 
-struct State {
+/// The prepared method.
+pub struct State {
     renderer: SceneRenderer,
     /// (object index, adjacency) of every shadow caster.
     casters: Vec<(usize, EdgeMesh)>,
@@ -138,100 +159,97 @@ impl Method for WymanHybrid {
             id: "wyman-hybrid",
             paper: "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008",
             summary: "Shadow volumes bound where to march; Sun et al.'s analytic airlight elsewhere",
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
         }
     }
 
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         vec![
-            ParamSpec {
-                name: "samples",
-                default: ParamValue::Int(50),
-                sweep: [10, 25, 100, 200].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "ray-march steps between the first and last shadow polygon (and per lit segment of a spot)",
-            },
-            ParamSpec {
-                name: "shadow_map",
-                default: ParamValue::Int(1024),
-                sweep: [512, 2048].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "shadow-map resolution per face, texels",
-            },
-            ParamSpec {
-                name: "table",
-                default: ParamValue::Int(256),
-                sweep: [32, 64].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "F(u,v) table size per side",
-            },
-            ParamSpec {
-                name: "airlight",
-                default: ParamValue::Bool(true),
-                sweep: vec![ParamValue::Bool(false)],
-                choices: vec![],
-                meaning: "use the analytic airlight table for isotropic point lights (false: angle-uniform quadrature everywhere)",
-            },
-            ParamSpec {
-                name: "scale",
-                default: ParamValue::Int(1),
-                sweep: [2, 4].map(ParamValue::Int).to_vec(),
-                choices: vec![],
-                meaning: "scattering computed at 1/scale of the resolution in each direction (§3.3; 4 = 256² of 1024²), then upsampled",
-            },
-            ParamSpec {
-                name: "bilateral",
-                default: ParamValue::Bool(true),
-                sweep: vec![ParamValue::Bool(false)],
-                choices: vec![],
-                meaning: "depth-aware 3×3 upsampling of low-resolution scattering (false: plain 3×3 Gaussian)",
-            },
-            ParamSpec {
-                name: "fprime",
-                default: ParamValue::Bool(false),
-                sweep: vec![ParamValue::Bool(true)],
-                choices: vec![],
-                meaning: "§3.4: airlight from a per-frame F'(cos γ, x) table (two lookups per interval) instead of the F(u,v) formula",
-            },
-            ParamSpec {
-                name: "pattern_res",
-                default: ParamValue::Int(512),
-                sweep: vec![],
-                choices: vec![],
-                meaning: "spot pattern texture resolution, texels",
-            },
+            // 4096 steps over the shadowed part of every pixel is far past convergence (Fig. 7).
+            Knob::int("samples", 50, 1..=4096)
+                .sweep([10, 25, 100, 200])
+                .unit("steps")
+                .meaning("ray-march steps between the first and last shadow polygon (and per lit segment of a spot)"),
+            knobs::shadow_map(1024).sweep([512, 2048]),
+            Knob::int("table", 256, 2..=4096)
+                .sweep([32, 64])
+                .unit("samples per side")
+                .meaning("F(u,v) table size per side"),
+            Knob::boolean("airlight", true)
+                .meaning("use the analytic airlight table for isotropic point lights (false: angle-uniform quadrature everywhere)"),
+            Knob::int("scale", 1, 1..=16)
+                .sweep([2, 4])
+                .unit("pixels per side")
+                .meaning("scattering computed at 1/scale of the resolution in each direction (§3.3; 4 = 256² of 1024²), then upsampled"),
+            Knob::boolean("bilateral", true)
+                .meaning("depth-aware 3×3 upsampling of low-resolution scattering (false: plain 3×3 Gaussian)"),
+            Knob::boolean("fprime", false)
+                .meaning("§3.4: airlight from a per-frame F'(cos γ, x) table (two lookups per interval) instead of the F(u,v) formula"),
+            knobs::pattern_res(512),
         ]
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
-        if let Some(why) = unsupported(scene) {
-            return Support::No(why);
-        }
-        if !device.contains(wgpu::Features::FLOAT32_BLENDABLE) {
-            return Support::No(
-                "needs FLOAT32_BLENDABLE (min/max blending of shadow-polygon distances)".into(),
-            );
-        }
-        if scene.indirect_single_scattering {
-            return Support::Partial(vec!["indirect_single_scattering".into()]);
-        }
-        Support::Full
+        let why = "needs FLOAT32_BLENDABLE (min/max blending of shadow-polygon distances)";
+        homogeneous_support(scene, device, Some(why))
     }
 
-    fn prepare(&mut self, ctx: &PrepareContext) -> Result<()> {
+    fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
+        Ok(Box::new(State::new(ctx)?))
+    }
+
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        let flags: &[f64] = &[0.0, 1.0];
+        [
+            ShaderCheck::combinations("wyman-hybrid/volumes", &volumes_source(), &[]),
+            ShaderCheck::combinations(
+                "wyman-hybrid/hybrid",
+                &resolve::source(&hybrid_wgsl()),
+                &[
+                    ("AIRLIGHT", flags),
+                    ("FPRIME", flags),
+                    ("LIGHT", &[0.0, 3.0]),
+                ],
+            ),
+            ShaderCheck::combinations(
+                "wyman-hybrid/fprime",
+                &resolve::source(&fprime_wgsl()),
+                &[("LIGHT", &[0.0, 3.0])],
+            ),
+            ShaderCheck::combinations(
+                "wyman-hybrid/upsample",
+                &resolve::source(UPSAMPLE_WGSL),
+                &[],
+            ),
+        ]
+        .concat()
+    }
+
+    /// Bounds ≈ 1.5–4× the rel RMSE measured at 48² on lavapipe: sphere-point 5e-4, fence-spot
+    /// 0.023, sphere-point at scale 2 with F' 0.37 (24² scattering upsampled).
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        vec![
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.002),
+            ConformanceCase::new("fence-spot", 48, Aov::Inscatter, 0.035),
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.55)
+                .knob("scale", 2)
+                .knob("fprime", true),
+        ]
+    }
+}
+
+impl State {
+    pub fn new(ctx: &PrepareContext) -> Result<State> {
         let gpu = ctx.gpu;
-        let get = |k: &str| ctx.params.get(k).and_then(ParamValue::as_i64).unwrap_or(0);
-        let samples = get("samples").clamp(1, 4096) as u32;
-        let table_n = get("table").clamp(2, 4096) as u32;
-        let analytic = ctx
-            .params
-            .get("airlight")
-            .and_then(ParamValue::as_bool)
-            .unwrap_or(true);
-        let renderer = SceneRenderer::new(
-            ctx,
-            get("shadow_map").clamp(16, 8192) as u32,
-            get("pattern_res").clamp(1, 8192) as u32,
-        )?;
+        let p = ctx.params;
+        let samples: u32 = p.knob("samples")?;
+        let table_n: u32 = p.knob("table")?;
+        let analytic: bool = p.knob("airlight")?;
+        let use_fprime: bool = p.knob("fprime")?;
+        let scale: u32 = p.knob("scale")?;
+        let bilateral: bool = p.knob("bilateral")?;
+        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
         let scene = ctx.scene;
         let casters = scene
             .desc
@@ -313,11 +331,6 @@ impl Method for WymanHybrid {
             &targets,
             &[],
         );
-        let use_fprime = ctx
-            .params
-            .get("fprime")
-            .and_then(ParamValue::as_bool)
-            .unwrap_or(false);
         let flag = crate::common::specialize::flag;
         let resolve = ResolvePass::per_light(
             gpu,
@@ -367,22 +380,24 @@ impl Method for WymanHybrid {
         } else {
             (None, render_target("F' table (off)", 1, 1))
         };
-        let scale = get("scale").clamp(1, 16) as u32;
         let low = (scale > 1).then(|| {
             let (width, height) = (ctx.width.div_ceil(scale), ctx.height.div_ceil(scale));
-            let bilateral = ctx
-                .params
-                .get("bilateral")
-                .and_then(ParamValue::as_bool)
-                .unwrap_or(true);
-            let upsample =
-                ResolvePass::with_textures(gpu, &renderer, "upsample", UPSAMPLE_WGSL, Some(16), 1);
+            let size = std::mem::size_of::<UpsampleUniform>() as u64;
+            let upsample = ResolvePass::with_textures(
+                gpu,
+                &renderer,
+                "upsample",
+                UPSAMPLE_WGSL,
+                Some(size),
+                1,
+            );
             if let Some(u) = &upsample.uniform {
-                gpu.queue.write_buffer(
-                    u,
-                    0,
-                    bytemuck::cast_slice(&[scale as f32, bilateral as u32 as f32, 0.0, 0.0]),
-                );
+                let uniform = UpsampleUniform {
+                    scale: scale as f32,
+                    bilateral: bilateral as u32,
+                    _pad: [0; 2],
+                };
+                gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&uniform));
             }
             LowRes {
                 inscatter: render_target("low-res inscatter", width, height),
@@ -393,11 +408,19 @@ impl Method for WymanHybrid {
             }
         });
         let uniform = HybridUniform {
-            config: [samples, table.nu, table.nv, 0],
-            table: [table.u_max, scale as f32, 0.0, 0.0],
-            fprime: [1.0, FPRIME_SIZE as f32, FPRIME_SIZE as f32, 0.0],
+            samples,
+            table_nu: table.nu,
+            table_nv: table.nv,
+            _pad0: 0,
+            table_u_max: table.u_max,
+            scale: scale as f32,
+            _pad1: [0.0; 2],
+            fprime_x_max: 1.0, // set per frame
+            fprime_ng: FPRIME_SIZE as f32,
+            fprime_nx: FPRIME_SIZE as f32,
+            _pad3: 0.0,
         };
-        self.state = Some(State {
+        Ok(State {
             renderer,
             casters,
             volumes,
@@ -415,10 +438,11 @@ impl Method for WymanHybrid {
             counters,
             uniform,
             silhouette_edges: 0,
-        });
-        Ok(())
+        })
     }
+}
 
+impl Prepared for State {
     fn render(
         &mut self,
         gpu: &Gpu,
@@ -426,16 +450,13 @@ impl Method for WymanHybrid {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self
-            .state
-            .as_mut()
-            .ok_or_else(|| anyhow::anyhow!("render before prepare"))?;
+        let st = self;
         let mut report = FrameReport::default();
         st.renderer.update(gpu, frame);
         // F' spans x up to the longest camera ray (a corner ray to the far plane).
         let rays = frame.camera.rays(targets.width, targets.height);
         let corner = rays.direction(0, 0);
-        st.uniform.fprime[0] = (rays.far_distance(corner) * 1.001) as f32;
+        st.uniform.fprime_x_max = (rays.far_distance(corner) * 1.001) as f32;
         for u in st
             .resolve
             .uniform

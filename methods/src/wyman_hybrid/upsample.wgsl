@@ -3,9 +3,12 @@
 // shafts do not bleed across depth discontinuities). Adds the surface and ambient terms.
 // Needs PRELUDE and FULLSCREEN.
 
+// Mirrors `UpsampleUniform` in mod.rs, field for field.
 struct Upsample {
-    // x: scale (1, 2, 4); y: bilateral (0/1); zw: unused
-    config: vec4<f32>,
+    scale: f32,      // the `scale` knob: full-resolution pixels per low-resolution texel, per side
+    bilateral: u32,  // the `bilateral` knob (0/1)
+    _pad0: u32,
+    _pad1: u32,
 };
 @group(1) @binding(2) var<uniform> upsample: Upsample;
 @group(1) @binding(3) var low: texture_2d<f32>;
@@ -15,7 +18,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let dir = camera_ray_dir(camera, frag.xy);
     let len = pixel_ray_length(px, dir);
-    let scale = upsample.config.x;
+    let scale = upsample.scale;
     let size = vec2<i32>(textureDimensions(low));
     // This pixel's position in low-resolution texel units (texel centres at integers).
     let c = (frag.xy - 0.5 - floor(0.5 * scale)) / scale;
@@ -33,7 +36,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
             // window re-centres from one block to the next (σ = 1 left seams every `scale` pixels).
             var w = exp(-2.0 * dot(d, d));
             let dz = abs(s.a - len);
-            if (upsample.config.y > 0.5) {
+            if (upsample.bilateral != 0u) {
                 let rel = dz / max(0.02 * len, 1e-4);
                 w *= exp(-rel * rel);
             }

@@ -1,0 +1,90 @@
+//! The external method through the harness, as a user of the library would run it: the runner
+//! on library scenes (scored against the reference renderer), its knob refusals, and its
+//! shaders through naga. `cargo test --workspace` (CI) builds and runs this.
+//!
+//! Without an adapter the GPU tests skip with a message — except when `CI` is set.
+
+use external_method::{UnshadowedMarch, registry};
+use harness::method::{KnobProblem, Method, ParamValue, resolve_params};
+use harness::results::Status;
+use harness::runner::run;
+use harness::testing::{gpu_or_skip, knobs, library, run_config, temp_dir};
+
+/// In-scatter rel RMSE of unshadowed-march at `steps` on `scene`, through the runner.
+fn error(gpu: &harness::Gpu, scene: &str, res: u32, steps: i64) -> f64 {
+    let out = temp_dir(&format!("external-{scene}-{steps}"));
+    let mut cfg = run_config(out.clone(), res, 1);
+    cfg.overrides.insert(
+        "unshadowed-march".into(),
+        knobs(&[("steps", ParamValue::Int(steps))]),
+    );
+    let r = run(
+        gpu,
+        &[library(scene)],
+        &[&UnshadowedMarch],
+        &cfg,
+        &mut |_| {},
+    )
+    .unwrap();
+    let rec = &r.records[0];
+    assert_eq!(rec.status, Status::Ok, "{:?}", rec.reason);
+    let _ = std::fs::remove_dir_all(out);
+    rec.errors["inscatter"].rel_rmse
+}
+
+/// On clear-fog nothing casts a shadow, so the unshadowed march is the full single-scattering
+/// integral: its error falls with the step count and ends small. On sphere-point the sphere's
+/// shadow shaft is missing: the error stays large however many steps are taken (the method's
+/// declared limit, reported as `Partial` support).
+#[test]
+fn runs_through_the_harness_on_library_scenes() {
+    let Some(gpu) = gpu_or_skip() else { return };
+    let (e16, e256) = (
+        error(&gpu, "clear-fog", 48, 16),
+        error(&gpu, "clear-fog", 48, 256),
+    );
+    eprintln!("clear-fog 48²: in-scatter rel RMSE 16 steps {e16:.4}, 256 steps {e256:.4}");
+    assert!(e256 < e16, "{e256} !< {e16}");
+    assert!(e256 < 0.05, "clear-fog at 256 steps: {e256}");
+    let shadowed = error(&gpu, "sphere-point", 48, 256);
+    eprintln!("sphere-point 48²: in-scatter rel RMSE 256 steps {shadowed:.4}");
+    assert!(
+        shadowed > 2.0 * e256,
+        "the missing shaft: {shadowed} vs {e256}"
+    );
+    let sphere = library("sphere-point").features();
+    assert!(matches!(
+        UnshadowedMarch.support(&sphere, gpu.features()),
+        harness::Support::Partial(_)
+    ));
+}
+
+/// Its knobs are range-checked by the harness like every registered method's.
+#[test]
+fn knobs_are_refused_outside_their_ranges() {
+    for v in [0, 4097] {
+        let err = resolve_params(&UnshadowedMarch, &knobs(&[("steps", ParamValue::Int(v))]))
+            .expect_err("refused");
+        assert_eq!(err.problem, KnobProblem::OutOfRange);
+        assert!(err.to_string().contains("1..=4096"), "{err}");
+    }
+    let ids: Vec<&str> = registry().iter().map(|m| m.id()).collect();
+    assert_eq!(ids.last(), Some(&"unshadowed-march"));
+    assert!(ids.contains(&"raymarch-brute"));
+}
+
+/// The same conformance checks every registered method passes (methods/tests/conformance.rs):
+/// its shaders through naga, and on GPU its conformance cases against the reference with the
+/// skip/no-skip equality.
+#[test]
+fn passes_the_conformance_checks() {
+    let n = methods::conformance::validate_shaders(&UnshadowedMarch.shaders())
+        .unwrap_or_else(|f| panic!("{}", f.join("\n")));
+    assert!(n > 0);
+    let Some(gpu) = gpu_or_skip() else { return };
+    let (ok, failed) = methods::conformance::run_cases(&gpu, &UnshadowedMarch);
+    for line in &ok {
+        eprintln!("ok   {line}");
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
