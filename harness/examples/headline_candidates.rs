@@ -1,0 +1,162 @@
+//! Compares headline-error candidates on a finished run (the analysis behind docs/HEADLINE.md).
+//!
+//! For every ok record of `RUN/results.json` it reloads the method's and the reference's EXRs
+//! from the run directory and computes, on in-scatter and total: the trimmed relative RMSE
+//! (the headline), the untrimmed relative RMSE (RMSE / mean, the old verdict), sqrt(relMSE)
+//! with ε = 0.01·mean², SMAPE, and the light-core error; FLIP is read from the record. Then,
+//! per candidate, the share of same-scene method pairs it orders as mean FLIP on total does,
+//! and the pairs where the headline disagrees.
+//!
+//! ```text
+//! cargo run --release -p harness --example headline_candidates -- RUN_DIR [REFCACHE]
+//! ```
+//! REFCACHE (default /work/refcache) supplies the reference's distance buffer for the light core.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use harness::image::headline::{headline, masked_relative, smape};
+use harness::image::io::read_exr;
+use harness::image::metrics::{ToneMap, compare};
+use harness::reference::{Settings, cache};
+use harness::results::{Results, Status};
+use harness::verdict::light_core_mask;
+
+/// One record's candidate values, per AOV (0 = in-scatter, 1 = total).
+struct Row {
+    scene: String,
+    method: String,
+    trimmed: [f64; 2],
+    rel_rmse: [f64; 2],
+    sqrt_rel_mse: [f64; 2],
+    smape: [f64; 2],
+    core: [Option<f64>; 2],
+    flip_total: f64,
+}
+
+const AOVS: [&str; 2] = ["inscatter", "total"];
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().collect();
+    let run = PathBuf::from(args.get(1).ok_or("usage: headline_candidates RUN_DIR [REFCACHE]")?);
+    let refcache = PathBuf::from(args.get(2).map_or("/work/refcache", |s| s.as_str()));
+    let results = Results::load(&run.join("results.json"))?;
+    let (w, h) = (results.run.resolution[0], results.run.resolution[1]);
+    let mut rows = Vec::new();
+    let mut masks: BTreeMap<String, Option<Vec<bool>>> = BTreeMap::new();
+    for rec in results.records.iter().filter(|r| r.status == Status::Ok) {
+        let reference = |aov: &str| read_exr(&run.join(&rec.scene).join("reference").join(format!("{aov}.exr")));
+        let mask = masks
+            .entry(rec.scene.clone())
+            .or_insert_with(|| core_mask(&rec.scene, w, h, &refcache))
+            .clone();
+        let mut row = Row {
+            scene: rec.scene.clone(),
+            method: rec.method.clone(),
+            trimmed: [0.0; 2],
+            rel_rmse: [0.0; 2],
+            sqrt_rel_mse: [0.0; 2],
+            smape: [0.0; 2],
+            core: [None; 2],
+            flip_total: rec.errors.get("total").map_or(f64::NAN, |m| m.flip_mean),
+        };
+        for (k, aov) in AOVS.iter().enumerate() {
+            let test = read_exr(&run.join(rec.images.get(*aov).ok_or("no image")?))?;
+            let r = reference(aov)?;
+            let m = compare(&test, &r, &ToneMap::default())?;
+            row.trimmed[k] = headline(&test, &r);
+            row.rel_rmse[k] = m.rel_rmse;
+            row.sqrt_rel_mse[k] = m.rel_mse.sqrt();
+            row.smape[k] = smape(&test, &r);
+            row.core[k] = mask.as_ref().and_then(|m| masked_relative(&test, &r, m));
+        }
+        rows.push(row);
+    }
+    print_rows(&rows);
+    type Pick = fn(&Row, usize) -> f64;
+    let candidates: [(&str, Pick); 5] = [
+        ("trimmed rel RMSE", |r, k| r.trimmed[k]),
+        ("rel RMSE (untrimmed)", |r, k| r.rel_rmse[k]),
+        ("sqrt relMSE", |r, k| r.sqrt_rel_mse[k]),
+        ("SMAPE", |r, k| r.smape[k]),
+        ("light core", |r, k| r.core[k].unwrap_or(f64::NAN)),
+    ];
+    println!("\nagreement with mean FLIP on total over same-scene pairs (FLIP ties excluded):");
+    for (name, pick) in candidates {
+        for (k, aov) in AOVS.iter().enumerate() {
+            let (agree, total, ties, _) = agreement(&rows, |r| pick(r, k));
+            println!(
+                "  {name:22} on {aov:9}: {agree}/{total} = {:.1} % ({ties} FLIP ties)",
+                100.0 * agree as f64 / total.max(1) as f64
+            );
+        }
+    }
+    for (k, aov) in AOVS.iter().enumerate() {
+        let (_, _, _, bad) = agreement(&rows, |r| r.trimmed[k]);
+        println!("\ndisagreeing pairs, headline on {aov} vs FLIP on total:");
+        for (a, b) in bad {
+            let (ra, rb) = (&rows[a], &rows[b]);
+            println!(
+                "  {:18} {:26} vs {:26} headline in {:.4}/{:.4} tot {:.4}/{:.4} FLIP {:.5}/{:.5} relRMSE-in {:.3}/{:.3} core-in {}/{}",
+                ra.scene, ra.method, rb.method, ra.trimmed[0], rb.trimmed[0], ra.trimmed[1],
+                rb.trimmed[1], ra.flip_total, rb.flip_total, ra.rel_rmse[0], rb.rel_rmse[0],
+                show(ra.core[0]), show(rb.core[0])
+            );
+        }
+    }
+    Ok(())
+}
+
+fn show(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.3}"))
+}
+
+/// The light-core mask of frame 0 of a library scene (None: no light in view or no cache).
+fn core_mask(scene: &str, w: u32, h: u32, refcache: &Path) -> Option<Vec<bool>> {
+    let s = scenes::library::resolve(scene).ok()?;
+    let key = cache::key(&s, 0, w, h, &Settings::default());
+    let r = cache::load(refcache, &key)?;
+    light_core_mask(&s.frame(0), w, h, &r.distance)
+}
+
+/// (pairs ordered like FLIP, pairs compared, FLIP ties skipped, the disagreeing pairs).
+fn agreement(rows: &[Row], metric: impl Fn(&Row) -> f64) -> (usize, usize, usize, Vec<(usize, usize)>) {
+    let (mut agree, mut total, mut ties, mut bad) = (0, 0, 0, Vec::new());
+    for a in 0..rows.len() {
+        for b in a + 1..rows.len() {
+            if rows[a].scene != rows[b].scene {
+                continue;
+            }
+            let (fa, fb) = (rows[a].flip_total, rows[b].flip_total);
+            let (ma, mb) = (metric(&rows[a]), metric(&rows[b]));
+            if !(ma.is_finite() && mb.is_finite()) {
+                continue;
+            }
+            if fa == fb {
+                ties += 1;
+                continue;
+            }
+            total += 1;
+            if (fa < fb) == (ma < mb) && ma != mb {
+                agree += 1;
+            } else {
+                bad.push((a, b));
+            }
+        }
+    }
+    (agree, total, ties, bad)
+}
+
+fn print_rows(rows: &[Row]) {
+    println!(
+        "{:18} {:26} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
+        "scene", "method", "head-in", "head-tot", "rel-in", "relmse-in", "smape-in", "flip-tot", "core-in", "core-tot"
+    );
+    for r in rows {
+        println!(
+            "{:18} {:26} {:9.4} {:9.4} {:9.4} {:9.4} {:9.4} {:9.5} {:>9} {:>9}",
+            r.scene, r.method, r.trimmed[0], r.trimmed[1], r.rel_rmse[0], r.sqrt_rel_mse[0],
+            r.smape[0], r.flip_total, show(r.core[0]), show(r.core[1])
+        );
+    }
+}
