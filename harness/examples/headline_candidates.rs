@@ -15,7 +15,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use harness::image::headline::{headline, masked_relative, smape};
+use harness::image::headline::{
+    difference, headline, masked_relative, smape, trimmed_sums, trimmed_sums_with,
+};
 use harness::image::io::read_exr;
 use harness::image::metrics::{ToneMap, compare};
 use harness::reference::{Settings, cache};
@@ -31,6 +33,12 @@ struct Row {
     sqrt_rel_mse: [f64; 2],
     smape: [f64; 2],
     core: [Option<f64>; 2],
+    /// Relative RMSE trimmed by 0.3 % and 1 %, and 0.1 %-trimmed outside the light core.
+    trim03: [f64; 2],
+    trim1: [f64; 2],
+    outside_core: [f64; 2],
+    /// Smallest share of pixels that holds half the squared error (in-scatter).
+    half_share: f64,
     flip_total: f64,
 }
 
@@ -58,6 +66,10 @@ fn main() -> Result<(), String> {
             sqrt_rel_mse: [0.0; 2],
             smape: [0.0; 2],
             core: [None; 2],
+            trim03: [0.0; 2],
+            trim1: [0.0; 2],
+            outside_core: [0.0; 2],
+            half_share: 0.0,
             flip_total: rec.errors.get("total").map_or(f64::NAN, |m| m.flip_mean),
         };
         for (k, aov) in AOVS.iter().enumerate() {
@@ -69,13 +81,37 @@ fn main() -> Result<(), String> {
             row.sqrt_rel_mse[k] = m.rel_mse.sqrt();
             row.smape[k] = smape(&test, &r);
             row.core[k] = mask.as_ref().and_then(|m| masked_relative(&test, &r, m));
+            let d = difference(&test, &r);
+            if k == 0 {
+                row.half_share = half_share(&d);
+            }
+            row.trim03[k] = trimmed_sums_with(&d, &r, 0.003).relative();
+            row.trim1[k] = trimmed_sums_with(&d, &r, 0.01).relative();
+            row.outside_core[k] = match &mask {
+                Some(m) => {
+                    let keep = |img: &harness::image::Image| {
+                        let mut out = img.clone();
+                        for (p, &c) in out.pixels.iter_mut().zip(m) {
+                            if c {
+                                *p = [0.0; 3];
+                            }
+                        }
+                        out
+                    };
+                    trimmed_sums(&keep(&d), &keep(&r)).relative()
+                }
+                None => row.trimmed[k],
+            };
         }
         rows.push(row);
     }
     print_rows(&rows);
     type Pick = fn(&Row, usize) -> f64;
-    let candidates: [(&str, Pick); 5] = [
+    let candidates: [(&str, Pick); 8] = [
         ("trimmed rel RMSE", |r, k| r.trimmed[k]),
+        ("trimmed 0.3 %", |r, k| r.trim03[k]),
+        ("trimmed 1 %", |r, k| r.trim1[k]),
+        ("trimmed, core excluded", |r, k| r.outside_core[k]),
         ("rel RMSE (untrimmed)", |r, k| r.rel_rmse[k]),
         ("sqrt relMSE", |r, k| r.sqrt_rel_mse[k]),
         ("SMAPE", |r, k| r.smape[k]),
@@ -97,14 +133,33 @@ fn main() -> Result<(), String> {
         for (a, b) in bad {
             let (ra, rb) = (&rows[a], &rows[b]);
             println!(
-                "  {:18} {:26} vs {:26} headline in {:.4}/{:.4} tot {:.4}/{:.4} FLIP {:.5}/{:.5} relRMSE-in {:.3}/{:.3} core-in {}/{}",
+                "  {:18} {:26} vs {:26} headline in {:.4}/{:.4} tot {:.4}/{:.4} FLIP {:.5}/{:.5} relRMSE-in {:.3}/{:.3} core-in {}/{} half-err-px {:.4}/{:.4}",
                 ra.scene, ra.method, rb.method, ra.trimmed[0], rb.trimmed[0], ra.trimmed[1],
                 rb.trimmed[1], ra.flip_total, rb.flip_total, ra.rel_rmse[0], rb.rel_rmse[0],
-                show(ra.core[0]), show(rb.core[0])
+                show(ra.core[0]), show(rb.core[0]), ra.half_share, rb.half_share
             );
         }
     }
     Ok(())
+}
+
+/// Smallest fraction of pixels whose squared errors add up to half of the total.
+fn half_share(d: &harness::image::Image) -> f64 {
+    let mut e: Vec<f64> = d
+        .pixels
+        .iter()
+        .map(|p| p.iter().map(|&c| (c as f64).powi(2)).sum())
+        .collect();
+    e.sort_by(|a, b| b.total_cmp(a));
+    let total: f64 = e.iter().sum();
+    let mut acc = 0.0;
+    for (i, v) in e.iter().enumerate() {
+        acc += v;
+        if acc >= 0.5 * total {
+            return (i + 1) as f64 / e.len() as f64;
+        }
+    }
+    1.0
 }
 
 fn show(v: Option<f64>) -> String {

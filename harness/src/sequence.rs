@@ -155,3 +155,111 @@ pub fn finite(img: &Image) -> Image {
         ..img.clone()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::ReferenceStats;
+
+    /// A synthetic static reference (values 0.05–1.1, a plain distance buffer).
+    fn synthetic(w: u32, h: u32) -> ReferenceImages {
+        let mut img = Image::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let (u, v) = (x as f32 / w as f32, y as f32 / h as f32);
+                img.set(x, y, [0.05 + u, 0.3 + 0.5 * v, 0.6 + 0.5 * (u * 9.0).sin()]);
+            }
+        }
+        ReferenceImages {
+            inscatter: img.clone(),
+            surface: Image::new(w, h),
+            total: img,
+            distance: vec![10.0; (w * h) as usize],
+            stats: ReferenceStats::default(),
+        }
+    }
+
+    /// A test-only "method" on a static scene: 10 % too dark, plus (when `noise` > 0) fresh
+    /// noise of that amplitude every frame. Its frames go through the runner's own scorer.
+    fn temporal_of(noise: f32) -> [Option<f64>; 3] {
+        let scene = scenes::library::resolve("sphere-point").expect("library scene");
+        let r = synthetic(48, 40);
+        let tone = ToneMap::auto(&r.total);
+        let mut scorer = FrameScorer::new(&scene, &tone, &r, Settings::default(), None).unwrap();
+        let mut seed = 99u64;
+        for f in 0..6 {
+            let frame = [&r.inscatter, &r.surface, &r.total].map(|img| Image {
+                pixels: img
+                    .pixels
+                    .iter()
+                    .map(|p| {
+                        p.map(|c| {
+                            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                            let u = (seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5;
+                            0.9 * c + noise * u
+                        })
+                    })
+                    .collect(),
+                ..img.clone()
+            });
+            scorer.timed_frame(f, &frame).unwrap();
+        }
+        let (per_frame, temporal) = scorer.finish();
+        assert!(per_frame.is_none(), "a static scene has no per-frame errors");
+        temporal
+    }
+
+    #[test]
+    fn per_frame_noise_scores_worse_on_the_temporal_figure() {
+        let steady = temporal_of(0.0);
+        let noisy = temporal_of(0.05);
+        // Without noise the error is the same every frame: exactly 0, though 10 % off.
+        assert_eq!(steady[0], Some(0.0));
+        assert_eq!(steady[2], Some(0.0));
+        for k in [0, 2] {
+            let n = noisy[k].unwrap();
+            assert!(n > 0.01, "{} temporal {n}", AOV_NAMES[k]);
+        }
+    }
+
+    /// pen-orbit at 20×16: a method that shows frame 0 for every frame is exact on frame 0 and
+    /// wrong elsewhere; one that shows each frame's own reference is exact everywhere.
+    #[test]
+    fn animated_frames_are_scored_against_their_own_reference() {
+        let scene = scenes::library::resolve("pen-orbit").expect("library scene");
+        let (w, h) = (20, 16);
+        let r0 = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
+        let tone = ToneMap::auto(&r0.total);
+        let refs = frame_references(&scene, &r0, Settings::default(), None).unwrap();
+        assert_eq!(refs.len(), scene.frame_count() as usize);
+        let mut exact = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
+        let mut frozen = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
+        for f in 3..11u32 {
+            let own = &refs[(f % 8) as usize];
+            exact
+                .timed_frame(f, &[own.inscatter.clone(), own.surface.clone(), own.total.clone()])
+                .unwrap();
+            frozen
+                .timed_frame(f, &[r0.inscatter.clone(), r0.surface.clone(), r0.total.clone()])
+                .unwrap();
+        }
+        let (exact_frames, exact_t) = exact.finish();
+        let exact_frames = exact_frames.expect("animated");
+        assert_eq!(exact_frames.frames.len(), 8);
+        assert_eq!(exact_frames.frames[0].frame, 3);
+        assert_eq!(exact_frames.worst["total"].headline, 0.0);
+        assert_eq!(exact_t[2], Some(0.0));
+        let (frozen_frames, frozen_t) = frozen.finish();
+        let frozen_frames = frozen_frames.expect("animated");
+        for fe in &frozen_frames.frames {
+            let hd = fe.errors["total"].headline.unwrap();
+            if fe.frame == 0 {
+                assert_eq!(hd, 0.0);
+            } else {
+                assert!(hd > 0.0, "frame {} headline {hd}", fe.frame);
+            }
+        }
+        assert_ne!(frozen_frames.worst["total"].frame, Some(0));
+        assert!(frozen_t[2].unwrap() > 0.0);
+    }
+}

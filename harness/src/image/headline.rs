@@ -87,10 +87,15 @@ pub fn difference(test: &Image, reference: &Image) -> Image {
 /// `diff` is an error image (`t − r`, or a frame-to-frame change of it) and `reference` the
 /// image its size is judged against.
 pub fn trimmed_sums(diff: &Image, reference: &Image) -> SquareSums {
+    trimmed_sums_with(diff, reference, TRIM_FRACTION)
+}
+
+/// [`trimmed_sums`] with another trimmed fraction (for comparing definitions).
+pub fn trimmed_sums_with(diff: &Image, reference: &Image, fraction: f64) -> SquareSums {
     let mut px: Vec<(usize, (f64, f64))> =
         pixel_squares(diff, reference).into_iter().enumerate().collect();
     let n = px.len();
-    let drop = (TRIM_FRACTION * n as f64).floor() as usize;
+    let drop = (fraction * n as f64).floor() as usize;
     if drop > 0 {
         // Largest error first; equal errors by pixel index, so the kept set is deterministic.
         let order = |a: &(usize, (f64, f64)), b: &(usize, (f64, f64))| {
