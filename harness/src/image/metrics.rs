@@ -64,7 +64,7 @@ pub struct ErrorMetrics {
     pub flip_mean: f64,
     /// Number of test pixels with at least one non-finite channel.
     pub nonfinite: u64,
-    /// The headline error, a fraction: relative RMSE with the 0.1 % worst pixels left out
+    /// The headline error, a fraction: relative MAE with the 0.1 % worst pixels left out
     /// ([`super::headline`], named by `run.headline`). Absent in results written before it.
     #[serde(default)]
     pub headline: Option<f64>,
@@ -72,7 +72,7 @@ pub struct ErrorMetrics {
     /// that lost: [`super::headline::smape`]).
     #[serde(default)]
     pub smape: Option<f64>,
-    /// Relative RMSE over the light-core pixels (`crate::verdict::light_core_mask`), set by the
+    /// Relative MAE over the light-core pixels (`crate::verdict::light_core_mask`), set by the
     /// runner; null when no light is in view.
     #[serde(default)]
     pub light_core: Option<f64>,
