@@ -1,4 +1,4 @@
-//! Compares headline-error candidates on a finished run (the analysis behind docs/HEADLINE.md).
+//! Compares headline-error candidates on a finished run (the analysis behind docs/ARCHITECTURE.md §4.4).
 //!
 //! For every ok record of `RUN/results.json` it reloads the method's and the reference's EXRs
 //! from the run directory and computes, on in-scatter and total: the headline (trimmed relative

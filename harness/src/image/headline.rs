@@ -15,7 +15,7 @@
 //! a fraction (0.05 = 5 %), exactly 5 % for an image uniformly 5 % too bright whatever its
 //! content, unchanged when both images are scaled by a constant, and no set of ⌊0.1 %⌋ pixels
 //! can decide it: they are the ones it drops. Why L1 and not the trimmed relative RMSE,
-//! relMSE, SMAPE or FLIP: docs/HEADLINE.md, with the runs (a squared error concentrates in the
+//! relMSE, SMAPE or FLIP: docs/ARCHITECTURE.md §4.4, with the runs (a squared error concentrates in the
 //! halo around a visible light, just outside any small trimmed set).
 //!
 //! A black reference over the kept pixels (`Σ_K s_p ≤ 1e-30`) has no relative error: the
