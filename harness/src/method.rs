@@ -161,15 +161,6 @@ pub trait Prepared {
     fn phase_timer(&self) -> Option<&PhaseTimer> {
         None
     }
-
-    /// Frames the method needs to converge when it accumulates over frames (temporal
-    /// reprojection, progressive refinement) with these knobs: on a static scene the runner
-    /// renders at least this many frames before the scored one and records the number as
-    /// `counters.converge_frames`. Default 0: each frame stands alone.
-    fn converge_frames(&self, params: &Params) -> u32 {
-        let _ = params;
-        0
-    }
 }
 
 /// One composed WGSL module with the pipeline-overridable constants one of its pipelines sets.

@@ -363,7 +363,7 @@ fn run_one(
         cfg.cache_dir.as_deref(),
     ) {
         Ok(s) => s,
-        Err(e) => return failed(scene, entry.id, params, format!("per-frame references: {e}")),
+        Err(e) => return failed(scene, entry.id(), params, format!("per-frame references: {e}")),
     };
     let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
         measure(gpu, scene, entry, params, cfg, &mut scorer)
@@ -756,7 +756,7 @@ fn measure(
     }
     // An accumulating method converges over `converge` frames: on a static scene the scored
     // frame is the converge-th rendered since prepare, or later.
-    let converge = method.converge_frames(params);
+    let converge = entry.converge_frames(params);
     if converge > 0 {
         last.count("converge_frames", converge as f64);
         if scene.frame_count() == 1 {
