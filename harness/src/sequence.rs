@@ -186,18 +186,14 @@ mod tests {
         let r = synthetic(48, 40);
         let tone = ToneMap::auto(&r.total);
         let mut scorer = FrameScorer::new(&scene, &tone, &r, Settings::default(), None).unwrap();
-        let mut seed = 99u64;
+        let mut rng = crate::testing::Lcg(99);
         for f in 0..6 {
             let frame = [&r.inscatter, &r.surface, &r.total].map(|img| Image {
                 pixels: img
                     .pixels
                     .iter()
                     .map(|p| {
-                        p.map(|c| {
-                            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-                            let u = (seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5;
-                            0.9 * c + noise * u
-                        })
+                        p.map(|c| 0.9 * c + noise * (rng.uniform() as f32 - 0.5))
                     })
                     .collect(),
                 ..img.clone()

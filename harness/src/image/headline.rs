@@ -201,6 +201,7 @@ impl Temporal {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::Lcg;
 
     /// A smooth image with values spread over 0.05–1.1 (not constant: a uniform 5 % error must
     /// read 5 % whatever the content).
@@ -214,18 +215,6 @@ mod tests {
             }
         }
         img
-    }
-
-    /// 64-bit LCG (Knuth's MMIX constants) → uniform in (−1, 1): deterministic noise.
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
-        }
     }
 
     #[test]
@@ -296,7 +285,7 @@ mod tests {
             for _ in 0..5 {
                 let mut frame = steady.clone();
                 for p in &mut frame.pixels {
-                    *p = p.map(|c| c + a * rng.next());
+                    *p = p.map(|c| c + a * (2.0 * rng.uniform() as f32 - 1.0));
                 }
                 t.push(&frame, &reference);
             }

@@ -443,22 +443,7 @@ fn flip_mean(test_srgb8: &[u8], ref_srgb8: &[u8], w: u32, h: u32) -> f64 {
 mod tests {
     use super::*;
 
-    /// Deterministic pseudo-random source for noise (64-bit LCG, Knuth's
-    /// MMIX constants), so tests never flake.
-    struct Lcg(u64);
-    impl Lcg {
-        fn uniform(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        }
-        /// Approximately standard normal: Irwin–Hall sum of 12 uniforms − 6.
-        fn gaussian(&mut self) -> f64 {
-            (0..12).map(|_| self.uniform()).sum::<f64>() - 6.0
-        }
-    }
+    use crate::testing::Lcg;
 
     /// A smooth, structured scene-like image with values around 0.1–1.
     fn pattern(w: u32, h: u32) -> Image {
