@@ -10,9 +10,11 @@ pub mod method;
 pub mod reference;
 pub mod results;
 pub mod runner;
+pub mod sequence;
 pub mod shard;
 pub mod stress;
 pub mod testing;
+pub mod verdict;
 
 pub use gpu::Gpu;
 pub use method::{

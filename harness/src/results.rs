@@ -38,6 +38,10 @@ pub struct RunInfo {
     /// `run --shard i/n`: which slice of the work list this run holds (absent when whole).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<crate::shard::Shard>,
+    /// The definition of `errors.<aov>.headline` ([`crate::image::headline::HEADLINE_NAME`]);
+    /// absent in results written before the headline existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headline: Option<String>,
 }
 
 /// `RunInfo::kind` of a `scatterbench stress` run (DESIGN §6).
@@ -88,6 +92,89 @@ pub struct Record {
     /// AOV or map name → path relative to the run directory.
     #[serde(default)]
     pub images: BTreeMap<String, String>,
+    /// Animated scenes: every timed frame scored against its own frame's reference (absent for
+    /// static scenes, whose one scored frame is `errors`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub errors_per_frame: Option<ErrorsPerFrame>,
+}
+
+/// The errors of each scored frame of a sequence, with their mean and worst.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+pub struct ErrorsPerFrame {
+    /// In the order rendered (timed frames cycle through the scene's frames).
+    pub frames: Vec<FrameErrors>,
+    /// Per AOV: the mean over `frames` of each summarised figure.
+    pub mean: BTreeMap<String, ErrorSummary>,
+    /// Per AOV: the frame of largest headline error, with its figures.
+    pub worst: BTreeMap<String, ErrorSummary>,
+}
+
+/// One scored frame: the scene's frame index and the metrics of each AOV.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct FrameErrors {
+    pub frame: u32,
+    pub errors: BTreeMap<String, ErrorMetrics>,
+}
+
+/// The figures summarised over a sequence's frames.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+pub struct ErrorSummary {
+    pub headline: f64,
+    pub rel_rmse: f64,
+    pub flip_mean: f64,
+    /// Mean over the frames that have a light in view; null when none has.
+    pub light_core: Option<f64>,
+    /// `worst` only: the scene frame it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<u32>,
+}
+
+impl ErrorsPerFrame {
+    /// Summarises `frames` (mean, and the frame of largest headline per AOV).
+    pub fn new(frames: Vec<FrameErrors>) -> ErrorsPerFrame {
+        let mut mean = BTreeMap::new();
+        let mut worst = BTreeMap::new();
+        let aovs: std::collections::BTreeSet<&String> =
+            frames.iter().flat_map(|f| f.errors.keys()).collect();
+        for aov in aovs {
+            let of: Vec<(u32, &ErrorMetrics)> = frames
+                .iter()
+                .filter_map(|f| f.errors.get(aov).map(|m| (f.frame, m)))
+                .collect();
+            let n = of.len() as f64;
+            let avg = |g: &dyn Fn(&ErrorMetrics) -> f64| of.iter().map(|(_, m)| g(m)).sum::<f64>() / n;
+            let cores: Vec<f64> = of.iter().filter_map(|(_, m)| m.light_core).collect();
+            mean.insert(
+                aov.clone(),
+                ErrorSummary {
+                    headline: avg(&|m| m.headline.unwrap_or(f64::NAN)),
+                    rel_rmse: avg(&|m| m.rel_rmse),
+                    flip_mean: avg(&|m| m.flip_mean),
+                    light_core: (!cores.is_empty())
+                        .then(|| cores.iter().sum::<f64>() / cores.len() as f64),
+                    frame: None,
+                },
+            );
+            let key = |m: &ErrorMetrics| m.headline.unwrap_or(f64::NAN);
+            if let Some((frame, m)) = of.iter().max_by(|a, b| key(a.1).total_cmp(&key(b.1))) {
+                worst.insert(
+                    aov.clone(),
+                    ErrorSummary {
+                        headline: key(m),
+                        rel_rmse: m.rel_rmse,
+                        flip_mean: m.flip_mean,
+                        light_core: m.light_core,
+                        frame: Some(*frame),
+                    },
+                );
+            }
+        }
+        ErrorsPerFrame {
+            frames,
+            mean,
+            worst,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

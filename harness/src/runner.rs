@@ -24,6 +24,7 @@ use scenes::Scene;
 
 use crate::gpu::{Gpu, GpuTimer, WORK_COUNTERS, read_rgba32f};
 use crate::image::colormap::error_map;
+use crate::image::headline::masked_relative;
 use crate::image::metrics::{ToneMap, compare};
 use crate::image::{Image, io};
 use crate::method::{
@@ -35,7 +36,9 @@ use crate::results::{
     Machine, Passes, Record, Results, RunInfo, SCHEMA_VERSION, Stat, Status, Timing, git_commit,
     record_key,
 };
+use crate::sequence::{AOV_NAMES, FrameScorer, finite};
 use crate::shard::Shard;
+use crate::verdict::light_core_mask;
 
 pub struct RunConfig {
     pub out_dir: PathBuf,
@@ -235,6 +238,7 @@ pub fn run_items(
                 },
                 kind: None,
                 shard: shard_info,
+                headline: Some(crate::verdict::HEADLINE_NAME.into()),
             },
             records: Vec::new(),
         }
@@ -313,6 +317,7 @@ fn skipped(scene: &Scene, method: &str, params: &Params, why: String) -> Record 
         counters: Default::default(),
         errors: Default::default(),
         images: Default::default(),
+        errors_per_frame: None,
     }
 }
 
@@ -350,8 +355,19 @@ fn run_one(
     tone: &ToneMap,
 ) -> Record {
     let _ = gpu.take_errors();
-    let outcome =
-        std::panic::catch_unwind(AssertUnwindSafe(|| measure(gpu, scene, entry, params, cfg)));
+    let mut scorer = match FrameScorer::new(
+        scene,
+        tone,
+        reference,
+        cfg.reference,
+        cfg.cache_dir.as_deref(),
+    ) {
+        Ok(s) => s,
+        Err(e) => return failed(scene, entry.id(), params, format!("per-frame references: {e}")),
+    };
+    let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
+        measure(gpu, scene, entry, params, cfg, &mut scorer)
+    }));
     let errors = gpu.take_errors();
     let (mut rec, images) = match outcome {
         Err(panic) => {
@@ -389,6 +405,8 @@ fn run_one(
     // Scoring and writing images are independent CPU work while the GPU idles: spread them over
     // the cores (FLIP at 512² is most of a record's overhead on a 2-core machine).
     let score_start = Instant::now();
+    // The light core of the scored frame (frame 0), judged beside the headline.
+    let core = light_core_mask(&scene.frame(0), cfg.width, cfg.height, &reference.distance);
     let scored = [
         ("inscatter", inscatter, &reference.inscatter),
         ("total", total, &reference.total),
@@ -402,7 +420,15 @@ fn run_one(
         || {
             scored
                 .par_iter()
-                .map(|(name, img, refimg)| (*name, compare(img, refimg, tone)))
+                .map(|(name, img, refimg)| {
+                    let m = compare(img, refimg, tone).map(|mut m| {
+                        m.light_core = core
+                            .as_ref()
+                            .and_then(|c| masked_relative(&finite(img), refimg, c));
+                        m
+                    });
+                    (*name, m)
+                })
                 .collect::<Vec<_>>()
         },
         || {
@@ -422,10 +448,18 @@ fn run_one(
         },
     );
     let mut nonfinite = 0;
+    let score_seconds = scorer.seconds;
+    let (per_frame, temporal) = scorer.finish();
+    rec.counters.insert(
+        "light_core_pixels".into(),
+        core.as_ref().map_or(0, |m| m.iter().filter(|&&c| c).count()) as f64,
+    );
     for (name, m) in scores {
         match m {
-            Ok(m) => {
+            Ok(mut m) => {
                 nonfinite = nonfinite.max(m.nonfinite);
+                let k = AOV_NAMES.iter().position(|a| *a == name).expect("an AOV");
+                m.temporal = temporal[k];
                 rec.errors.insert(name.to_string(), m);
             }
             Err(e) => {
@@ -438,6 +472,7 @@ fn run_one(
             }
         }
     }
+    rec.errors_per_frame = per_frame;
     match written {
         Ok(paths) => rec.images = paths,
         Err(e) => return failed(scene, entry.id(), params, e),
@@ -453,7 +488,7 @@ fn run_one(
         }
     }
     if let Some(t) = rec.timing.as_mut() {
-        t.score_ms = score_start.elapsed().as_secs_f64() * 1e3;
+        t.score_ms = (score_start.elapsed().as_secs_f64() + score_seconds) * 1e3;
     }
     if nonfinite > 0 {
         rec.status = Status::Failed;
@@ -659,6 +694,7 @@ fn measure(
     entry: &dyn Method,
     params: &Params,
     cfg: &RunConfig,
+    scorer: &mut FrameScorer,
 ) -> Result<(Record, [Image; 3]), String> {
     gpu.reset_allocated();
     let start = Instant::now();
@@ -705,6 +741,9 @@ fn measure(
             }
         }
         last = t.report;
+        // Read back and score outside the timed region (the next frame's clock starts after
+        // its own clear and wait).
+        scorer.timed_frame(f, &aovs.read(gpu)?)?;
         f += 1;
     }
     // Work counts are per frame, median over the timed frames (an animated scene's frames differ).
@@ -714,6 +753,18 @@ fn measure(
     if cfg.budget_ms.is_some() {
         last.count("warmup_frames", warmed as f64);
         last.count("timed_frames", (f - warmed) as f64);
+    }
+    // An accumulating method converges over `converge` frames: on a static scene the scored
+    // frame is the converge-th rendered since prepare, or later.
+    let converge = entry.converge_frames(params);
+    if converge > 0 {
+        last.count("converge_frames", converge as f64);
+        if scene.frame_count() == 1 {
+            while f < converge {
+                render_frame(gpu, method.as_mut(), scene, f, &aovs, None)?;
+                f += 1;
+            }
+        }
     }
     // The scored frame: frame 0 once more — unless the last timed frame was frame 0 (always,
     // in a static scene): its output is still in the AOVs, the same inputs rendered by the same
@@ -752,6 +803,7 @@ fn measure(
         counters: report.counters,
         errors: Default::default(),
         images: Default::default(),
+        errors_per_frame: None,
     };
     Ok((record, images))
 }

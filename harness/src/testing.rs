@@ -184,3 +184,23 @@ pub fn reference(scene: &scenes::Scene, res: u32) -> ReferenceImages {
     .unwrap_or_else(|e| panic!("reference of {}: {e}", scene.name))
     .0
 }
+
+/// Deterministic pseudo-random source for test noise (64-bit LCG, Knuth's MMIX constants), so
+/// tests never flake.
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    /// Uniform in (0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    /// Approximately standard normal: Irwin–Hall sum of 12 uniforms − 6.
+    pub fn gaussian(&mut self) -> f64 {
+        (0..12).map(|_| self.uniform()).sum::<f64>() - 6.0
+    }
+}

@@ -3,8 +3,8 @@
 //!
 //! Two families of metrics are computed by [`compare`]:
 //!
-//! * **HDR metrics** (`rmse`, `rel_rmse`, `rel_mse`, `mae`, `p99_abs`,
-//!   `max_abs`) on the linear radiance, over every pixel and all three
+//! * **HDR metrics** (`headline`, `rmse`, `rel_rmse`, `rel_mse`, `mae`, `p99_abs`,
+//!   `max_abs`, `smape`) on the linear radiance, over every pixel and all three
 //!   channels. These are what a renderer engineer means by "error".
 //! * **Perceptual metrics** (`psnr`, `ssim`, `flip_mean`) on the *tone-mapped*
 //!   images in `[0, 1]`. Both images go through the **same** [`ToneMap`], which
@@ -64,6 +64,22 @@ pub struct ErrorMetrics {
     pub flip_mean: f64,
     /// Number of test pixels with at least one non-finite channel.
     pub nonfinite: u64,
+    /// The headline error, a fraction: relative MAE with the 0.1 % worst pixels left out
+    /// ([`super::headline`], named by `run.headline`). Absent in results written before it.
+    #[serde(default)]
+    pub headline: Option<f64>,
+    /// Symmetric mean absolute percentage error, a fraction in [0, 2] (a headline candidate
+    /// that lost: [`super::headline::smape`]).
+    #[serde(default)]
+    pub smape: Option<f64>,
+    /// Relative MAE over the light-core pixels (`crate::verdict::light_core_mask`), set by the
+    /// runner; null when no light is in view.
+    #[serde(default)]
+    pub light_core: Option<f64>,
+    /// The temporal-stability figure over the record's scored frames
+    /// ([`super::headline::Temporal`]); absent with fewer than two frames and in per-frame entries.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temporal: Option<f64>,
 }
 
 /// Linear radiance → display sRGB in `[0, 1]`: exposure, per-channel
@@ -324,6 +340,8 @@ fn hdr_metrics(test: &Image, reference: &Image) -> ErrorMetrics {
         mae: sum_abs / nf,
         p99_abs,
         max_abs,
+        headline: Some(super::headline::headline(test, reference)),
+        smape: Some(super::headline::smape(test, reference)),
         ..ErrorMetrics::default()
     }
 }
@@ -425,22 +443,7 @@ fn flip_mean(test_srgb8: &[u8], ref_srgb8: &[u8], w: u32, h: u32) -> f64 {
 mod tests {
     use super::*;
 
-    /// Deterministic pseudo-random source for noise (64-bit LCG, Knuth's
-    /// MMIX constants), so tests never flake.
-    struct Lcg(u64);
-    impl Lcg {
-        fn uniform(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        }
-        /// Approximately standard normal: Irwin–Hall sum of 12 uniforms − 6.
-        fn gaussian(&mut self) -> f64 {
-            (0..12).map(|_| self.uniform()).sum::<f64>() - 6.0
-        }
-    }
+    use crate::testing::Lcg;
 
     /// A smooth, structured scene-like image with values around 0.1–1.
     fn pattern(w: u32, h: u32) -> Image {

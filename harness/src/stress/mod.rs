@@ -112,6 +112,7 @@ fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
             note: "stress run: one frame per case × method; timings are not meaningful".into(),
             kind: Some(STRESS_KIND.into()),
             shard: None,
+            headline: Some(crate::verdict::HEADLINE_NAME.into()),
         },
         records: Vec::new(),
     }
@@ -131,6 +132,7 @@ fn failed_record(scene: &str, method: &str, params: &Params, why: String) -> Rec
         counters: Default::default(),
         errors: Default::default(),
         images: Default::default(),
+        errors_per_frame: None,
     }
 }
 

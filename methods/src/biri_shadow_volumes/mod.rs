@@ -187,12 +187,14 @@ impl Method for BiriShadowVolumes {
         .concat()
     }
 
+    /// Bounds ≈ 1.5–4× the rel RMSE measured at 48² on lavapipe: sphere-point < 5e-5,
+    /// overlap-point with the stencil resolve 0.085, indirect-point (total AOV, §III.C) 0.0024.
     fn conformance(&self) -> Vec<ConformanceCase> {
         vec![
-            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.1),
-            ConformanceCase::new("overlap-point", 48, Aov::Inscatter, 0.2)
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.005),
+            ConformanceCase::new("overlap-point", 48, Aov::Inscatter, 0.13)
                 .knob("resolve", "stencil"),
-            ConformanceCase::new("indirect-point", 48, Aov::Total, 0.2),
+            ConformanceCase::new("indirect-point", 48, Aov::Total, 0.01),
         ]
     }
 }

@@ -82,8 +82,9 @@ impl Method for NoScatter {
         ShaderCheck::combinations("no-scatter/resolve", &resolve::source(RESOLVE_WGSL), &[])
     }
 
-    /// The surface AOV only: the in-scatter AOV is zero by construction.
+    /// The surface AOV only (the in-scatter AOV is zero by construction); bound ≈ 1.5× the
+    /// rel RMSE measured at 48² on lavapipe (0.051: shadow-map texels at the shadow's edge).
     fn conformance(&self) -> Vec<ConformanceCase> {
-        vec![ConformanceCase::new("sphere-point", 48, Aov::Surface, 0.1)]
+        vec![ConformanceCase::new("sphere-point", 48, Aov::Surface, 0.08)]
     }
 }

@@ -497,10 +497,12 @@ impl Method for UmenhofferParticleBlocks {
         shaders(self.id())
     }
 
+    /// Bounds ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe: 0.075 at the
+    /// defaults, 0.037 with per-cluster impostors and 8 slices.
     fn conformance(&self) -> Vec<ConformanceCase> {
         vec![
-            ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.2),
-            ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.2)
+            ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.11),
+            ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.06)
                 .knob("instancing", "clusters")
                 .knob("slices", 8),
         ]
@@ -534,7 +536,8 @@ impl Method for ParticleSplat {
         shaders(self.id())
     }
 
+    /// Bound ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe (0.035).
     fn conformance(&self) -> Vec<ConformanceCase> {
-        vec![ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.2)]
+        vec![ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.05)]
     }
 }

@@ -1,0 +1,261 @@
+//! Scoring a record's timed frames as a sequence (DESIGN §4, issue 17): every timed frame of an
+//! animated scene is scored against its own frame's reference (`errors_per_frame`), and every
+//! record with two or more timed frames gets the temporal-stability figure
+//! (`errors.<aov>.temporal`, [`crate::image::headline::Temporal`]) — on a static scene too,
+//! where it measures flicker of the method alone.
+//!
+//! Per-frame references come from the reference cache (`--cache`); the frames of the scene
+//! being run are also kept in memory for the records that follow (one scene at a time), so a
+//! run without a cache directory renders each frame's reference once, not once per record.
+
+use std::sync::{Arc, Mutex};
+
+use rayon::prelude::*;
+use scenes::Scene;
+
+use crate::image::Image;
+use crate::image::headline::{Temporal, masked_relative};
+use crate::image::metrics::{ToneMap, compare};
+use crate::reference::{self, ReferenceImages, Settings};
+use crate::results::{ErrorsPerFrame, FrameErrors};
+use crate::verdict::light_core_mask;
+
+/// The AOVs in the order the runner reads them back.
+pub const AOV_NAMES: [&str; 3] = ["inscatter", "surface", "total"];
+
+/// The per-frame references of the scene last asked for: (cache key of its frame 0, frames).
+type Memo = Option<(String, Vec<Arc<ReferenceImages>>)>;
+static FRAME_REFERENCES: Mutex<Memo> = Mutex::new(None);
+
+/// The references of every frame of `scene` (index = frame), frame 0 being `frame0`.
+/// Renders (through the cache) the ones not in memory.
+pub fn frame_references(
+    scene: &Scene,
+    frame0: &ReferenceImages,
+    settings: Settings,
+    cache_dir: Option<&std::path::Path>,
+) -> Result<Vec<Arc<ReferenceImages>>, String> {
+    let (w, h) = (frame0.total.width, frame0.total.height);
+    let key = reference::cache::key(scene, 0, w, h, &settings);
+    let mut memo = FRAME_REFERENCES.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((k, refs)) = memo.as_ref()
+        && *k == key
+    {
+        return Ok(refs.clone());
+    }
+    let mut refs = vec![Arc::new(frame0.clone())];
+    for f in 1..scene.frame_count() {
+        let (r, _) =
+            reference::cache::render_cached(cache_dir, scene, f, w, h, settings, &|_| {})?;
+        refs.push(Arc::new(r));
+    }
+    *memo = Some((key, refs.clone()));
+    Ok(refs)
+}
+
+/// Collects the timed frames of one record.
+pub struct FrameScorer<'a> {
+    scene: &'a Scene,
+    tone: &'a ToneMap,
+    /// Frame 0's reference (the only one of a static scene).
+    frame0: &'a ReferenceImages,
+    /// Animated scenes: every frame's reference ([`frame_references`]); empty when static.
+    references: Vec<Arc<ReferenceImages>>,
+    temporal: [Temporal; 3],
+    frames: Vec<FrameErrors>,
+    /// Time spent scoring, s (the harness's work, reported in `timing.score_ms`).
+    pub seconds: f64,
+}
+
+impl<'a> FrameScorer<'a> {
+    /// A scorer for `scene`; for an animated scene, loads every frame's reference (through the
+    /// cache directory when given).
+    pub fn new(
+        scene: &'a Scene,
+        tone: &'a ToneMap,
+        frame0: &'a ReferenceImages,
+        settings: Settings,
+        cache_dir: Option<&std::path::Path>,
+    ) -> Result<FrameScorer<'a>, String> {
+        let references = if scene.frame_count() > 1 {
+            frame_references(scene, frame0, settings, cache_dir)?
+        } else {
+            Vec::new()
+        };
+        Ok(FrameScorer {
+            scene,
+            tone,
+            frame0,
+            references,
+            temporal: Default::default(),
+            frames: Vec::new(),
+            seconds: 0.0,
+        })
+    }
+
+    fn animated(&self) -> bool {
+        !self.references.is_empty()
+    }
+
+    /// Adds a timed frame: the scene frame `index` (any value; taken modulo the frame count) and
+    /// the three AOVs read back, in [`AOV_NAMES`] order.
+    pub fn timed_frame(&mut self, index: u32, images: &[Image; 3]) -> Result<(), String> {
+        let start = std::time::Instant::now();
+        let result = self.score(index, images);
+        self.seconds += start.elapsed().as_secs_f64();
+        result
+    }
+
+    fn score(&mut self, index: u32, images: &[Image; 3]) -> Result<(), String> {
+        let f = index as usize % self.references.len().max(1);
+        let r = self.references.get(f).cloned();
+        let r: &ReferenceImages = r.as_deref().unwrap_or(self.frame0);
+        let refs = [&r.inscatter, &r.surface, &r.total];
+        let clean: Vec<Image> = images.iter().map(finite).collect();
+        for ((t, img), refimg) in self.temporal.iter_mut().zip(&clean).zip(refs) {
+            t.push(img, refimg);
+        }
+        if !self.animated() {
+            return Ok(());
+        }
+        let frame = self.scene.frame(f as u32);
+        let mask = light_core_mask(&frame, r.total.width, r.total.height, &r.distance);
+        let scores: Vec<_> = (0..3)
+            .into_par_iter()
+            .map(|k| {
+                let mut m = compare(&images[k], refs[k], self.tone)?;
+                m.light_core = mask.as_ref().and_then(|m| masked_relative(&clean[k], refs[k], m));
+                Ok::<_, String>((AOV_NAMES[k].to_string(), m))
+            })
+            .collect();
+        let errors = scores.into_iter().collect::<Result<_, _>>()?;
+        self.frames.push(FrameErrors {
+            frame: f as u32,
+            errors,
+        });
+        Ok(())
+    }
+
+    /// The per-frame errors (animated scenes only) and the temporal figure per AOV.
+    pub fn finish(self) -> (Option<ErrorsPerFrame>, [Option<f64>; 3]) {
+        let temporal = [0, 1, 2].map(|k| self.temporal[k].value());
+        let per_frame = (!self.frames.is_empty()).then(|| ErrorsPerFrame::new(self.frames));
+        (per_frame, temporal)
+    }
+}
+
+/// The image with non-finite channels replaced by 0 (as `compare` treats them).
+pub fn finite(img: &Image) -> Image {
+    Image {
+        pixels: img
+            .pixels
+            .iter()
+            .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
+            .collect(),
+        ..img.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::ReferenceStats;
+
+    /// A synthetic static reference (values 0.05–1.1, a plain distance buffer).
+    fn synthetic(w: u32, h: u32) -> ReferenceImages {
+        let mut img = Image::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let (u, v) = (x as f32 / w as f32, y as f32 / h as f32);
+                img.set(x, y, [0.05 + u, 0.3 + 0.5 * v, 0.6 + 0.5 * (u * 9.0).sin()]);
+            }
+        }
+        ReferenceImages {
+            inscatter: img.clone(),
+            surface: Image::new(w, h),
+            total: img,
+            distance: vec![10.0; (w * h) as usize],
+            stats: ReferenceStats::default(),
+        }
+    }
+
+    /// A test-only "method" on a static scene: 10 % too dark, plus (when `noise` > 0) fresh
+    /// noise of that amplitude every frame. Its frames go through the runner's own scorer.
+    fn temporal_of(noise: f32) -> [Option<f64>; 3] {
+        let scene = scenes::library::resolve("sphere-point").expect("library scene");
+        let r = synthetic(48, 40);
+        let tone = ToneMap::auto(&r.total);
+        let mut scorer = FrameScorer::new(&scene, &tone, &r, Settings::default(), None).unwrap();
+        let mut rng = crate::testing::Lcg(99);
+        for f in 0..6 {
+            let frame = [&r.inscatter, &r.surface, &r.total].map(|img| Image {
+                pixels: img
+                    .pixels
+                    .iter()
+                    .map(|p| {
+                        p.map(|c| 0.9 * c + noise * (rng.uniform() as f32 - 0.5))
+                    })
+                    .collect(),
+                ..img.clone()
+            });
+            scorer.timed_frame(f, &frame).unwrap();
+        }
+        let (per_frame, temporal) = scorer.finish();
+        assert!(per_frame.is_none(), "a static scene has no per-frame errors");
+        temporal
+    }
+
+    #[test]
+    fn per_frame_noise_scores_worse_on_the_temporal_figure() {
+        let steady = temporal_of(0.0);
+        let noisy = temporal_of(0.05);
+        // Without noise the error is the same every frame: exactly 0, though 10 % off.
+        assert_eq!(steady[0], Some(0.0));
+        assert_eq!(steady[2], Some(0.0));
+        for k in [0, 2] {
+            let n = noisy[k].unwrap();
+            assert!(n > 0.01, "{} temporal {n}", AOV_NAMES[k]);
+        }
+    }
+
+    /// pen-orbit at 20×16: a method that shows frame 0 for every frame is exact on frame 0 and
+    /// wrong elsewhere; one that shows each frame's own reference is exact everywhere.
+    #[test]
+    fn animated_frames_are_scored_against_their_own_reference() {
+        let scene = scenes::library::resolve("pen-orbit").expect("library scene");
+        let (w, h) = (20, 16);
+        let r0 = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
+        let tone = ToneMap::auto(&r0.total);
+        let refs = frame_references(&scene, &r0, Settings::default(), None).unwrap();
+        assert_eq!(refs.len(), scene.frame_count() as usize);
+        let mut exact = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
+        let mut frozen = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
+        for f in 3..11u32 {
+            let own = &refs[(f % 8) as usize];
+            exact
+                .timed_frame(f, &[own.inscatter.clone(), own.surface.clone(), own.total.clone()])
+                .unwrap();
+            frozen
+                .timed_frame(f, &[r0.inscatter.clone(), r0.surface.clone(), r0.total.clone()])
+                .unwrap();
+        }
+        let (exact_frames, exact_t) = exact.finish();
+        let exact_frames = exact_frames.expect("animated");
+        assert_eq!(exact_frames.frames.len(), 8);
+        assert_eq!(exact_frames.frames[0].frame, 3);
+        assert_eq!(exact_frames.worst["total"].headline, 0.0);
+        assert_eq!(exact_t[2], Some(0.0));
+        let (frozen_frames, frozen_t) = frozen.finish();
+        let frozen_frames = frozen_frames.expect("animated");
+        for fe in &frozen_frames.frames {
+            let hd = fe.errors["total"].headline.unwrap();
+            if fe.frame == 0 {
+                assert_eq!(hd, 0.0);
+            } else {
+                assert!(hd > 0.0, "frame {} headline {hd}", fe.frame);
+            }
+        }
+        assert_ne!(frozen_frames.worst["total"].frame, Some(0));
+        assert!(frozen_t[2].unwrap() > 0.0);
+    }
+}
