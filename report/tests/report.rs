@@ -214,13 +214,12 @@ fn every_link_resolves_and_nothing_is_remote() {
     // The plots are real files: well-formed SVG, PNG with the signature.
     for s in &scenes {
         for m in metrics {
-            let stem = report_dir
-                .join("plots")
-                .join(format!("{}.pareto.{m}", report::format::anchor(s)));
-            let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+            let stem = format!("{}.pareto.{m}", report::format::anchor(s));
+            let plots = report_dir.join("plots");
+            let svg = std::fs::read_to_string(plots.join(format!("{stem}.svg"))).unwrap();
             let svg_doc = roxmltree::Document::parse(&svg).expect("SVG is well-formed");
             assert_eq!(svg_doc.root_element().tag_name().name(), "svg");
-            let png = std::fs::read(stem.with_extension("png")).unwrap();
+            let png = std::fs::read(plots.join(format!("{stem}.png"))).unwrap();
             assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
         }
     }
