@@ -62,9 +62,20 @@ pub struct Point {
     pub error: f64,
 }
 
+/// In-scatter relative RMSE of a record, if it was scored (kept for the CLI's `reproduce`
+/// tables, which print that column by name; verdicts use [`crate::metric::verdict_error`]).
+pub fn inscatter_error(r: &Record) -> Option<f64> {
+    Metric::RelRmse.of(r)
+}
+
+/// [`points_by`] under the verdict metric ([`crate::metric::verdict_error`]).
+pub fn points(records: &[&Record], basis: TimeBasis) -> Vec<Point> {
+    points_by(records, basis, Metric::Verdict)
+}
+
 /// The (time, error) point of every ok record with finite time and `metric`, indexed into
 /// `records`. Skipped and failed records have no meaningful cost or error and are left out.
-pub fn points(records: &[&Record], basis: TimeBasis, metric: Metric) -> Vec<Point> {
+pub fn points_by(records: &[&Record], basis: TimeBasis, metric: Metric) -> Vec<Point> {
     records
         .iter()
         .enumerate()

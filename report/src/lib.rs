@@ -137,7 +137,7 @@ fn scene_plot(
     scene: &str,
     plots: &Path,
 ) -> view::PlotView {
-    let points = analysis::points(records, basis, metric);
+    let points = analysis::points_by(records, basis, metric);
     let series: Vec<plot::Series> = analysis::ordered(records.iter().map(|r| r.method.as_str()))
         .iter()
         .map(|m| plot::Series {

@@ -192,7 +192,7 @@ fn cell(
     let values: Vec<Option<CellValue>> = metrics
         .iter()
         .map(|&metric| {
-            let points = analysis::points(recs, basis, metric);
+            let points = analysis::points_by(recs, basis, metric);
             let best = points
                 .iter()
                 .min_by(|a, b| a.error.total_cmp(&b.error).then(a.time.total_cmp(&b.time)))?;

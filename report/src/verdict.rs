@@ -51,7 +51,7 @@ pub fn tables(results: &Results, metrics: &[Metric]) -> Vec<VerdictTable> {
 fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
     let records: Vec<&Record> = results.records.iter().filter(|r| r.scene == scene).collect();
     let basis = TimeBasis::for_records(records.iter().copied());
-    let points = analysis::points(&records, basis, metric);
+    let points = analysis::points_by(&records, basis, metric);
     let front_points = analysis::pareto_front(&points);
     let front = ordered(front_points.iter().map(|p| records[p.index].method.as_str()));
     // A method with several configurations names the one that won.

@@ -197,7 +197,7 @@ fn method_budget_rows(
         .into_iter()
         .map(|m| {
             let mine: Vec<&Record> = records.iter().copied().filter(|r| r.method == m).collect();
-            let points = analysis::points(&mine, basis, metric);
+            let points = analysis::points_by(&mine, basis, metric);
             let cells = BUDGETS
                 .iter()
                 .map(|&b| {
@@ -332,7 +332,7 @@ pub fn scene_data<'a>(
     let basis = TimeBasis::for_records(records.iter().copied());
     let fronts: Vec<Vec<Point>> = metrics
         .iter()
-        .map(|&m| analysis::pareto_front(&analysis::points(&records, basis, m)))
+        .map(|&m| analysis::pareto_front(&analysis::points_by(&records, basis, m)))
         .collect();
     let pixels = (results.run.resolution[0] as f64) * (results.run.resolution[1] as f64);
     let rows = records
@@ -349,7 +349,7 @@ pub fn scene_data<'a>(
     let budgets = metrics
         .iter()
         .map(|&m| {
-            let points = analysis::points(&records, basis, m);
+            let points = analysis::points_by(&records, basis, m);
             MetricBudgets {
                 metric: m.id(),
                 overall: budget_rows(&records, &points, basis),
