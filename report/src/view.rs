@@ -15,8 +15,11 @@ use crate::matrix::work_text;
 use crate::metric::Metric;
 use crate::viewer::{self, Shipped};
 
-/// The AOVs the viewer ships (linear radiance), in display order, with their labels.
-pub const VIEWER_AOVS: [(&str, &str); 2] = [("inscatter", "in-scatter"), ("total", "total")];
+/// The AOVs the viewer ships (linear radiance), in display order, with their labels. Only the
+/// in-scatter, the quantity the suite judges: with the total as well the default 256² run's
+/// page doubles to 13 MB and takes over 2 s to open in headless Chromium on the 2-core test
+/// machine (measured 1.9–2.7 s vs 1.5–1.9 s); the total and surface stay on disk as PNG/EXR.
+pub const VIEWER_AOVS: [(&str, &str); 1] = [("inscatter", "in-scatter")];
 
 #[derive(Serialize, Default)]
 pub struct Counts {

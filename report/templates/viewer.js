@@ -206,6 +206,10 @@ function setup() {
     }, { rootMargin: "400px" });
     io.observe(root);
   });
+  // #timing: how long the page took to open (navigation start to the load event's end).
+  if (location.hash === "#timing") window.addEventListener("load", function () {
+    setTimeout(function () { report({ ok: true, timing: openTiming() }); }, 0);
+  });
   if (/^#selftest/.test(location.hash)) selftest(location.hash).catch(function (e) { report({ ok: false, failures: ["exception: " + e] }); });
 }
 
@@ -217,6 +221,10 @@ function report(result) {
   pre.id = "selftest-result";
   pre.textContent = JSON.stringify(result);
   document.body.appendChild(pre);
+}
+function openTiming() {
+  var t = performance.timing;
+  return { domContentLoaded: t.domContentLoadedEventEnd - t.navigationStart, load: t.loadEventEnd - t.navigationStart };
 }
 function canvasRGB(v, q) {
   // The displayed colour at the centre of image pixel q.
@@ -277,7 +285,7 @@ async function selftest(hash) {
     method1: { label: m1 && m1.labelA, rgb: m1 && m1.a, comparedWith: m1 && m1.b, shown: m1Shown },
     flippedBack: { rgb: flipped && flipped.a, shown: flippedShown },
     errorShown: errShown, readout: readoutText,
-    timing: { domContentLoaded: performance.timing.domContentLoadedEventEnd - performance.timing.navigationStart, load: performance.timing.loadEventEnd - performance.timing.navigationStart }
+    timing: openTiming()
   });
 }
 if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", setup); else setup();
