@@ -51,7 +51,7 @@ const SCRIPT: &str = include_str!("../templates/viewer.js");
 
 /// Whether a method is a baseline (its paper entry says so), so the matrix sets it apart.
 pub fn is_baseline(method: &str) -> bool {
-    methods::find(method).is_some_and(|e| (e.make)().info().paper.contains("baseline"))
+    methods::find(method).is_some_and(|m| m.info().paper.contains("baseline"))
 }
 
 /// Reads results.json and the optional fields newer than [`Results`] (see [`metric`]).
