@@ -144,3 +144,41 @@ pub fn annotate(results: &mut Results, raw: &Value) -> Option<String> {
     }
     headline
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RUN: &str = include_str!("../tests/fixtures/results.json");
+
+    /// A results.json written before issue 17 has no headline: the verdict is rel. RMSE. With
+    /// `errors.inscatter.headline` the verdict is the headline, and the run names it.
+    #[test]
+    fn verdict_is_the_headline_when_recorded_else_rel_rmse() {
+        let mut old: Results = serde_json::from_str(RUN).unwrap();
+        let raw: Value = serde_json::from_str(RUN).unwrap();
+        assert_eq!(annotate(&mut old, &raw), None);
+        let r = &old.records[0];
+        assert_eq!(verdict_error(r), Some(r.errors["inscatter"].rel_rmse));
+        assert_eq!(available(&old), [Metric::Verdict, Metric::RelMse, Metric::Flip]);
+
+        let mut raw = raw;
+        raw["run"]["headline"] = Value::from("rel_rmse_trimmed_0.1%");
+        raw["records"][0]["errors"]["inscatter"]["headline"] = Value::from(0.0123);
+        raw["records"][0]["errors"]["inscatter"]["light_core"] = Value::from(0.5);
+        let mut new: Results = serde_json::from_value(raw.clone()).unwrap();
+        let name = annotate(&mut new, &raw);
+        assert_eq!(name.as_deref(), Some("rel_rmse_trimmed_0.1%"));
+        assert_eq!(verdict_error(&new.records[0]), Some(0.0123));
+        assert_eq!(Metric::RelRmse.of(&new.records[0]), Some(r.errors["inscatter"].rel_rmse));
+        assert_eq!(Metric::LightCore.of(&new.records[0]), Some(0.5));
+        // Other records keep falling back record by record.
+        let r1 = &new.records[1];
+        assert_eq!(verdict_error(r1), Some(r1.errors["inscatter"].rel_rmse));
+        assert_eq!(
+            available(&new),
+            [Metric::Verdict, Metric::RelRmse, Metric::RelMse, Metric::Flip, Metric::LightCore]
+        );
+        assert!(Metric::Verdict.label(name.as_deref()).contains("rel_rmse_trimmed_0.1%"));
+    }
+}

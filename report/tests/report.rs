@@ -128,6 +128,15 @@ fn page_is_well_formed_and_has_every_record() {
         .skip(1)
         .collect();
     assert_eq!(body_rows.len(), methods.len());
+    // The registry's baselines (raymarch-brute, no-scatter) come last, marked, below a line.
+    let baseline_rows: Vec<String> = body_rows
+        .iter()
+        .filter(|r| has_class(r, "baseline"))
+        .map(|r| text(r.children().find(|c| c.has_tag_name("th")).unwrap()))
+        .collect();
+    assert_eq!(baseline_rows, ["raymarch-brute", "no-scatter"]);
+    assert!(body_rows.iter().rev().take(2).all(|r| has_class(r, "baseline")));
+    assert!(has_class(&body_rows[body_rows.len() - 2], "first-baseline"));
     for row in body_rows {
         assert_eq!(row.children().filter(|c| c.has_tag_name("td")).count(), 2);
     }
