@@ -185,19 +185,22 @@ where
         )?;
     chart
         .configure_mesh()
-        .x_desc(labels.x)
+        .x_desc(format!("{} on {}", labels.x, labels.device))
         .y_desc(labels.y)
         .label_style((FAMILY, 13))
-        .axis_desc_style((FAMILY, 13))
+        .axis_desc_style((FAMILY, 12))
         .x_label_formatter(&|v| fmt_tick(*v))
         .y_label_formatter(&|v| fmt_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
-    plot_area.draw(&Text::new(
-        format!("{} · times compare only within this run", labels.device),
-        (8, (SIZE.1 - 16) as i32),
-        (FAMILY, 11).into_font().color(&RGBColor(90, 90, 90)),
-    ))?;
+    // The device on the time axis; the caveat under the legend (the axis has no room left).
+    for (k, line) in ["times compare only", "within this run"].iter().enumerate() {
+        legend_area.draw(&Text::new(
+            line.to_string(),
+            (4, (SIZE.1 - 60) as i32 + 16 * k as i32),
+            (FAMILY, 12).into_font().color(&RGBColor(90, 90, 90)),
+        ))?;
+    }
 
     // The scene's overall front under the points, so the markers stay on top.
     let everything: Vec<Point> = series
