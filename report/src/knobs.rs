@@ -185,6 +185,7 @@ mod tests {
             counters: BTreeMap::new(),
             errors,
             images: BTreeMap::new(),
+            errors_per_frame: None,
         }
     }
 

@@ -61,7 +61,7 @@ fn load(results_path: &Path) -> Result<(Results, Option<String>)> {
         .with_context(|| format!("reading {}", results_path.display()))?;
     let raw: serde_json::Value = serde_json::from_str(&text)
         .with_context(|| format!("parsing {}", results_path.display()))?;
-    let headline = metric::annotate(&mut results, &raw);
+    let headline = metric::annotate(&mut results, &raw).or_else(|| results.run.headline.clone());
     Ok((results, headline))
 }
 

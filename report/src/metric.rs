@@ -2,7 +2,7 @@
 //!
 //! Every verdict of the page (Pareto fronts, "fastest under a budget", the matrix colours,
 //! the verdict table) goes through [`verdict_error`]: the record's in-scatter headline error
-//! (`errors.inscatter.headline`, issue 17) when it has one, else its in-scatter relative
+//! (`harness::verdict::headline`, issue 17) when it has one, else its in-scatter relative
 //! RMSE, so the page keeps working on results.json files written before the headline existed.
 //!
 //! Fields newer than the harness's typed [`Record`] (headline, light-core, temporal) are read
@@ -73,7 +73,9 @@ impl Metric {
             Metric::RelRmse => ins.map(|m| m.rel_rmse),
             Metric::RelMse => ins.map(|m| m.rel_mse),
             Metric::Flip => r.errors.get("total").map(|m| m.flip_mean),
-            Metric::LightCore => extra(r, "light_core.inscatter"),
+            Metric::LightCore => ins
+                .and_then(|m| m.light_core)
+                .or_else(|| extra(r, "light_core.inscatter")),
         };
         v.filter(|v| v.is_finite())
     }
@@ -82,16 +84,18 @@ impl Metric {
 /// THE verdict metric of a record: its in-scatter headline error when recorded, else its
 /// in-scatter relative RMSE. Every ranking of the page uses this one function.
 pub fn verdict_error(r: &Record) -> Option<f64> {
-    extra(r, "headline.inscatter").or_else(|| r.errors.get("inscatter").map(|m| m.rel_rmse))
+    harness::verdict::headline(r, "inscatter")
+        .or_else(|| extra(r, "headline.inscatter"))
+        .or_else(|| r.errors.get("inscatter").map(|m| m.rel_rmse))
 }
 
 /// The metrics the page offers for this run: the verdict first, then the ones some record has.
 pub fn available(results: &Results) -> Vec<Metric> {
     let mut out = vec![Metric::Verdict];
-    let has_headline = results
-        .records
-        .iter()
-        .any(|r| extra(r, "headline.inscatter").is_some());
+    let has_headline = results.records.iter().any(|r| {
+        harness::verdict::headline(r, "inscatter").is_some()
+            || extra(r, "headline.inscatter").is_some()
+    });
     // Without a headline the verdict IS rel_rmse; offering both would show the same twice.
     if has_headline {
         out.push(Metric::RelRmse);
