@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test of the workspace. Installs Mesa's software Vulkan driver (lavapipe) first when
-# no Vulkan driver is present, so the GPU tests run on machines without a GPU. With CI set, a
-# GPU test that finds no adapter fails instead of skipping.
+# no Vulkan driver is present, so the GPU tests run on machines without a GPU, and Debian's
+# Chromium when absent, for the report's browser test. With CI set, a GPU test that finds no
+# adapter, and the browser test without Chromium, fail instead of skipping.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,6 +16,13 @@ if ! have_vulkan_icd; then
     if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq mesa-vulkan-drivers >/dev/null
+fi
+
+if ! command -v chromium >/dev/null 2>&1; then
+    echo "no chromium found: installing Debian's chromium (the report's browser test)" >&2
+    if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq chromium >/dev/null
 fi
 
 # Mesa's device-select layer prints harmless XDG_RUNTIME_DIR warnings without this.

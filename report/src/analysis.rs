@@ -6,8 +6,10 @@
 
 use harness::results::{Record, Status};
 
-/// Error budgets of the "cheapest method under an error budget" table, as in-scatter
-/// relative RMSE (0.01 = 1 %).
+use crate::metric::Metric;
+
+/// Error budgets of the "cheapest method under an error budget" tables, as fractions of the
+/// chosen metric (0.01 = 1 %; the verdict metric by default).
 pub const BUDGETS: [f64; 3] = [0.01, 0.05, 0.10];
 
 /// Which per-frame time a scene's records are compared on.
@@ -50,31 +52,37 @@ impl TimeBasis {
     }
 }
 
-/// In-scatter relative RMSE of a record, if it was scored.
-pub fn inscatter_error(r: &Record) -> Option<f64> {
-    r.errors.get("inscatter").map(|m| m.rel_rmse)
-}
-
 /// One configuration's cost and error; `index` points back into the caller's list.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {
     pub index: usize,
     /// Frame time (ms).
     pub time: f64,
-    /// In-scatter relative RMSE.
+    /// The metric the points were made for (a fraction).
     pub error: f64,
 }
 
-/// The (time, error) point of every ok record with finite time and error, indexed into
-/// `records`. Skipped and failed records have no meaningful cost or error and are left out.
+/// In-scatter relative RMSE of a record, if it was scored (kept for the CLI's `reproduce`
+/// tables, which print that column by name; verdicts use [`crate::metric::verdict_error`]).
+pub fn inscatter_error(r: &Record) -> Option<f64> {
+    Metric::RelRmse.of(r)
+}
+
+/// [`points_by`] under the verdict metric ([`crate::metric::verdict_error`]).
 pub fn points(records: &[&Record], basis: TimeBasis) -> Vec<Point> {
+    points_by(records, basis, Metric::Verdict)
+}
+
+/// The (time, error) point of every ok record with finite time and `metric`, indexed into
+/// `records`. Skipped and failed records have no meaningful cost or error and are left out.
+pub fn points_by(records: &[&Record], basis: TimeBasis, metric: Metric) -> Vec<Point> {
     records
         .iter()
         .enumerate()
         .filter(|(_, r)| r.status == Status::Ok)
         .filter_map(|(index, r)| {
             let time = basis.time_ms(r)?;
-            let error = inscatter_error(r)?;
+            let error = metric.of(r)?;
             (time.is_finite() && error.is_finite()).then_some(Point { index, time, error })
         })
         .collect()
@@ -118,6 +126,22 @@ pub fn cheapest_under_budget(points: &[Point], budget: f64) -> Option<Point> {
                 .then(a.error.total_cmp(&b.error))
                 .then(a.index.cmp(&b.index))
         })
+}
+
+/// Items in order of first appearance, without repeats.
+pub fn ordered<'a>(items: impl Iterator<Item = &'a str>) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for s in items {
+        if !out.iter().any(|o| o == s) {
+            out.push(s.to_string());
+        }
+    }
+    out
+}
+
+/// The run's scenes in order of first appearance.
+pub fn scene_names(results: &harness::results::Results) -> Vec<String> {
+    ordered(results.records.iter().map(|r| r.scene.as_str()))
 }
 
 #[cfg(test)]

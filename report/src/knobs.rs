@@ -11,7 +11,7 @@ use harness::results::{Record, Results, Status};
 use serde::Serialize;
 
 use crate::plot::{Line, loglog};
-use crate::view::{PlotLinks, anchor, url_path};
+use crate::format::{PlotLinks, anchor, url_path};
 
 /// Fewest points on one line for a knob to be plotted.
 const MIN_POINTS: usize = 3;
@@ -46,7 +46,7 @@ pub fn responses(records: &[&Record]) -> Vec<Response> {
         for r in records {
             let (Some(x), Some(e)) = (
                 r.params.get(*knob).and_then(ParamValue::as_f64),
-                r.errors.get("inscatter"),
+                crate::metric::verdict_error(r),
             ) else {
                 continue;
             };
@@ -58,7 +58,7 @@ pub fn responses(records: &[&Record]) -> Vec<Response> {
             lines
                 .entry(label.join(" "))
                 .or_default()
-                .push((x, e.rel_rmse));
+                .push((x, e));
         }
         let mut kept: Vec<(String, Vec<(f64, f64)>)> = lines
             .into_iter()
@@ -121,7 +121,7 @@ pub fn view(results: &Results, plots: &Path) -> Result<Vec<KnobPlot>> {
             let (plot, note) = match loglog(
                 &title,
                 &resp.knob,
-                "in-scatter rel RMSE",
+                "verdict error (headline, else in-scatter rel. RMSE)",
                 &lines,
                 &plots.join(&png),
                 &plots.join(&svg),
@@ -185,6 +185,7 @@ mod tests {
             counters: BTreeMap::new(),
             errors,
             images: BTreeMap::new(),
+            errors_per_frame: None,
         }
     }
 

@@ -1,44 +1,73 @@
 //! `scatterbench report`: a run directory's results.json → `RUN_DIR/report/index.html`, a
 //! page that opens from disk with no server and no network (DESIGN §5).
 //!
-//! Per scene it shows the reference and every method's images side by side (all PNGs of a
-//! scene share the tone map the runner chose from the reference), false-colour error maps
-//! with their colour bar, a table of times and errors, the time-vs-error Pareto plot (PNG
-//! and SVG, drawn with plotters) and the cheapest configuration under 1 %, 5 % and 10 %
-//! in-scatter relative RMSE (overall and per method: the equal-error comparison); then a
-//! method × scene summary and the machine and run info. A `scatterbench scaling` run
-//! (a `scaling.json` beside results.json) gets log–log plots of frame time vs triangles and
-//! vs pixels per method with fitted slopes ([`scaling`]).
-//! A `scatterbench stress` run gets the stability table (case × method verdicts,
-//! [`stability`]) first, above all of that.
+//! It opens with the verdict ([`verdict`]): per scene the methods on the time-vs-error
+//! Pareto front and the fastest configuration under 1 %, 5 % and 10 % error, in a table and
+//! a sentence. Then the method × scene matrix ([`matrix`]): each method's best
+//! configuration, coloured on a perceptual (viridis, log) scale, with frame time and work
+//! per pixel, skipped cells as a dash with a numbered reason, baselines set apart. A switch
+//! re-ranks every table and plot by another metric ([`metric`]; the verdict metric is the
+//! headline error where records have it, else in-scatter relative RMSE). Per scene: an
+//! in-place image viewer ([`viewer`]: reference and one record per method as linear
+//! half-float data, flipped with keys as in tev, synchronised nearest-pixel zoom, a read-out
+//! of both images' radiance), the Pareto plot per metric (PNG and SVG, plotters; legend
+//! outside the data, hollow markers, the device under the time axis), the budget and
+//! equal-error tables and every record. A `scatterbench scaling` run (a `scaling.json`
+//! beside results.json) gets log–log plots of frame time vs triangles and vs pixels per
+//! method with fitted slopes ([`scaling`]); a `scatterbench stress` run the stability
+//! table ([`stability`]).
 //!
 //! The HTML comes from a minijinja template (`templates/index.html`, compiled in) with
-//! auto-escaping; the page has no external resources and a few lines of vanilla JS to switch
-//! the displayed AOV and zoom images. It is written as well-formed XML (XHTML syntax) so
-//! tests can parse it strictly.
+//! auto-escaping and the inlined script `templates/viewer.js`; the page is well-formed XML
+//! (XHTML syntax, the script in CDATA) so tests parse it strictly. Opened with
+//! `#selftest=X,Y` the script drives the first viewer and writes a JSON verdict into the
+//! DOM (tests/browser.rs reads it through headless Chromium).
 
 pub mod analysis;
+pub mod fit;
 pub mod fixture;
-pub mod plot;
+pub mod format;
 pub mod knobs;
+pub mod matrix;
+pub mod metric;
+pub mod page;
+pub mod plot;
 pub mod scaling;
 pub mod stability;
+pub mod verdict;
 pub mod view;
+pub mod viewer;
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow};
-use harness::image::{colormap, io};
 use harness::results::Results;
 
+use crate::metric::Metric;
+
 const TEMPLATE: &str = include_str!("../templates/index.html");
+/// The page's script: viewer, metric switch, self-test (inlined into the page).
+const SCRIPT: &str = include_str!("../templates/viewer.js");
 
-/// Height × width (px) of the colour bar PNG shown beside the error maps.
-const COLORBAR: (u32, u32) = (256, 16);
+/// Whether a method is a baseline (its paper entry says so), so the matrix sets it apart.
+pub fn is_baseline(method: &str) -> bool {
+    methods::find(method).is_some_and(|m| m.info().paper.contains("baseline"))
+}
 
-/// Writes `run_dir/report/index.html` (plus plots and the colour bar under `report/`) and
-/// returns the page's path. Fails with a message naming the file when results.json is
-/// missing or unreadable; missing images are shown as missing, not fatal.
+/// Reads results.json and the optional fields newer than [`Results`] (see [`metric`]).
+fn load(results_path: &Path) -> Result<(Results, Option<String>)> {
+    let mut results = Results::load(results_path).map_err(|e| anyhow!(e))?;
+    let text = std::fs::read_to_string(results_path)
+        .with_context(|| format!("reading {}", results_path.display()))?;
+    let raw: serde_json::Value = serde_json::from_str(&text)
+        .with_context(|| format!("parsing {}", results_path.display()))?;
+    let headline = metric::annotate(&mut results, &raw).or_else(|| results.run.headline.clone());
+    Ok((results, headline))
+}
+
+/// Writes `run_dir/report/index.html` (plus plots under `report/plots`) and returns the
+/// page's path. Fails with a message naming the file when results.json is missing or
+/// unreadable; missing images are shown as missing, not fatal.
 pub fn generate(run_dir: &Path) -> Result<PathBuf> {
     let results_path = run_dir.join("results.json");
     if !results_path.is_file() {
@@ -47,57 +76,23 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
             run_dir.display()
         ));
     }
-    let results = Results::load(&results_path).map_err(|e| anyhow!(e))?;
+    let (results, headline) = load(&results_path)?;
     let out = run_dir.join("report");
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots).with_context(|| format!("creating {}", plots.display()))?;
 
-    let bar = out.join("colorbar.png");
-    io::write_png_ldr(&bar, &colormap::colorbar(COLORBAR.0, COLORBAR.1)).map_err(|e| anyhow!(e))?;
-
+    let metrics = metric::available(&results);
+    let metric_views = metric::views(headline.as_deref(), &metrics);
+    let device = &results.run.machine.adapter;
     let mut scenes = Vec::new();
-    for name in view::scene_names(&results) {
-        let data = view::scene_data(run_dir, &results, &name);
+    for name in analysis::scene_names(&results) {
+        let data = view::scene_data(run_dir, &results, &name, &metrics);
         let mut v = data.view;
-        let methods: Vec<&str> = {
-            let mut m: Vec<&str> = Vec::new();
-            for r in &data.records {
-                if !m.contains(&r.method.as_str()) {
-                    m.push(&r.method);
-                }
-            }
-            m
-        };
-        let series: Vec<plot::Series> = methods
+        v.plots = metrics
             .iter()
-            .map(|m| plot::Series {
-                name: m,
-                points: data
-                    .points
-                    .iter()
-                    .filter(|p| data.records[p.index].method == *m)
-                    .copied()
-                    .collect(),
-            })
+            .zip(&metric_views)
+            .map(|(&m, mv)| scene_plot(&data.records, data.basis, m, &mv.label, device, &v.anchor, &name, &plots))
             .collect();
-        let stem = v.anchor.clone();
-        let png = plots.join(format!("{stem}.pareto.png"));
-        let svg = plots.join(format!("{stem}.pareto.svg"));
-        let title = format!("{name}: frame time vs in-scatter error");
-        match plot::pareto(&title, data.basis.label(), &series, &png, &svg) {
-            Ok(left_out) => {
-                v.plot = Some(view::PlotLinks {
-                    svg: format!("plots/{}", view::url_path(&format!("{stem}.pareto.svg"))),
-                    png: format!("plots/{}", view::url_path(&format!("{stem}.pareto.png"))),
-                });
-                if left_out > 0 {
-                    v.plot_note.push_str(&format!(
-                        " {left_out} point(s) with zero time or error cannot be shown on log axes."
-                    ));
-                }
-            }
-            Err(e) => v.plot_note = format!("plot failed: {e:#}"),
-        }
         scenes.push(v);
     }
 
@@ -106,10 +101,12 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
     // Error vs each numeric knob of a sweep, the other knobs fixed per line.
     let knobs = knobs::view(&results, &plots)?;
 
-    let page = view::Page {
+    let page = page::Page {
         title: format!("scatterbench report — {}", results.run.id),
         counts: view::counts(&results),
-        summary: view::summary(&results),
+        verdicts: verdict::tables(&results, &metrics),
+        matrix: matrix::matrix(&results, &metrics, &is_baseline),
+        metrics: metric_views,
         stability: stability::is_stress(&results).then(|| stability::table(&results)),
         scaling,
         knobs,
@@ -119,8 +116,8 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
             .iter()
             .map(|b| format!("{:.0} %", b * 100.0))
             .collect(),
-        colorbar: "colorbar.png".into(),
         generator: format!("scatterbench report {}", env!("CARGO_PKG_VERSION")),
+        script: SCRIPT,
     };
     let html = render(&page)?;
     let index = out.join("index.html");
@@ -128,8 +125,74 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
     Ok(index)
 }
 
+/// One scene's Pareto plot under one metric (PNG and SVG under `plots/`).
+#[allow(clippy::too_many_arguments)]
+fn scene_plot(
+    records: &[&harness::results::Record],
+    basis: analysis::TimeBasis,
+    metric: Metric,
+    label: &str,
+    device: &str,
+    anchor: &str,
+    scene: &str,
+    plots: &Path,
+) -> view::PlotView {
+    let points = analysis::points_by(records, basis, metric);
+    let series: Vec<plot::Series> = analysis::ordered(records.iter().map(|r| r.method.as_str()))
+        .iter()
+        .map(|m| plot::Series {
+            name: records
+                .iter()
+                .find(|r| &r.method == m)
+                .map(|r| r.method.as_str())
+                .unwrap_or(""),
+            points: points
+                .iter()
+                .filter(|p| &records[p.index].method == m)
+                .copied()
+                .collect(),
+        })
+        .collect();
+    let stem = format!("{anchor}.pareto.{}", metric.id());
+    let (png, svg) = (format!("{stem}.png"), format!("{stem}.svg"));
+    let front = analysis::pareto_front(&points).len();
+    let mut note = format!(
+        "{} of {} records plotted (ok, timed and scored); {front} on the Pareto front.",
+        points.len(),
+        records.len()
+    );
+    let labels = plot::ParetoLabels {
+        title: &format!("{scene}: frame time vs {label}"),
+        x: basis.label(),
+        y: label,
+        device,
+    };
+    let links = match plot::pareto(&labels, &series, &plots.join(&png), &plots.join(&svg)) {
+        Ok(left_out) => {
+            if left_out > 0 {
+                note.push_str(&format!(
+                    " {left_out} point(s) with zero time or error cannot be shown on log axes."
+                ));
+            }
+            Some(format::PlotLinks {
+                svg: format!("plots/{}", format::url_path(&svg)),
+                png: format!("plots/{}", format::url_path(&png)),
+            })
+        }
+        Err(e) => {
+            note = format!("plot failed: {e:#}");
+            None
+        }
+    };
+    view::PlotView {
+        metric: metric.id(),
+        links,
+        note,
+    }
+}
+
 /// Renders the page model through the compiled-in template.
-pub fn render(page: &view::Page) -> Result<String> {
+pub fn render(page: &page::Page) -> Result<String> {
     let mut env = minijinja::Environment::new();
     // The ".html" name turns on HTML auto-escaping of every interpolated value.
     env.add_template("index.html", TEMPLATE)

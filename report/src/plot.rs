@@ -63,15 +63,20 @@ fn log_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     Some((lo / 1.5, hi * 1.5))
 }
 
+/// What a Pareto plot shows besides its points.
+pub struct ParetoLabels<'a> {
+    pub title: &'a str,
+    /// Time axis title with its unit.
+    pub x: &'a str,
+    /// Error axis title.
+    pub y: &'a str,
+    /// The adapter the times come from (printed under the time axis).
+    pub device: &'a str,
+}
+
 /// Draws the plot to `png` and `svg`. Points with non-positive time or error cannot sit on a
 /// log axis and are left out; returns how many were left out.
-pub fn pareto(
-    title: &str,
-    x_label: &str,
-    series: &[Series],
-    png: &Path,
-    svg: &Path,
-) -> Result<usize> {
+pub fn pareto(labels: &ParetoLabels, series: &[Series], png: &Path, svg: &Path) -> Result<usize> {
     register_font();
     let positive = |p: &&Point| p.time > 0.0 && p.error > 0.0;
     let shown: Vec<Series> = series
@@ -85,27 +90,69 @@ pub fn pareto(
     let kept: usize = shown.iter().map(|s| s.points.len()).sum();
     {
         let root = BitMapBackend::new(png, SIZE).into_drawing_area();
-        draw(root, title, x_label, &shown)
-            .map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
+        draw(root, labels, &shown).map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
     }
     {
         let root = SVGBackend::new(svg, SIZE).into_drawing_area();
-        draw(root, title, x_label, &shown)
-            .map_err(|e| anyhow!("drawing {}: {e}", svg.display()))?;
+        draw(root, labels, &shown).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))?;
     }
     Ok(total - kept)
 }
 
+/// Width (px) of the legend column right of the data area.
+const LEGEND_W: u32 = 190;
+
+/// Binds `$e` to a hollow marker of shape `$i` (circle, square, triangle, diamond, plus, x,
+/// repeating) at `$c` and evaluates `$body`: hollow so coincident points of different methods
+/// stay visible through each other. A macro because each shape is its own element type.
+macro_rules! with_marker {
+    ($i:expr, $c:expr, $style:expr, $e:ident => $body:expr) => {{
+        let (c, st) = ($c, $style);
+        match $i % 6 {
+            0 => {
+                let $e = EmptyElement::at(c) + Circle::new((0, 0), 5, st);
+                $body
+            }
+            1 => {
+                let $e = EmptyElement::at(c) + Rectangle::new([(-4, -4), (4, 4)], st);
+                $body
+            }
+            2 => {
+                let $e = EmptyElement::at(c)
+                    + PathElement::new(vec![(0, -6), (5, 4), (-5, 4), (0, -6)], st);
+                $body
+            }
+            3 => {
+                let $e = EmptyElement::at(c)
+                    + PathElement::new(vec![(0, -6), (6, 0), (0, 6), (-6, 0), (0, -6)], st);
+                $body
+            }
+            4 => {
+                let $e = EmptyElement::at(c)
+                    + PathElement::new(vec![(-6, 0), (6, 0)], st)
+                    + PathElement::new(vec![(0, -6), (0, 6)], st);
+                $body
+            }
+            _ => {
+                let $e = EmptyElement::at(c)
+                    + PathElement::new(vec![(-5, -5), (5, 5)], st)
+                    + PathElement::new(vec![(-5, 5), (5, -5)], st);
+                $body
+            }
+        }
+    }};
+}
+
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
-    title: &str,
-    x_label: &str,
+    labels: &ParetoLabels,
     series: &[Series],
 ) -> Result<(), Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
+    let (plot_area, legend_area) = root.split_horizontally(SIZE.0 - LEGEND_W);
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (Some(x), Some(y)) = (
         log_range(all().map(|p| p.time)),
@@ -119,10 +166,10 @@ where
         root.present()?;
         return Ok(());
     };
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FAMILY, 18))
-        .margin(12)
-        .x_label_area_size(44)
+    let mut chart = ChartBuilder::on(&plot_area)
+        .caption(labels.title, (FAMILY, 16))
+        .margin(10)
+        .x_label_area_size(58)
         .y_label_area_size(64)
         // plotters' own log key points start at the first power of ten inside the range, so
         // a range within one decade would get no labels; give it 1-2-5 ticks instead.
@@ -138,17 +185,46 @@ where
         )?;
     chart
         .configure_mesh()
-        .x_desc(x_label)
-        .y_desc("in-scatter relative RMSE")
+        .x_desc(format!("{} on {}", labels.x, labels.device))
+        .y_desc(labels.y)
         .label_style((FAMILY, 13))
-        .axis_desc_style((FAMILY, 14))
+        .axis_desc_style((FAMILY, 12))
         .x_label_formatter(&|v| fmt_tick(*v))
         .y_label_formatter(&|v| fmt_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
+    // The device on the time axis; the caveat under the legend (the axis has no room left).
+    for (k, line) in ["times compare only", "within this run"].iter().enumerate() {
+        legend_area.draw(&Text::new(
+            line.to_string(),
+            (4, (SIZE.1 - 60) as i32 + 16 * k as i32),
+            (FAMILY, 12).into_font().color(&RGBColor(90, 90, 90)),
+        ))?;
+    }
 
-    // Colours follow the method's position in the list so they stay stable across scenes;
-    // methods without a plottable point get no legend entry.
+    // The scene's overall front under the points, so the markers stay on top.
+    let everything: Vec<Point> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .collect();
+    let front: Vec<(f64, f64)> = pareto_front(&everything)
+        .iter()
+        .map(|p| (p.time, p.error))
+        .collect();
+    chart.draw_series(DashedLineSeries::new(
+        front.clone(),
+        6,
+        4,
+        BLACK.stroke_width(1),
+    ))?;
+    chart.draw_series(
+        front
+            .iter()
+            .map(|&(t, e)| Circle::new((t, e), 9, RGBColor(0, 0, 0).mix(0.5).stroke_width(1))),
+    )?;
+    // Colours and shapes follow the method's position in the list so they stay stable
+    // across scenes; methods without a plottable point get no legend entry.
+    let mut legend_y = 28;
     for (i, s) in series
         .iter()
         .enumerate()
@@ -159,48 +235,29 @@ where
             .iter()
             .map(|p| (p.time, p.error))
             .collect();
-        chart
-            .draw_series(LineSeries::new(own_front, color.stroke_width(2)))?
-            .label(s.name)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+        chart.draw_series(LineSeries::new(own_front, color.mix(0.6).stroke_width(1)))?;
+        for p in &s.points {
+            with_marker!(i, (p.time, p.error), color.stroke_width(2), e => {
+                chart.draw_series(std::iter::once(e))?;
             });
-        chart.draw_series(
-            s.points
-                .iter()
-                .map(|p| Circle::new((p.time, p.error), 4, color.filled())),
-        )?;
+        }
+        with_marker!(i, (12, legend_y), color.stroke_width(2), e => legend_area.draw(&e)?);
+        legend_area.draw(&Text::new(
+            s.name.to_string(),
+            (26, legend_y - 7),
+            (FAMILY, 13).into_font(),
+        ))?;
+        legend_y += 22;
     }
-    // The scene's overall front, over all methods.
-    let everything: Vec<Point> = series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .collect();
-    let front: Vec<(f64, f64)> = pareto_front(&everything)
-        .iter()
-        .map(|p| (p.time, p.error))
-        .collect();
-    chart
-        .draw_series(DashedLineSeries::new(
-            front.clone(),
-            6,
-            4,
-            BLACK.stroke_width(1),
-        ))?
-        .label("Pareto front (all methods)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(1)));
-    chart.draw_series(
-        front
-            .iter()
-            .map(|&(t, e)| Circle::new((t, e), 7, BLACK.stroke_width(1))),
-    )?;
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(180, 180, 180))
-        .label_font((FAMILY, 13))
-        .draw()?;
+    legend_area.draw(&PathElement::new(
+        vec![(4, legend_y), (22, legend_y)],
+        BLACK.stroke_width(1),
+    ))?;
+    legend_area.draw(&Text::new(
+        "Pareto front (all)",
+        (26, legend_y - 7),
+        (FAMILY, 13).into_font(),
+    ))?;
     root.present()?;
     Ok(())
 }
@@ -210,7 +267,7 @@ where
 pub struct Line<'a> {
     pub name: String,
     pub points: Vec<(f64, f64)>,
-    pub fit: Option<&'a crate::scaling::Fit>,
+    pub fit: Option<&'a crate::fit::Fit>,
 }
 
 /// Draws y vs x on log–log axes (one colour per line, markers at the measurements, the fit
@@ -263,6 +320,7 @@ where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
+    let (plot_area, legend_area) = root.split_horizontally(SIZE.0 - LEGEND_W);
     let all = || lines.iter().flat_map(|l| l.points.iter());
     let (Some(x), Some(y)) = (log_range(all().map(|p| p.0)), log_range(all().map(|p| p.1))) else {
         root.draw(&Text::new(
@@ -273,8 +331,8 @@ where
         root.present()?;
         return Ok(());
     };
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FAMILY, 18))
+    let mut chart = ChartBuilder::on(&plot_area)
+        .caption(title, (FAMILY, 16))
         .margin(12)
         .x_label_area_size(44)
         .y_label_area_size(64)
@@ -306,25 +364,20 @@ where
         let color = PALETTE[i % PALETTE.len()];
         let mut pts = l.points.clone();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        chart
-            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
-            .label(l.name.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+        chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
+        for &p in &pts {
+            with_marker!(i, p, color.stroke_width(2), e => {
+                chart.draw_series(std::iter::once(e))?;
             });
-        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
+        }
+        let y = 28 + 22 * i as i32;
+        with_marker!(i, (12, y), color.stroke_width(2), e => legend_area.draw(&e)?);
+        legend_area.draw(&Text::new(l.name.clone(), (26, y - 7), (FAMILY, 12).into_font()))?;
         if let (Some(f), Some(a), Some(b)) = (l.fit, pts.first(), pts.last()) {
             let fit: Vec<(f64, f64)> = [a.0, b.0].iter().map(|&x| (x, f.eval(x))).collect();
             chart.draw_series(DashedLineSeries::new(fit, 5, 4, color.stroke_width(1)))?;
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(180, 180, 180))
-        .label_font((FAMILY, 13))
-        .draw()?;
     root.present()?;
     Ok(())
 }

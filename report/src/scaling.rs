@@ -13,6 +13,8 @@ use harness::results::{Record, Results, Status};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::TimeBasis;
+pub use crate::fit::{Fit, loglog_fit};
+use crate::format::{PlotLinks, anchor, status_text, url_path};
 
 /// The sidecar's file name in the run directory.
 pub const FILE: &str = "scaling.json";
@@ -69,55 +71,6 @@ impl Spec {
         let text = serde_json::to_string_pretty(self)?;
         std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))
     }
-}
-
-/// `y ≈ exp(intercept) · x^slope`, fitted by least squares on (ln x, ln y).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Fit {
-    pub slope: f64,
-    pub intercept: f64,
-    /// Coefficient of determination in log–log space (1 = a perfect power law).
-    pub r2: f64,
-}
-
-impl Fit {
-    pub fn eval(&self, x: f64) -> f64 {
-        (self.intercept + self.slope * x.ln()).exp()
-    }
-}
-
-/// The log–log least-squares fit of positive, finite points; None with fewer than two
-/// distinct x (a slope needs two abscissae).
-pub fn loglog_fit(points: &[(f64, f64)]) -> Option<Fit> {
-    let logs: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
-        .map(|(x, y)| (x.ln(), y.ln()))
-        .collect();
-    let n = logs.len() as f64;
-    if logs.len() < 2 {
-        return None;
-    }
-    let mx = logs.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = logs.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = logs.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = logs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let syy: f64 = logs.iter().map(|p| (p.1 - my).powi(2)).sum();
-    if sxx <= 1e-12 * n {
-        return None;
-    }
-    let slope = sxy / sxx;
-    let intercept = my - slope * mx;
-    let r2 = if syy > 0.0 {
-        (sxy * sxy / (sxx * syy)).clamp(0.0, 1.0)
-    } else {
-        1.0
-    };
-    Some(Fit {
-        slope,
-        intercept,
-        r2,
-    })
 }
 
 /// One method's measured (x, ms) points on a sweep, sorted by x, and their fit.
@@ -183,7 +136,7 @@ pub fn curves(results: &Results, sweep: &Sweep) -> (TimeBasis, Vec<Curve>) {
                         None => "not run".to_string(),
                         Some(r) => format!(
                             "{}: {}",
-                            crate::view::status_text(r.status),
+                            status_text(r.status),
                             r.reason.as_deref().unwrap_or("")
                         ),
                     })
@@ -207,7 +160,7 @@ pub struct SweepView {
     pub title: String,
     pub note: String,
     pub time_label: String,
-    pub plot: Option<crate::view::PlotLinks>,
+    pub plot: Option<PlotLinks>,
     pub plot_note: String,
     /// Column headers: the x of each point (e.g. "61.4k").
     pub xs: Vec<String>,
@@ -247,6 +200,7 @@ pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<Ve
     for sweep in &spec.sweeps {
         let (basis, curves) = curves(results, sweep);
         let time_label = basis.label().to_string();
+        let y_label = format!("{time_label} · {}", results.run.machine.adapter);
         let lines: Vec<crate::plot::Line> = curves
             .iter()
             .map(|c| crate::plot::Line {
@@ -258,24 +212,26 @@ pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<Ve
                 fit: c.fit.as_ref(),
             })
             .collect();
-        let stem = format!("scaling-{}", crate::view::anchor(&sweep.axis));
+        let stem = format!("scaling-{}", anchor(&sweep.axis));
         let (png, svg) = (format!("{stem}.png"), format!("{stem}.svg"));
         let title = format!("{}: frame time vs {}", spec.base_scene, sweep.label);
         let (plot, plot_note) = match crate::plot::loglog(
             &title,
             &sweep.label,
-            &time_label,
+            &y_label,
             &lines,
             &plots.join(&png),
             &plots.join(&svg),
         ) {
             Ok(_) => (
-                Some(crate::view::PlotLinks {
-                    svg: format!("plots/{}", crate::view::url_path(&svg)),
-                    png: format!("plots/{}", crate::view::url_path(&png)),
+                Some(PlotLinks {
+                    svg: format!("plots/{}", url_path(&svg)),
+                    png: format!("plots/{}", url_path(&png)),
                 }),
-                "Solid: measured; dashed: the least-squares power law time ≈ a · x^slope."
-                    .to_string(),
+                format!(
+                    "Solid: measured; dashed: the least-squares power law time ≈ a · x^slope. Times on {}; they compare only within this run.",
+                    results.run.machine.adapter
+                ),
             ),
             Err(e) => (None, format!("plot failed: {e:#}")),
         };

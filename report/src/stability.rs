@@ -13,7 +13,7 @@ use harness::results::{Record, Results, STRESS_KIND};
 use harness::stress::{self, BOUND_COUNTER, Verdict};
 use serde::Serialize;
 
-use crate::view::rel;
+use crate::format::rel;
 
 /// Characters of a reason shown inside a cell; the full text is in the tooltip and the
 /// details table.

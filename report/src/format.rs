@@ -1,0 +1,112 @@
+//! Number, name and path formatting shared by every table and plot of the page, so all of
+//! them use the same units and precision.
+
+use harness::results::{Record, Status};
+use serde::Serialize;
+
+/// Links to a plot drawn in both formats.
+#[derive(Serialize, Clone)]
+pub struct PlotLinks {
+    pub svg: String,
+    pub png: String,
+}
+
+/// The record's parameters as `k=v k=v`, sorted by knob name.
+pub fn params_text(r: &Record) -> String {
+    let p: Vec<String> = r.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    if p.is_empty() {
+        "(none)".into()
+    } else {
+        p.join(" ")
+    }
+}
+
+pub fn status_text(s: Status) -> &'static str {
+    match s {
+        Status::Ok => "ok",
+        Status::Skipped => "skipped",
+        Status::Failed => "failed",
+    }
+}
+
+pub fn ms(v: f64) -> String {
+    if !v.is_finite() {
+        return "n/a".into();
+    }
+    if v >= 100.0 {
+        format!("{v:.0}")
+    } else if v >= 10.0 {
+        format!("{v:.1}")
+    } else {
+        format!("{v:.2}")
+    }
+}
+
+/// Relative errors with three significant digits (0.0123, 1.89, 4.20e-5).
+pub fn rel(v: f64) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    if v.abs() < 1e-3 || v.abs() >= 1e4 {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+pub fn mib(bytes: u64) -> String {
+    format!("{:.1} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+/// A file-name and HTML-id friendly form of a scene name.
+pub fn anchor(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("scene-{s}")
+}
+
+/// Percent-encodes a relative path for an `src`/`href` (keeps `/` and unreserved chars).
+pub fn url_path(rel: &str) -> String {
+    let mut out = String::new();
+    for b in rel.bytes() {
+        if b.is_ascii_alphanumeric() || b"-._~/".contains(&b) {
+            out.push(b as char);
+        } else {
+            out.push_str(&format!("%{b:02X}"));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rel_keeps_three_significant_digits() {
+        assert_eq!(rel(0.0013916), "0.00139");
+        assert_eq!(rel(0.04389), "0.0439");
+        assert_eq!(rel(1.8857), "1.89");
+        assert_eq!(rel(12.34), "12.3");
+        assert_eq!(rel(5.575e-4), "5.58e-4");
+        assert_eq!(rel(0.0), "0");
+        assert_eq!(rel(f64::NAN), "NaN");
+    }
+
+    #[test]
+    fn url_path_encodes_reserved_characters_only() {
+        assert_eq!(url_path("a b/c&d/x-1_y.png"), "a%20b/c%26d/x-1_y.png");
+        assert_eq!(url_path("é"), "%C3%A9");
+    }
+}
