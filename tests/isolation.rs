@@ -17,8 +17,8 @@ use std::time::Duration;
 use harness::isolate::marker::{self, InFlight};
 use harness::isolate::{Isolation, Phase, Reuse, WorkerCommand, worker};
 use harness::method::{
-    Entry, FrameReport, Method, MethodInfo, ParamSpec, Params, PrepareContext, Support, Targets,
-    resolve_params,
+    ConformanceCase, FrameReport, Knob, Method, MethodInfo, Params, PrepareContext, Prepared,
+    ShaderCheck, Support, Targets, resolve_params,
 };
 use harness::results::{Record, Results, Status};
 use harness::runner::{WorkItem, run_items};
@@ -39,7 +39,11 @@ enum Misbehave {
     GateInRender,
 }
 
-struct TestMethod(Misbehave);
+/// A test-only method: `misbehave` says how. The gate methods wait on the gate file.
+struct TestMethod {
+    id: &'static str,
+    misbehave: Misbehave,
+}
 
 fn wait_for_gate() {
     let gate = PathBuf::from(std::env::var_os(GATE_ENV).expect("gate path in the environment"));
@@ -48,22 +52,27 @@ fn wait_for_gate() {
     }
 }
 
+/// What a test method's `prepare` returns: renders nothing (or misbehaves).
+struct TestState(Misbehave);
+
 impl Method for TestMethod {
     fn info(&self) -> MethodInfo {
         MethodInfo {
-            id: "test",
+            id: self.id,
             paper: "test only",
             summary: "misbehaves on purpose",
+            readme: "",
+            source: "",
         }
     }
-    fn params(&self) -> Vec<ParamSpec> {
+    fn knobs(&self) -> Vec<Knob> {
         Vec::new()
     }
     fn support(&self, _: &SceneFeatures, _: wgpu::Features) -> Support {
         Support::Full
     }
-    fn prepare(&mut self, _: &PrepareContext) -> anyhow::Result<()> {
-        match self.0 {
+    fn prepare(&self, _: &PrepareContext) -> anyhow::Result<Box<dyn Prepared>> {
+        match self.misbehave {
             Misbehave::ExitInPrepare => {
                 eprintln!("test-exit-in-prepare: exiting with code 7 on purpose");
                 std::process::exit(7)
@@ -71,8 +80,17 @@ impl Method for TestMethod {
             Misbehave::GateInPrepare => wait_for_gate(),
             _ => {}
         }
-        Ok(())
+        Ok(Box::new(TestState(self.misbehave)))
     }
+    fn shaders(&self) -> Vec<ShaderCheck> {
+        Vec::new()
+    }
+    fn conformance(&self) -> Vec<ConformanceCase> {
+        Vec::new()
+    }
+}
+
+impl Prepared for TestState {
     fn render(
         &mut self,
         _: &Gpu,
@@ -95,44 +113,21 @@ impl Method for TestMethod {
     }
 }
 
-static TEST_METHODS: &[Entry] = &[
-    Entry {
-        id: "test-abort-in-render",
-        make: || Box::new(TestMethod(Misbehave::AbortInRender)),
-    },
-    Entry {
-        id: "test-hang-in-render",
-        make: || Box::new(TestMethod(Misbehave::HangInRender)),
-    },
-    Entry {
-        id: "test-exit-in-prepare",
-        make: || Box::new(TestMethod(Misbehave::ExitInPrepare)),
-    },
-    Entry {
-        id: "test-gate-in-prepare",
-        make: || Box::new(TestMethod(Misbehave::GateInPrepare)),
-    },
-    Entry {
-        id: "test-gate-in-render",
-        make: || Box::new(TestMethod(Misbehave::GateInRender)),
-    },
+static TEST_METHODS: &[&dyn Method] = &[
+    &TestMethod { id: "test-abort-in-render", misbehave: Misbehave::AbortInRender },
+    &TestMethod { id: "test-hang-in-render", misbehave: Misbehave::HangInRender },
+    &TestMethod { id: "test-exit-in-prepare", misbehave: Misbehave::ExitInPrepare },
+    &TestMethod { id: "test-gate-in-prepare", misbehave: Misbehave::GateInPrepare },
+    &TestMethod { id: "test-gate-in-render", misbehave: Misbehave::GateInRender },
 ];
 
 /// What this binary serves as a worker: the real methods and the test-only ones.
-fn registry() -> Vec<Entry> {
-    methods::REGISTRY
-        .iter()
-        .chain(TEST_METHODS)
-        .map(|e| Entry { id: e.id, make: e.make })
-        .collect()
+fn registry() -> Vec<&'static dyn Method> {
+    methods::REGISTRY.iter().chain(TEST_METHODS).copied().collect()
 }
 
-fn entry(id: &str) -> &'static Entry {
-    methods::REGISTRY
-        .iter()
-        .chain(TEST_METHODS)
-        .find(|e| e.id == id)
-        .unwrap_or_else(|| panic!("no method {id}"))
+fn entry(id: &str) -> &'static dyn Method {
+    registry().into_iter().find(|m| m.id() == id).unwrap_or_else(|| panic!("no method {id}"))
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -167,7 +162,7 @@ fn run(out: &Path, ids: &[&str], iso: Isolation, resume: bool) -> Results {
             WorkItem {
                 scene: 0,
                 entry: e,
-                params: resolve_params(&(e.make)().params(), &Params::new()).unwrap(),
+                params: resolve_params(e, &Params::new()).unwrap(),
             }
         })
         .collect();
