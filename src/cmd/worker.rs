@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
 use harness::isolate::{Isolation, Reuse, WorkerCommand};
 
@@ -31,8 +31,8 @@ pub struct IsolateArgs {
     /// Seconds after which a record is killed and recorded as failed ("timed out in
     /// <phase>"). Default: 120 + 10 × the time budget, or 120 + 30 × (warm-up + frames + 1)
     /// without a budget.
-    #[arg(long, value_name = "SECONDS")]
-    pub record_timeout: Option<f64>,
+    #[arg(long, value_name = "SECONDS", value_parser = parse_timeout)]
+    pub record_timeout: Option<Duration>,
     /// With --resume: run the failed records again (including one interrupted by a crash of
     /// the run itself); the new record replaces the old.
     #[arg(long)]
@@ -41,11 +41,7 @@ pub struct IsolateArgs {
 
 impl IsolateArgs {
     pub fn isolation(&self) -> Result<Isolation> {
-        let record_timeout = match self.record_timeout {
-            None => None,
-            Some(s) if s.is_finite() && s > 0.0 && s <= 1e6 => Some(Duration::from_secs_f64(s)),
-            Some(s) => bail!("--record-timeout: {s} is not a number of seconds in (0, 1e6]"),
-        };
+        let record_timeout = self.record_timeout;
         let (worker, reuse) = match self.isolate {
             IsolateMode::Off => (None, Reuse::Run),
             IsolateMode::On => (Some(this_worker()?), Reuse::Run),
@@ -57,6 +53,14 @@ impl IsolateArgs {
             record_timeout,
             retry_failed: self.retry_failed,
         })
+    }
+}
+
+/// Seconds in (0, 1e6]; refused by clap (exit 2) otherwise.
+fn parse_timeout(s: &str) -> std::result::Result<Duration, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1e6 => Ok(Duration::from_secs_f64(v)),
+        _ => Err(format!("'{s}' is not a number of seconds in (0, 1e6]")),
     }
 }
 
