@@ -199,6 +199,7 @@ pub(crate) fn failed_record(scene: &str, method: &str, params: &Params, reason: 
         passes: None,
         counters: Default::default(),
         errors: Default::default(),
+        errors_per_frame: None,
         images: Default::default(),
     }
 }
