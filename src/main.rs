@@ -67,9 +67,13 @@ enum Command {
     /// Frame time vs caster triangles (1k → 1M) and vs resolution (128² → 1024²) for every
     /// method at default parameters: a results run plus log–log plots with fitted slopes.
     Scaling(cmd::scaling::ScalingArgs),
+    /// Internal: serve the runner as a worker process (records over a pipe).
+    #[command(name = "__worker", hide = true)]
+    Worker,
 }
 
 fn main() -> ExitCode {
+    cmd::pipe::exit_quietly_on_closed_output();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::List { json } => cmd::list::run(json),
@@ -87,6 +91,7 @@ fn main() -> ExitCode {
         Command::Merge(a) => cmd::merge::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a),
         Command::Scaling(a) => cmd::scaling::run(a),
+        Command::Worker => cmd::worker::serve(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

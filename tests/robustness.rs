@@ -338,6 +338,7 @@ fn validation_errors_and_device_loss_are_recorded_as_failed() {
         reference: Settings::default(),
         cache_dir: None,
         run_id: "test".into(),
+        isolation: Default::default(),
     };
     let no_scatter = methods::find("no-scatter").unwrap();
     let r = stress::run(

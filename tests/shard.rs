@@ -27,6 +27,7 @@ fn config(out: PathBuf) -> RunConfig {
         cache_dir: None,
         run_id: "shard-test".into(),
         budget_ms: None,
+        isolation: Default::default(),
     }
 }
 

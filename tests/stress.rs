@@ -56,6 +56,7 @@ fn stress_suite_passes_on_every_method_at_64() {
         reference: Settings::default(),
         cache_dir: None,
         run_id: "test".into(),
+        isolation: Default::default(),
     };
     let all = methods::REGISTRY.to_vec();
     let r = stress::run(&mut gpu, &all, &cfg, &mut |_| {}).unwrap();

@@ -4,6 +4,7 @@
 pub mod fsutil;
 pub mod gpu;
 pub mod image;
+pub mod isolate;
 pub mod knobs;
 pub mod merge;
 pub mod method;

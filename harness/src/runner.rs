@@ -13,7 +13,7 @@
 //! ([`run_shard`], `crate::shard`) or replaced by an explicit list ([`run_items`], used by
 //! `scatterbench reproduce`).
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -58,6 +58,9 @@ pub struct RunConfig {
     /// Per-record time budget (ms) for warm-up plus timed frames; None: always W + K frames.
     /// See [`another_frame`] for the rule.
     pub budget_ms: Option<f64>,
+    /// Records in worker processes with a watchdog, or in process (the default); with
+    /// `resume`, whether failed records run again. See [`crate::isolate`].
+    pub isolation: crate::isolate::Isolation,
 }
 
 /// Fewest timed frames a record gets under a time budget (a median needs a few samples).
@@ -243,8 +246,13 @@ pub fn run_items(
             records: Vec::new(),
         }
     };
-    let done: BTreeSet<String> = results.records.iter().map(Record::key).collect();
+    if cfg.isolation.retry_failed && !cfg.resume {
+        return Err("--retry-failed runs the failed records of an earlier run: it needs --resume".into());
+    }
+    let resume = crate::isolate::marker::resume(&mut results, &cfg.out_dir, cfg.isolation.retry_failed)?;
+    let (done, mut retry) = (resume.done, resume.retry);
     results.save(&results_path)?;
+    let mut dispatch = crate::isolate::Dispatch::new(gpu, cfg);
     // The reference of the scene being worked on (the list is grouped by scene).
     let mut reference: Option<(usize, ReferenceImages, ToneMap)> = None;
     for item in work {
@@ -291,14 +299,18 @@ pub fn run_items(
                 } else {
                     Vec::new()
                 };
-                let mut rec = run_one(gpu, scene, entry, params, cfg, r, tone);
+                let mut rec = dispatch.run(item.scene, scene, entry, params, r, tone)?;
                 rec.ignored = ignored;
                 rec
             }
         };
         on_event(Event::Record(&record));
-        results.records.push(record);
+        match retry.remove(&key) {
+            Some(i) => results.records[i] = record,
+            None => results.records.push(record),
+        }
         results.save(&results_path)?;
+        crate::isolate::marker::clear(&cfg.out_dir)?;
     }
     Ok(results)
 }
@@ -345,7 +357,7 @@ pub fn params_slug(params: &Params) -> String {
     if s.is_empty() { "default".into() } else { s }
 }
 
-fn run_one(
+pub(crate) fn run_one(
     gpu: &Gpu,
     scene: &Scene,
     entry: &dyn Method,
@@ -369,6 +381,7 @@ fn run_one(
         measure(gpu, scene, entry, params, cfg, &mut scorer)
     }));
     let errors = gpu.take_errors();
+    crate::isolate::phase::enter(crate::isolate::Phase::Score);
     let (mut rec, images) = match outcome {
         Err(panic) => {
             let msg = panic
@@ -696,6 +709,7 @@ fn measure(
     cfg: &RunConfig,
     scorer: &mut FrameScorer,
 ) -> Result<(Record, [Image; 3]), String> {
+    crate::isolate::phase::enter(crate::isolate::Phase::Prepare);
     gpu.reset_allocated();
     let start = Instant::now();
     let mut method = entry
@@ -720,6 +734,7 @@ fn measure(
     let (mut cpu, mut wall, mut gpu_ms) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = FrameReport::default();
     let mut work: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
+    crate::isolate::phase::enter(crate::isolate::Phase::Render);
     // Frames cycle through the scene's frames: warm-up first, then the timed ones.
     let (mut f, mut warm_ms, mut timed_ms) = (0u32, 0.0, 0.0);
     while f < cfg.warmup && another_frame(cfg.budget_ms, true, f, warm_ms) {

@@ -52,6 +52,7 @@ pub fn run_config(out: PathBuf, res: u32, frames: u32) -> RunConfig {
         cache_dir: None,
         run_id: "test".into(),
         budget_ms: None,
+        isolation: Default::default(),
     }
 }
 

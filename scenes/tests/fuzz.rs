@@ -3,6 +3,9 @@
 //! message that names the file and says something; an accepted scene yields frame states,
 //! features and a medium without panicking, with finite cameras.
 //!
+//! OBJ input goes through the same loader with arbitrary OBJ statements in a file an `obj`
+//! shape names.
+//!
 //! CI runs a fixed number of cases (`FUZZ_CASES`, default 2000 per property, about a second in
 //! release). A longer manual run: `FUZZ_CASES=20000 cargo test --release -p scenes --test fuzz`.
 
@@ -335,4 +338,121 @@ fn a_procedural_mesh_too_large_to_build_is_refused() {
         err.contains("objects[1].shape") && err.contains("triangles"),
         "{err}"
     );
+}
+
+/// OBJ statements, well-formed and not: vertices with edge-case numbers, faces with absolute,
+/// relative (negative), zero, out-of-range and malformed `v/vt/vn` indices, and the statements
+/// the loader ignores.
+fn obj_line() -> impl Strategy<Value = String> {
+    let num = prop_oneof![
+        Just("0".to_string()),
+        Just("-1".to_string()),
+        Just("1e39".to_string()),
+        Just("-1e39".to_string()),
+        Just("nan".to_string()),
+        Just("inf".to_string()),
+        Just("1e-45".to_string()),
+        Just("x".to_string()),
+        Just("".to_string()),
+        (-1e3f64..1e3).prop_map(|x| x.to_string()),
+    ];
+    let index = prop_oneof![
+        Just("0".to_string()),
+        Just("1".to_string()),
+        Just("2".to_string()),
+        Just("3".to_string()),
+        Just("-1".to_string()),
+        Just("-2".to_string()),
+        Just("-4294967296".to_string()),
+        Just("9223372036854775807".to_string()),
+        Just("-9223372036854775808".to_string()),
+        Just("".to_string()),
+        Just("a".to_string()),
+        any::<i32>().prop_map(|i| i.to_string()),
+    ];
+    let corner = (index.clone(), prop::option::of(index.clone()), prop::option::of(index))
+        .prop_map(|(v, t, n)| match (t, n) {
+            (None, None) => v,
+            (Some(t), None) => format!("{v}/{t}"),
+            (None, Some(n)) => format!("{v}//{n}"),
+            (Some(t), Some(n)) => format!("{v}/{t}/{n}"),
+        });
+    prop_oneof![
+        4 => prop::collection::vec(num.clone(), 0..5).prop_map(|v| format!("v {}", v.join(" "))),
+        4 => prop::collection::vec(-1e3f64..1e3, 3).prop_map(|v| format!("v {} {} {}", v[0], v[1], v[2])),
+        1 => prop::collection::vec(num.clone(), 0..4).prop_map(|v| format!("vn {}", v.join(" "))),
+        1 => prop::collection::vec(num, 0..3).prop_map(|v| format!("vt {}", v.join(" "))),
+        4 => prop::collection::vec(corner, 0..6).prop_map(|c| format!("f {}", c.join(" "))),
+        1 => prop::sample::select(&["o a", "g b", "s 1", "usemtl m", "mtllib missing.mtl", "l 1 2", "p 1", "# c", "", "f", "v"][..]).prop_map(str::to_string),
+        1 => ".{0,20}",
+        2 => Just("f 1 2 3".to_string()),
+        2 => Just("f -1 -2 -3".to_string()),
+    ]
+}
+
+/// Panics anywhere in the process since the last call (a panic contained by the loader's own
+/// `catch_unwind` still counts: the property is zero panics, not zero escaped panics).
+fn panics_since_last_call() -> usize {
+    use std::sync::Once;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    static HOOK: Once = Once::new();
+    HOOK.call_once(|| {
+        let default = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            COUNT.fetch_add(1, Ordering::SeqCst);
+            default(info);
+        }));
+    });
+    COUNT.swap(0, Ordering::SeqCst)
+}
+
+/// The `obj` mesh path end to end: a scene whose object is an OBJ file of arbitrary statements,
+/// loaded from disk through `parse_scene`. Never a panic (counted, contained or not); a refusal
+/// names the scene file and the object; an accepted mesh has finite positions and normals and
+/// in-range indices.
+#[test]
+fn arbitrary_obj_files_never_panic_and_refusals_name_the_object() {
+    let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut v: Value = serde_json::from_str(library::LIBRARY[0].1).unwrap();
+    let mut shape = Map::new();
+    shape.insert("kind".into(), Value::from("obj"));
+    shape.insert("path".into(), Value::from("fuzz.obj"));
+    v["objects"][0]["shape"] = Value::Object(shape);
+    let scene_text = v.to_string();
+    panics_since_last_call();
+    let accepted = std::cell::Cell::new(0u32);
+    runner()
+        .run(&(any::<bool>(), prop::collection::vec(obj_line(), 0..24)), |(seed, lines)| {
+            // Half the files start from a valid triangle, so the accepting path is reached too.
+            let seed = if seed { "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" } else { "" };
+            let obj = format!("{seed}{}", lines.join("\n"));
+            std::fs::write(dir.join("fuzz.obj"), &obj).unwrap();
+            let out = catch_unwind(AssertUnwindSafe(|| parse_scene(&scene_text, FILE, "fuzz", &dir)));
+            let res = out.map_err(|_| TestCaseError::fail(format!("parse_scene panicked on OBJ:\n{obj}")))?;
+            prop_assert_eq!(panics_since_last_call(), 0, "a panic (contained) on OBJ:\n{}", obj);
+            match res {
+                Err(e) => {
+                    let msg = e.to_string();
+                    prop_assert!(msg.starts_with(FILE), "refusal does not name the file: {msg}");
+                    prop_assert!(msg.contains("objects[0].shape"), "refusal does not name the object: {msg}");
+                }
+                Ok(scene) => {
+                    accepted.set(accepted.get() + 1);
+                    let m = &scene.meshes[0];
+                    prop_assert!(!m.indices.is_empty());
+                    prop_assert!(m.positions.iter().all(|p| p.is_finite()), "non-finite position from:\n{obj}");
+                    prop_assert!(m.normals.iter().all(|n| n.is_finite()), "non-finite normal from:\n{obj}");
+                    let n = m.positions.len() as u32;
+                    prop_assert!(m.indices.iter().flatten().all(|&i| i < n), "index out of range from:\n{obj}");
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("{} of {} OBJ files accepted", accepted.get(), cases());
+    // The generator must reach the accepting path too, or the checks above never run.
+    assert!(accepted.get() > 0, "no generated OBJ file was accepted");
 }

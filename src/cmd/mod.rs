@@ -1,6 +1,7 @@
 pub mod list;
 pub mod merge;
 pub mod papers;
+pub mod pipe;
 pub mod reference;
 pub mod report;
 pub mod reproduce;
@@ -8,6 +9,7 @@ pub mod run;
 pub mod scaling;
 pub mod stress;
 pub mod validate;
+pub mod worker;
 
 use anyhow::{Result, bail};
 

@@ -43,6 +43,8 @@ pub struct ReproduceArgs {
     /// Reference cache directory.
     #[arg(long, default_value = "results/cache")]
     pub cache: PathBuf,
+    #[command(flatten)]
+    pub isolate: super::worker::IsolateArgs,
 }
 
 pub fn run(a: ReproduceArgs) -> Result<()> {
@@ -160,6 +162,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         cache_dir: Some(a.cache.clone()),
         run_id: format!("reproduce-{run_id}"),
         budget_ms: None,
+        isolation: a.isolate.isolation()?,
     };
     let total = work.len();
     let mut done = 0;

@@ -61,6 +61,8 @@ pub struct RunArgs {
     /// work list, for batch schedulers; reassemble with `scatterbench merge`.
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     pub shard: Option<harness::shard::Shard>,
+    #[command(flatten)]
+    pub isolate: super::worker::IsolateArgs,
 }
 
 fn parse_shard(s: &str) -> std::result::Result<harness::shard::Shard, String> {
@@ -181,6 +183,7 @@ pub fn run(a: RunArgs) -> Result<()> {
         cache_dir: Some(a.cache.clone()),
         run_id,
         budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
+        isolation: a.isolate.isolation()?,
     };
     let mut counts = [0usize; 3];
     let results = harness::runner::run_shard(&gpu, &scenes, &chosen, &cfg, shard, &mut |ev| match ev {

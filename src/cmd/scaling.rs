@@ -68,6 +68,8 @@ pub struct ScalingArgs {
     /// Reference cache directory.
     #[arg(long, default_value = "results/cache")]
     pub cache: PathBuf,
+    #[command(flatten)]
+    pub isolate: super::worker::IsolateArgs,
 }
 
 /// Parses "1k,4k,1M,2500" into counts.
@@ -263,6 +265,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
         cache_dir: Some(a.cache.clone()),
         run_id: format!("scaling-{run_id}"),
         budget_ms: None,
+        isolation: a.isolate.isolation()?,
     };
     let mut log = |ev: Event| match ev {
         Event::Reference {

@@ -34,6 +34,8 @@ pub struct StressArgs {
     /// Reference cache directory.
     #[arg(long, default_value = "results/cache")]
     pub cache: PathBuf,
+    #[command(flatten)]
+    pub isolate: super::worker::IsolateArgs,
 }
 
 fn pick_cases(spec: &str) -> Result<Vec<&'static stress::Case>> {
@@ -79,6 +81,7 @@ pub fn run(a: StressArgs) -> Result<()> {
         reference: Settings::default(),
         cache_dir: Some(a.cache.clone()),
         run_id,
+        isolation: a.isolate.isolation()?,
     };
     let results = stress::run(&mut gpu, &chosen, &cfg, &mut |ev| match ev {
         Event::Reference {

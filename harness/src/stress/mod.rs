@@ -41,6 +41,9 @@ pub struct StressConfig {
     pub reference: Settings,
     pub cache_dir: Option<PathBuf>,
     pub run_id: String,
+    /// Worker processes and the watchdog for every record; `retry_failed` (with `resume`)
+    /// runs failed records again.
+    pub isolation: crate::isolate::Isolation,
 }
 
 /// How one case × method came out.
@@ -183,7 +186,8 @@ pub fn run(
                 crate::method::resolve_params(*entry, &Params::new()).map_err(|e| e.to_string())?;
             let key = record_key(case.name, entry.id(), &params);
             let mut results = Results::load(&path)?;
-            if results.records.iter().any(|r| r.key() == key) {
+            let retry = |r: &Record| cfg.isolation.retry_failed && r.status == Status::Failed;
+            if results.records.iter().any(|r| r.key() == key && !retry(r)) {
                 on_event(Event::Resumed(&key));
                 continue;
             }
@@ -204,6 +208,7 @@ pub fn run(
                         cache_dir: cfg.cache_dir.clone(),
                         run_id: cfg.run_id.clone(),
                         budget_ms: None,
+                        isolation: cfg.isolation.clone(),
                     };
                     let g: &Gpu = gpu;
                     // Swallow the runner's own record events: the judged record is reported below.
