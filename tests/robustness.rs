@@ -32,8 +32,9 @@ fn cli(args: &[&str]) -> (i32, String) {
 }
 
 /// Kills `scatterbench run` with SIGKILL once results.json holds a finished record: the file
-/// left behind is a valid results file with every record finished so far, and `--resume`
-/// completes the run, keeping those records as they were.
+/// left behind is a valid results file with every record finished so far; `--resume` completes
+/// the run, keeping those records as they were and recording the one in flight as interrupted;
+/// `--resume --retry-failed` runs that one again.
 #[test]
 fn sigkill_mid_run_leaves_valid_results_and_resume_completes_them() {
     if have_gpu().is_none() {
@@ -112,10 +113,31 @@ fn sigkill_mid_run_leaves_valid_results_and_resume_completes_them() {
     keys.sort();
     keys.dedup();
     assert_eq!(keys.len(), 6, "no record twice");
+    // The record in flight when the run was killed is recorded as interrupted, never re-run
+    // (a crash must not repeat forever: ARCHITECTURE §9.2); every other record is ok.
+    let interrupted = |r: &harness::results::Record| {
+        r.status == Status::Failed
+            && r.reason.as_deref().is_some_and(|m| m.starts_with("interrupted"))
+    };
     assert!(
-        done.records.iter().all(|r| r.status == Status::Ok),
+        done.records
+            .iter()
+            .all(|r| r.status == Status::Ok || interrupted(r)),
         "{:?}",
         done.records
+    );
+    assert!(done.records.iter().filter(|r| interrupted(r)).count() <= 1);
+    // --retry-failed runs it again, in place.
+    let mut retry = args(true);
+    retry.push("--retry-failed".into());
+    let (code, err) = cli(&retry.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    let retried = Results::load(&path).unwrap();
+    assert_eq!(retried.records.len(), 6);
+    assert!(
+        retried.records.iter().all(|r| r.status == Status::Ok),
+        "{:?}",
+        retried.records
     );
 }
 
