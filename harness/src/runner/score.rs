@@ -1,0 +1,196 @@
+//! Scoring one record: its frames against the reference (headline, light core, per-frame
+//! errors), error maps and images written beside results.json (ARCHITECTURE §4.3–4.4).
+
+use super::*;
+
+pub(crate) fn run_one(
+    gpu: &Gpu,
+    scene: &Scene,
+    entry: &dyn Method,
+    params: &Params,
+    cfg: &RunConfig,
+    reference: &ReferenceImages,
+    tone: &ToneMap,
+) -> Record {
+    let _ = gpu.take_errors();
+    let mut scorer = match FrameScorer::new(
+        scene,
+        tone,
+        reference,
+        cfg.reference,
+        cfg.cache_dir.as_deref(),
+    ) {
+        Ok(s) => s,
+        Err(e) => return failed(scene, entry.id(), params, format!("per-frame references: {e}")),
+    };
+    let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
+        measure(gpu, scene, entry, params, cfg, &mut scorer)
+    }));
+    let errors = gpu.take_errors();
+    crate::isolate::phase::enter(crate::isolate::Phase::Score);
+    let (mut rec, images) = match outcome {
+        Err(panic) => {
+            let msg = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            return failed(scene, entry.id(), params, format!("panicked: {msg}"));
+        }
+        Ok(Err(e)) => {
+            return failed(
+                scene,
+                entry.id(),
+                params,
+                if errors.is_empty() {
+                    e
+                } else {
+                    format!("{e}; wgpu: {}", errors.join("; "))
+                },
+            );
+        }
+        Ok(Ok(_)) if !errors.is_empty() => {
+            return failed(
+                scene,
+                entry.id(),
+                params,
+                format!("wgpu error: {}", errors.join("; ")),
+            );
+        }
+        Ok(Ok(v)) => v,
+    };
+    let [inscatter, surface, total] = &images;
+    let dir = format!("{}/{}/{}", scene.name, entry.id(), params_slug(params));
+    // Scoring and writing images are independent CPU work while the GPU idles: spread them over
+    // the cores (FLIP at 512² is most of a record's overhead on a 2-core machine).
+    let score_start = Instant::now();
+    // The light core of the scored frame (frame 0), judged beside the headline.
+    let core = light_core_mask(&scene.frame(0), cfg.width, cfg.height, &reference.distance);
+    let scored = [
+        ("inscatter", inscatter, &reference.inscatter),
+        ("total", total, &reference.total),
+        ("surface", surface, &reference.surface),
+    ];
+    let mapped = [
+        ("inscatter", inscatter, &reference.inscatter),
+        ("total", total, &reference.total),
+    ];
+    let (scores, (written, maps)) = rayon::join(
+        || {
+            scored
+                .par_iter()
+                .map(|(name, img, refimg)| {
+                    let m = compare(img, refimg, tone).map(|mut m| {
+                        m.light_core = core
+                            .as_ref()
+                            .and_then(|c| masked_relative(&finite(img), refimg, c));
+                        m
+                    });
+                    (*name, m)
+                })
+                .collect::<Vec<_>>()
+        },
+        || {
+            let written = write_aovs(&cfg.out_dir, &dir, inscatter, surface, total, tone);
+            // Error maps: |method − reference| on a shared scale per AOV (the reference's
+            // 99th percentile / 10); after write_aovs, which creates the directory.
+            let maps = mapped
+                .par_iter()
+                .map(|(name, img, refimg)| {
+                    let scale = error_scale(refimg);
+                    let path = format!("{dir}/{name}.error.png");
+                    io::write_png_ldr(&cfg.out_dir.join(&path), &error_map(img, refimg, scale))
+                        .map(|()| (*name, path, scale))
+                })
+                .collect::<Vec<_>>();
+            (written, maps)
+        },
+    );
+    let mut nonfinite = 0;
+    let score_seconds = scorer.seconds;
+    let (per_frame, temporal) = scorer.finish();
+    rec.counters.insert(
+        "light_core_pixels".into(),
+        core.as_ref().map_or(0, |m| m.iter().filter(|&&c| c).count()) as f64,
+    );
+    for (name, m) in scores {
+        match m {
+            Ok(mut m) => {
+                nonfinite = nonfinite.max(m.nonfinite);
+                let k = AOV_NAMES.iter().position(|a| *a == name).expect("an AOV");
+                m.temporal = temporal[k];
+                rec.errors.insert(name.to_string(), m);
+            }
+            Err(e) => {
+                return failed(
+                    scene,
+                    entry.id(),
+                    params,
+                    format!("cannot score {name}: {e}"),
+                );
+            }
+        }
+    }
+    rec.errors_per_frame = per_frame;
+    match written {
+        Ok(paths) => rec.images = paths,
+        Err(e) => return failed(scene, entry.id(), params, e),
+    }
+    for map in maps {
+        match map {
+            Ok((name, path, scale)) => {
+                rec.images.insert(format!("{name}_error"), path);
+                rec.counters
+                    .insert(format!("{name}_error_scale"), scale as f64);
+            }
+            Err(e) => return failed(scene, entry.id(), params, e),
+        }
+    }
+    if let Some(t) = rec.timing.as_mut() {
+        t.score_ms = (score_start.elapsed().as_secs_f64() + score_seconds) * 1e3;
+    }
+    if nonfinite > 0 {
+        rec.status = Status::Failed;
+        rec.reason = Some(format!("{nonfinite} non-finite pixels in the output"));
+    }
+    rec
+}
+
+/// The error that maps to the top of an error map's colour bar: a tenth of the reference's
+/// 99th-percentile luminance, so 10% errors saturate.
+pub fn error_scale(reference: &Image) -> f32 {
+    let mut l = reference.luminance();
+    l.retain(|v| v.is_finite());
+    if l.is_empty() {
+        return 1.0;
+    }
+    l.sort_by(f32::total_cmp);
+    let p99 = l[((l.len() as f64 * 0.99) as usize).min(l.len() - 1)];
+    (0.1 * p99).max(1e-12)
+}
+
+pub(super) fn write_aovs(
+    out: &Path,
+    rel_dir: &str,
+    inscatter: &Image,
+    surface: &Image,
+    total: &Image,
+    tone: &ToneMap,
+) -> Result<std::collections::BTreeMap<String, String>, String> {
+    let mut paths = std::collections::BTreeMap::new();
+    for (name, img) in [
+        ("inscatter", inscatter),
+        ("surface", surface),
+        ("total", total),
+    ] {
+        let exr = format!("{rel_dir}/{name}.exr");
+        let png = format!("{rel_dir}/{name}.png");
+        std::fs::create_dir_all(out.join(rel_dir))
+            .map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
+        io::write_exr(&out.join(&exr), img)?;
+        io::write_png(&out.join(&png), img, tone)?;
+        paths.insert(name.to_string(), exr);
+        paths.insert(format!("{name}_png"), png);
+    }
+    Ok(paths)
+}
