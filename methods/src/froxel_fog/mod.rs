@@ -254,14 +254,21 @@ impl Prepared for State {
         }
         let g = self.grid;
         {
-            let mut pass = gpu.compute_pass(enc, &wgpu::ComputePassDescriptor {
-                label: Some("froxel inject + integrate"),
-                timestamp_writes: None,
-            });
+            let mut pass = gpu.compute_pass(
+                enc,
+                &wgpu::ComputePassDescriptor {
+                    label: Some("froxel inject + integrate"),
+                    timestamp_writes: None,
+                },
+            );
             pass.set_bind_group(0, &self.renderer.frame_bind, &[]);
             pass.set_bind_group(1, &self.volume_bind, &[]);
             pass.set_pipeline(&self.inject);
-            pass.dispatch_workgroups(g.grid_x.div_ceil(4), g.grid_y.div_ceil(4), g.slices.div_ceil(4));
+            pass.dispatch_workgroups(
+                g.grid_x.div_ceil(4),
+                g.grid_y.div_ceil(4),
+                g.slices.div_ceil(4),
+            );
             pass.set_pipeline(&self.integrate);
             pass.dispatch_workgroups(g.grid_x.div_ceil(8), g.grid_y.div_ceil(8), 1);
         }
@@ -272,7 +279,10 @@ impl Prepared for State {
         report.ran("apply");
         let froxels = g.grid_x as f64 * g.grid_y as f64 * g.slices as f64;
         report.count("froxels", froxels);
-        report.count("lights_injected", self.renderer.scene.lights.len() as f64);
+        report.count(
+            "lights_injected",
+            self.renderer.scene.desc.lights.len() as f64,
+        );
         Ok(report)
     }
 }
@@ -326,6 +336,11 @@ impl Method for FroxelFog {
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {
-        vec![ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.3)]
+        vec![ConformanceCase::new(
+            "sphere-point",
+            48,
+            Aov::Inscatter,
+            0.3,
+        )]
     }
 }
