@@ -7,13 +7,12 @@
 
 // Integrated in-scatter of column (x, y) at slice boundary b ∈ [0, slices].
 fn boundary(x: i32, y: i32, b: i32) -> vec3<f32> {
-    if (b <= 0) {
-        return vec3<f32>(0.0);
-    }
-    let cx = clamp(x, 0, i32(froxel.grid_x) - 1);
-    let cy = clamp(y, 0, i32(froxel.grid_y) - 1);
-    let k = min(b, i32(froxel.slices)) - 1;
-    return textureLoad(volume, vec2<i32>(tile_texel(froxel, u32(cx), u32(cy), u32(k))), 0).rgb;
+    let cx = u32(clamp(x, 0, i32(froxel.grid_x) - 1));
+    let cy = u32(clamp(y, 0, i32(froxel.grid_y) - 1));
+    let k = u32(clamp(b, 1, i32(froxel.slices)) - 1);
+    let l = textureLoad(volume, vec2<i32>(tile_texel(froxel, cx, cy, k)), 0).rgb;
+    // Boundary 0 is the eye: no in-scatter yet (a select, not an early return).
+    return select(l, vec3<f32>(0.0), b <= 0);
 }
 
 // Linear in slice coordinate between the two boundaries around `f`.
