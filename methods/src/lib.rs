@@ -9,6 +9,7 @@ pub mod biri_shadow_volumes;
 pub mod common;
 pub mod conformance;
 pub mod dobashi_virtual_planes;
+pub mod froxel_fog;
 pub mod no_scatter;
 pub mod polygonal_light_volumes;
 pub mod raymarch_brute;
@@ -20,6 +21,7 @@ use harness::Method;
 /// Every method, in the order `list` and `run --methods all` use. The id is `info().id`.
 pub static REGISTRY: &[&dyn Method] = &[
     &raymarch_brute::RaymarchBrute,
+    &froxel_fog::FroxelFog,
     &dobashi_virtual_planes::DobashiVirtualPlanes,
     &wyman_hybrid::WymanHybrid,
     &biri_shadow_volumes::BiriShadowVolumes,

@@ -94,7 +94,6 @@ pub struct Planes {
     ranges: Vec<LightRange>,
 }
 
-
 impl Planes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, opts: Options) -> Planes {
         let gpu = ctx.gpu;

@@ -6,8 +6,8 @@
 //! Pass-level skipping (DESIGN §2): without shadow casters the shadow-map passes are skipped
 //! (and lights carry no shadow map) unless `no_skip`.
 
-use harness::method::{AOV_FORMAT, PrepareContext};
 use harness::gpu::PassCounter;
+use harness::method::{AOV_FORMAT, PrepareContext};
 use harness::{FrameReport, Gpu, Targets};
 use scenes::{FrameState, Scene};
 
@@ -335,43 +335,46 @@ impl SceneRenderer {
         targets: &Targets,
         report: &mut FrameReport,
     ) {
-        let mut pass = self.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some("surface"),
-            color_attachments: &[
-                Some(wgpu::RenderPassColorAttachment {
-                    view: targets.surface,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+        let mut pass = self.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("surface"),
+                color_attachments: &[
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: targets.surface,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &self.distance_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: -1.0,
+                                g: 0.0,
+                                b: 0.0,
+                                a: 0.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    }),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
                         store: wgpu::StoreOp::Store,
-                    },
+                    }),
+                    stencil_ops: None,
                 }),
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &self.distance_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: -1.0,
-                            g: 0.0,
-                            b: 0.0,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                }),
-            ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            ..Default::default()
-        });
+                ..Default::default()
+            },
+        );
         pass.set_pipeline(&self.surface_pipeline);
         pass.set_bind_group(0, &self.frame_bind, &[]);
         self.gpu_scene.draw(&mut pass);

@@ -263,24 +263,27 @@ impl ResolvePass {
             load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
             store: wgpu::StoreOp::Store,
         };
-        let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some(self.label),
-            color_attachments: &[
-                Some(wgpu::RenderPassColorAttachment {
-                    view: targets.inscatter,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: clear,
-                }),
-                Some(wgpu::RenderPassColorAttachment {
-                    view: targets.total,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: clear,
-                }),
-            ],
-            ..Default::default()
-        });
+        let mut pass = gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some(self.label),
+                color_attachments: &[
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: targets.inscatter,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: clear,
+                    }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: targets.total,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: clear,
+                    }),
+                ],
+                ..Default::default()
+            },
+        );
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &bind, &[]);
         let count = if self.per_light {

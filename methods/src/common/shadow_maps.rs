@@ -3,9 +3,9 @@
 //! texel, the distance from the light to the nearest caster (R32Float; depth along the light
 //! direction for directional light), and `shadow.wgsl` compares against it.
 
-use harness::gpu::PassCounter;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
+use harness::gpu::PassCounter;
 use harness::{FrameReport, Gpu};
 use scenes::{FrameState, LightState, Scene};
 
@@ -271,32 +271,35 @@ impl ShadowMaps {
         for slot in &self.slots {
             for k in 0..slot.faces {
                 let layer = slot.layer_base + k;
-                let mut pass = self.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-                    label: Some("shadow face"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &self.layer_views[layer as usize],
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: 1e30,
-                                g: 0.0,
-                                b: 0.0,
-                                a: 0.0,
+                let mut pass = self.passes.render_pass(
+                    enc,
+                    &wgpu::RenderPassDescriptor {
+                        label: Some("shadow face"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &self.layer_views[layer as usize],
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color {
+                                    r: 1e30,
+                                    g: 0.0,
+                                    b: 0.0,
+                                    a: 0.0,
+                                }),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: &self.depth_view,
+                            depth_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(1.0),
+                                store: wgpu::StoreOp::Discard,
                             }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &self.depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Discard,
+                            stencil_ops: None,
                         }),
-                        stencil_ops: None,
-                    }),
-                    ..Default::default()
-                });
+                        ..Default::default()
+                    },
+                );
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.bind_group, &[(layer as u64 * FACE_STRIDE) as u32]);
                 pass.set_vertex_buffer(0, scene_gpu.vertices.slice(..));

@@ -8,8 +8,8 @@
 //! removes the light's contribution wherever the count is not zero. Shadows are therefore exact
 //! per pixel — no shadow-map resolution or bias — and cost one extra scene draw per light.
 
-use harness::gpu::PassCounter;
 use harness::Gpu;
+use harness::gpu::PassCounter;
 use harness::method::AOV_FORMAT;
 
 use super::gpu_scene::Vertex;
@@ -121,30 +121,33 @@ impl StencilSurfaceShadows {
         let Some(pipeline) = self.pipelines.get(k) else {
             return;
         };
-        let mut pass = self.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some("stencil surface shadows"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: surface,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth_stencil,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
+        let mut pass = self.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("stencil surface shadows"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: surface,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: depth_stencil,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
                 }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-            }),
-            ..Default::default()
-        });
+                ..Default::default()
+            },
+        );
         pass.set_pipeline(pipeline);
         pass.set_stencil_reference(0);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
