@@ -17,7 +17,11 @@ pub mod reproduce;
 pub mod scaling;
 pub mod stress;
 
+use std::path::Path;
+
 use harness::method::Params;
+use harness::reference::Settings;
+use harness::runner::RunConfig;
 
 /// The knobs of `params` that differ from `method`'s defaults, `k=v …`, or "defaults".
 pub fn params_text(method: &str, params: &Params) -> String {
@@ -38,5 +42,31 @@ pub fn params_text(method: &str, params: &Params) -> String {
         "defaults".into()
     } else {
         v.join(" ")
+    }
+}
+
+/// The runner configuration of an experiment: explicit work items (no sweep, no overrides),
+/// every pass as the scene needs it, no time budget, the reference cache in `cache`.
+pub fn run_config(
+    out: &Path,
+    (width, height): (u32, u32),
+    (frames, warmup): (u32, u32),
+    cache: &Path,
+    run_id: &str,
+) -> RunConfig {
+    RunConfig {
+        out_dir: out.to_path_buf(),
+        width,
+        height,
+        frames,
+        warmup,
+        no_skip: false,
+        resume: false,
+        sweep: false,
+        overrides: Default::default(),
+        reference: Settings::default(),
+        cache_dir: Some(cache.to_path_buf()),
+        run_id: run_id.to_string(),
+        budget_ms: None,
     }
 }

@@ -15,9 +15,8 @@ use std::path::PathBuf;
 use anyhow::{Result, anyhow};
 use harness::Gpu;
 use harness::method::{Method, Params, parse_knob, resolve_params};
-use harness::reference::Settings;
 use harness::results::{Record, Results, Status, record_key};
-use harness::runner::{Event, RunConfig, WorkItem, run_items};
+use harness::runner::{Event, WorkItem, run_items};
 use report::analysis::{self, BUDGETS, TimeBasis};
 use scenes::Scene;
 
@@ -139,21 +138,13 @@ pub fn run(
     opts: &Options,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<String> {
-    let cfg = RunConfig {
-        out_dir: opts.out.clone(),
-        width: opts.width,
-        height: opts.height,
-        frames: opts.frames,
-        warmup: opts.warmup,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: Default::default(),
-        reference: Settings::default(),
-        cache_dir: Some(opts.cache.clone()),
-        run_id: opts.run_id.clone(),
-        budget_ms: None,
-    };
+    let cfg = crate::run_config(
+        &opts.out,
+        (opts.width, opts.height),
+        (opts.frames, opts.warmup),
+        &opts.cache,
+        &opts.run_id,
+    );
     let results =
         run_items(gpu, &plan.scenes, &plan.work, &cfg, None, on_event).map_err(|e| anyhow!(e))?;
     let mut text = plan.notes.clone();

@@ -21,7 +21,6 @@ use std::path::PathBuf;
 use anyhow::{Result, anyhow};
 use harness::Gpu;
 use harness::method::{Method, Params, resolve_params};
-use harness::reference::Settings;
 use harness::results::{Results, Status};
 use harness::runner::{Event, RunConfig, WorkItem, run_items};
 use report::scaling::{Spec, Sweep, SweepPoint};
@@ -117,21 +116,13 @@ pub fn run(
         .map(|e| resolve_params(*e, &Params::new()).map_err(anyhow::Error::from))
         .collect::<Result<_>>()?;
     let (tw, th) = opts.triangles_res;
-    let mut cfg = RunConfig {
-        out_dir: opts.out.clone(),
-        width: tw,
-        height: th,
-        frames: opts.frames,
-        warmup: opts.warmup,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: BTreeMap::new(),
-        reference: Settings::default(),
-        cache_dir: Some(opts.cache.clone()),
-        run_id: opts.run_id.clone(),
-        budget_ms: None,
-    };
+    let mut cfg = crate::run_config(
+        &opts.out,
+        (tw, th),
+        (opts.frames, opts.warmup),
+        &opts.cache,
+        &opts.run_id,
+    );
     // Each batch appends to the same results.json (resume after the first), since the
     // resolution is per batch.
     let items = |n_scenes: usize| -> Vec<WorkItem> {

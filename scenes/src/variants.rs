@@ -112,19 +112,6 @@ mod tests {
     #[test]
     fn triangle_variants_land_on_the_targets_and_keep_the_surface() {
         let base = resolve("sphere-point").unwrap();
-        let area = |m: &crate::TriMesh| -> f64 {
-            m.indices
-                .iter()
-                .map(|&[a, b, c]| {
-                    let (pa, pb, pc) = (
-                        m.positions[a as usize].as_dvec3(),
-                        m.positions[b as usize].as_dvec3(),
-                        m.positions[c as usize].as_dvec3(),
-                    );
-                    (pb - pa).cross(pc - pa).length() * 0.5
-                })
-                .sum()
-        };
         let sphere = |s: &Scene| {
             s.desc
                 .objects
@@ -148,7 +135,7 @@ mod tests {
                     assert_eq!(v.meshes[i], base.meshes[i]);
                 }
             }
-            let a = area(&v.meshes[sphere(&v)]);
+            let a = v.meshes[sphere(&v)].area();
             let a0 = *level0_area.get_or_insert(a);
             assert!((a / a0 - 1.0).abs() < 1e-5, "area {a} vs {a0}");
         }
