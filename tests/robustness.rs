@@ -177,6 +177,7 @@ fn an_unwritable_output_directory_is_a_clear_error() {
     }
 }
 
+/// Unknown names are bad input: exit 2 (ARCHITECTURE §8.3), like every refused argument.
 #[test]
 fn unknown_names_are_refused_with_the_valid_ones() {
     let (code, err) = cli(&[
@@ -186,7 +187,7 @@ fn unknown_names_are_refused_with_the_valid_ones() {
         "--methods",
         "no-scatter",
     ]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2, "{err}");
     for name in scenes::library::names() {
         assert!(err.contains(name), "{err}");
     }
@@ -195,18 +196,18 @@ fn unknown_names_are_refused_with_the_valid_ones() {
         ("stress", ["--cases", "all"]),
     ] {
         let (code, err) = cli(&[cmd, "--methods", "no-such-method", extra[0], extra[1]]);
-        assert_eq!(code, 1, "{cmd}");
+        assert_eq!(code, 2, "{cmd}: {err}");
         for e in methods::REGISTRY {
             assert!(err.contains(e.id()), "{cmd}: {err}");
         }
     }
     let (code, err) = cli(&["stress", "--cases", "no-such-case"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2, "{err}");
     for c in stress::names() {
         assert!(err.contains(c), "{err}");
     }
     let (code, err) = cli(&["reference", "--scene", "no-such-scene"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2, "{err}");
     assert!(err.contains("sphere-point"), "{err}");
 }
 

@@ -16,6 +16,7 @@ pub mod particles;
 pub mod phase;
 pub mod scene;
 pub mod validate;
+pub mod variants;
 
 pub use camera::{CameraPose, PixelRays};
 pub use desc::SceneDesc;

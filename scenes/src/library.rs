@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::load::{SceneError, load_scene, parse_scene};
 use crate::scene::Scene;
+use crate::variants::{self, MAX_SUB_LEVELS};
 
 /// (name, file text), in the order `list` and `run --scenes all` use.
 pub const LIBRARY: &[(&str, &str)] = &[
@@ -41,17 +42,31 @@ pub fn load(name: &str) -> Option<Result<Scene, SceneError>> {
         .map(|(n, text)| parse_scene(text, &format!("scenes/library/{n}.json"), n, Path::new(".")))
 }
 
-/// A library name, or a path to a scene file. Unknown names are refused with the valid ones.
+/// A library name, a variant `<library-name>-sub<L>` (every caster subdivided L ≤
+/// [`MAX_SUB_LEVELS`] times, [`crate::variants`]), or a path to a scene file. Unknown names
+/// are refused with the valid ones.
 pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
     if let Some(r) = load(name_or_path) {
         return r.map_err(|e| e.to_string());
+    }
+    if let Some((base, levels)) = variants::parse_sub(name_or_path)
+        && let Some(r) = load(base)
+    {
+        if levels > MAX_SUB_LEVELS {
+            return Err(format!(
+                "scene '{name_or_path}': at most {MAX_SUB_LEVELS} subdivision levels (each quadruples the triangles), got {levels}"
+            ));
+        }
+        return r
+            .map(|s| variants::subdivided(&s, levels))
+            .map_err(|e| e.to_string());
     }
     let p = Path::new(name_or_path);
     if p.extension().is_some_and(|e| e == "json") || p.is_file() {
         return load_scene(p).map_err(|e| e.to_string());
     }
     Err(format!(
-        "unknown scene '{name_or_path}': valid library scenes are {} (or give a path to a .json file)",
+        "unknown scene '{name_or_path}': valid library scenes are {} (or a variant <scene>-sub<L>, L ≤ {MAX_SUB_LEVELS}, or a path to a .json file)",
         names().join(", ")
     ))
 }

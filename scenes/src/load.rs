@@ -2,7 +2,7 @@
 //! semantic problem at once (see [`crate::validate`]); then the meshes.
 
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use crate::desc::{SceneDesc, Shape};
@@ -205,15 +205,6 @@ pub fn build_mesh(shape: &Shape, base: &Path) -> Result<TriMesh, String> {
             rails,
             bar,
         } => procedural::fence(width, height, posts, rails, bar),
-        Shape::Obj { ref path } => obj::load_obj(&resolve(base, path))?,
+        Shape::Obj { ref path } => obj::load_obj(&obj::resolve_path(base, path))?,
     })
-}
-
-pub(crate) fn resolve(base: &Path, path: &str) -> PathBuf {
-    let p = Path::new(path);
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        base.join(p)
-    }
 }

@@ -548,7 +548,7 @@ fn shape(c: &mut Checker, p: &str, s: &Shape, base: &Path) {
             }
         }
         Shape::Obj { path } => {
-            let full = crate::load::resolve(base, path);
+            let full = crate::mesh::obj::resolve_path(base, path);
             if !full.is_file() {
                 c.push(
                     &f("path"),

@@ -1,5 +1,6 @@
 //! `scatterbench merge RUN_DIR... --out DIR`: reassemble the shards of `run --shard i/n` (or
-//! any runs of the same resolution and adapter) into one run with its report.
+//! any runs of the same resolution and adapter) into one run with its report
+//! (ARCHITECTURE §9.4).
 
 use std::path::PathBuf;
 
@@ -21,6 +22,7 @@ pub struct MergeArgs {
 }
 
 pub fn run(a: MergeArgs) -> Result<()> {
+    crate::args::check_fresh(&a.out)?;
     let summary = merge(
         &a.run_dirs,
         &a.out,
@@ -40,9 +42,6 @@ pub fn run(a: MergeArgs) -> Result<()> {
         summary.files_copied,
         a.out.join("results.json").display()
     );
-    match report::generate(&a.out) {
-        Ok(index) => println!("report: {}", index.display()),
-        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
-    }
+    super::write_report(&a.out);
     Ok(())
 }

@@ -1,6 +1,8 @@
+//! One module per subcommand: its arguments (clap) and a `run` that checks them and calls
+//! library code (ARCHITECTURE §8).
+
 pub mod list;
 pub mod merge;
-pub mod papers;
 pub mod pipe;
 pub mod reference;
 pub mod report;
@@ -11,25 +13,25 @@ pub mod stress;
 pub mod validate;
 pub mod worker;
 
-use anyhow::{Result, bail};
-
-/// Parses `N` (square) or `WxH`.
-pub fn parse_res(s: &str) -> Result<(u32, u32)> {
-    let parse = |t: &str| -> Result<u32> {
-        let v: u32 = t
-            .trim()
-            .parse()
-            .map_err(|_| anyhow::anyhow!("--res: '{s}' is not N or WxH (e.g. 512 or 640x360)"))?;
-        if v == 0 || v > 16384 {
-            bail!("--res: {v} is outside 1..=16384");
-        }
-        Ok(v)
-    };
-    match s.split_once(['x', 'X']) {
-        Some((w, h)) => Ok((parse(w)?, parse(h)?)),
-        None => {
-            let n = parse(s)?;
-            Ok((n, n))
-        }
+/// Writes OUT/report/index.html after a command wrote OUT/results.json. The report is a view
+/// of results.json, which is already written: a report problem is a warning, never a failed
+/// run.
+pub fn write_report(out: &std::path::Path) {
+    match ::report::generate(out) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
     }
+}
+
+/// Opens the GPU and says which adapter the numbers will come from.
+pub fn open_gpu() -> anyhow::Result<harness::Gpu> {
+    let gpu = harness::Gpu::new().map_err(|e| anyhow::anyhow!(e))?;
+    eprintln!(
+        "adapter: {} ({}, {})",
+        gpu.summary.adapter, gpu.summary.backend, gpu.summary.driver_info
+    );
+    if gpu.summary.software {
+        eprintln!("note: software adapter — timings compare only as ratios within this run");
+    }
+    Ok(gpu)
 }

@@ -1,561 +1,68 @@
-//! `scatterbench reproduce`: re-creates the papers' headline tables as one results run (with
-//! its report) and prints, for each table, the measured configurations and the paper's claim
-//! next to the measured value, as ratios within this run, then the equal-error table (each
-//! method's cheapest configuration under 1 %, 5 %, 10 % in-scatter relative RMSE per scene).
-//!
-//! Papers whose method is not in the registry yet print "skipped: method not registered
-//! yet". The tables are defined in [`super::papers`] (scenes may be tessellated variants,
-//! `<scene>-sub<L>`, see [`super::scaling::resolve_scene`]); the printed text is also written
-//! to `OUT/reproduce.md`.
+//! `scatterbench reproduce`: the papers' headline tables (ARCHITECTURE §9.6); the tables and
+//! their text are `experiments::reproduce`.
 
-use std::collections::{BTreeMap, BTreeSet};
-use std::fmt::Write as _;
-use std::path::PathBuf;
-
-use anyhow::{Result, anyhow, bail};
+use anyhow::Result;
 use clap::Args;
-use harness::method::{Params, parse_knob, resolve_params};
-use harness::reference::Settings;
-use harness::results::{Record, Results, Status, record_key};
-use harness::runner::{Event, RunConfig, WorkItem, run_items};
-use report::analysis::{self, BUDGETS, TimeBasis};
+use experiments::papers::PAPERS;
+use experiments::reproduce::{self, Options};
 
-use super::papers::{Config, Experiment, PAPERS, Section, experiments};
+use crate::args::{Frames, Output, Size};
+use crate::progress::Progress;
 
 #[derive(Args)]
 pub struct ReproduceArgs {
-    /// Which paper: wyman, dobashi, biri2006, biri2003, biri-poly, umenhoffer, or all.
-    #[arg(long, default_value = "all")]
+    /// Which paper (or all). The papers used 1024² (Wyman) and 640×480 (Dobashi); the
+    /// default --res is small so the whole set finishes in minutes on a software adapter.
+    #[arg(long, default_value = "all", value_parser = paper_names())]
     pub paper: String,
-    /// Output directory (default results/reproduce-<run-id>).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// N (square) or WxH. The papers used 1024² (Wyman) and 640×480 (Dobashi); the default
-    /// is small so the whole set finishes in minutes on a software adapter.
-    #[arg(long, default_value = "128")]
-    pub res: String,
-    /// Timed frames per configuration.
-    #[arg(long, default_value_t = 5)]
-    pub frames: u32,
-    /// Warm-up frames per configuration.
-    #[arg(long, default_value_t = 1)]
-    pub warmup: u32,
-    /// Reference cache directory.
-    #[arg(long, default_value = "results/cache")]
-    pub cache: PathBuf,
+    #[command(flatten)]
+    pub size: Size,
+    #[command(flatten)]
+    pub frames: Frames,
+    #[command(flatten)]
+    pub output: Output,
     #[command(flatten)]
     pub isolate: super::worker::IsolateArgs,
 }
 
-pub fn run(a: ReproduceArgs) -> Result<()> {
-    let chosen: Vec<&str> = if a.paper == "all" {
-        PAPERS.to_vec()
-    } else if PAPERS.contains(&a.paper.as_str()) {
-        vec![a.paper.as_str()]
-    } else {
-        bail!(
-            "--paper '{}': valid papers are {}, all",
-            a.paper,
-            PAPERS.join(", ")
-        );
-    };
-    let (width, height) = super::parse_res(&a.res)?;
-    let exps: Vec<Experiment> = experiments()
-        .into_iter()
-        .filter(|e| chosen.contains(&e.paper))
-        .collect();
-    let mut text = String::new();
-    let mut runnable = Vec::new();
-    for mut e in exps {
-        let missing: Vec<&str> = e
-            .needs
-            .iter()
-            .copied()
-            .filter(|m| methods::find(m).is_none())
-            .collect();
-        if !missing.is_empty() {
-            let _ = writeln!(
-                text,
-                "## {}\n\nskipped: method not registered yet: {}\n",
-                e.title,
-                missing.join(", ")
-            );
-            continue;
-        }
-        // Rows of other, optional methods that are not registered are left out, and said so.
-        let absent: Vec<&str> = e
-            .configs
-            .iter()
-            .filter(|c| methods::find(c.method).is_none())
-            .map(|c| c.label)
-            .collect();
-        if !absent.is_empty() {
-            e.configs.retain(|c| methods::find(c.method).is_some());
-            e.claims
-                .retain(|c| !absent.contains(&c.faster) && !absent.contains(&c.slower));
-            let _ = writeln!(
-                text,
-                "note ({}): left out, method not registered: {}\n",
-                e.paper,
-                absent.join(", ")
-            );
-        }
-        runnable.push(e);
-    }
-    // One work list for every runnable table, without duplicates.
-    let mut scene_names: Vec<&str> = Vec::new();
-    for e in &runnable {
-        for s in e.scenes {
-            if !scene_names.contains(s) {
-                scene_names.push(s);
-            }
-        }
-    }
-    let scenes: Vec<scenes::Scene> = scene_names
-        .iter()
-        .map(|n| super::scaling::resolve_scene(n))
-        .collect::<Result<_>>()?;
-    let mut work: Vec<WorkItem> = Vec::new();
-    let mut keys = BTreeSet::new();
-    for e in &runnable {
-        for (si, s) in scene_names.iter().enumerate() {
-            if !e.scenes.contains(s) {
-                continue;
-            }
-            for c in &e.configs {
-                let (entry, params) = resolve(c)?;
-                if keys.insert(record_key(s, entry.id(), &params)) {
-                    work.push(WorkItem {
-                        scene: si,
-                        entry,
-                        params,
-                    });
-                }
-            }
-        }
-    }
+fn paper_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(PAPERS.iter().copied().chain(["all"]))
+}
 
-    let run_id = harness::results::run_id_now();
-    let out = a
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(format!("reproduce-{run_id}")));
-    let gpu = harness::Gpu::new().map_err(|e| anyhow!(e))?;
-    eprintln!(
-        "adapter: {} ({}); {} configurations at {width}x{height}, {} frames",
-        gpu.summary.adapter,
-        gpu.summary.backend,
-        work.len(),
-        a.frames
-    );
-    let cfg = RunConfig {
-        out_dir: out.clone(),
-        width,
-        height,
-        frames: a.frames,
-        warmup: a.warmup,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: BTreeMap::new(),
-        reference: Settings::default(),
-        cache_dir: Some(a.cache.clone()),
-        run_id: format!("reproduce-{run_id}"),
-        budget_ms: None,
+pub fn run(a: ReproduceArgs) -> Result<()> {
+    let papers: Vec<&str> = if a.paper == "all" {
+        PAPERS.to_vec()
+    } else {
+        PAPERS.iter().copied().filter(|p| *p == a.paper).collect()
+    };
+    let plan = reproduce::plan(&papers)?;
+    let run_id = format!("reproduce-{}", harness::results::run_id_now());
+    let opts = Options {
+        width: a.size.res.width,
+        height: a.size.res.height,
+        frames: a.frames.frames,
+        warmup: a.frames.warmup,
+        out: a.output.dir(&run_id),
+        cache: a.output.cache.clone(),
+        run_id,
         isolation: a.isolate.isolation()?,
     };
-    let total = work.len();
-    let mut done = 0;
-    let results = run_items(&gpu, &scenes, &work, &cfg, None, &mut |ev| match ev {
-        Event::Reference {
-            scene,
-            cached,
-            seconds,
-        } => eprintln!(
-            "reference {scene}: {}",
-            if cached {
-                "cached".to_string()
-            } else {
-                format!("{seconds:.1} s")
-            }
-        ),
-        Event::Record(r) => {
-            done += 1;
-            eprintln!(
-                "  [{done}/{total}] {:<8} {} {} {}",
-                format!("{:?}", r.status).to_lowercase(),
-                r.scene,
-                r.method,
-                super::papers::params_text(&r.method, &r.params)
-            );
-        }
-        Event::Resumed(_) => {}
-    })
-    .map_err(|e| anyhow!(e))?;
-
-    let _ = writeln!(
-        text,
-        "# Paper reproductions — {width}x{height}, {} timed frames, {}\n",
-        a.frames, results.run.machine.adapter
+    let gpu = super::open_gpu()?;
+    eprintln!(
+        "{} configurations at {}x{}, {} frames",
+        plan.work.len(),
+        opts.width,
+        opts.height,
+        opts.frames
     );
-    for e in &runnable {
-        text.push_str(&match e.section {
-            Section::Configs => experiment_text(e, &results, &out),
-            Section::Triangles => triangles_text(e, &results, &scenes),
-            Section::Breakdown => breakdown_text(e, &results),
-        });
-    }
-    text.push_str(&equal_error_text(&results));
+    let mut progress = Progress::new(Some(plan.work.len()));
+    let text = reproduce::run(&gpu, &plan, &opts, &mut |ev| progress.event(ev))?;
     print!("{text}");
-    let md = out.join("reproduce.md");
-    std::fs::write(&md, &text).map_err(|e| anyhow!("{}: {e}", md.display()))?;
     println!(
         "\nwritten: {} and {}",
-        md.display(),
-        out.join("results.json").display()
+        opts.out.join("reproduce.md").display(),
+        opts.out.join("results.json").display()
     );
-    match report::generate(&out) {
-        Ok(index) => println!("report: {}", index.display()),
-        Err(e) => eprintln!("warning: the report was not written: {e:#}"),
-    }
+    super::write_report(&opts.out);
     Ok(())
-}
-
-/// A configuration's registry entry and full parameter set.
-fn resolve(c: &Config) -> Result<(&'static dyn harness::Method, Params)> {
-    let entry = methods::find(c.method).ok_or_else(|| anyhow!("unknown method {}", c.method))?;
-    let mut overrides = Params::new();
-    for (k, v) in c.params {
-        overrides.insert(k.to_string(), parse_knob(entry, k, v)?);
-    }
-    Ok((entry, resolve_params(entry, &overrides)?))
-}
-
-fn find<'a>(results: &'a Results, scene: &str, c: &Config) -> Option<&'a Record> {
-    let (entry, params) = resolve(c).ok()?;
-    let key = record_key(scene, entry.id(), &params);
-    results.records.iter().find(|r| r.key() == key)
-}
-
-/// Mean in-scatter luminance of a record over the reference's (1 = unbiased), from the EXRs.
-fn mean_ratio(out: &std::path::Path, r: &Record) -> Option<f64> {
-    let path = r.images.get("inscatter")?;
-    let img = harness::image::io::read_exr(&out.join(path)).ok()?;
-    let reference =
-        harness::image::io::read_exr(&out.join(format!("{}/reference/inscatter.exr", r.scene)))
-            .ok()?;
-    let mean = |v: Vec<f32>| v.iter().map(|x| *x as f64).sum::<f64>() / v.len().max(1) as f64;
-    let (m, rm) = (mean(img.luminance()), mean(reference.luminance()));
-    (rm > 0.0).then(|| m / rm)
-}
-
-fn experiment_text(e: &Experiment, results: &Results, out: &std::path::Path) -> String {
-    let mut t = String::new();
-    let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
-    for scene in e.scenes {
-        let recs: Vec<Option<&Record>> =
-            e.configs.iter().map(|c| find(results, scene, c)).collect();
-        let basis = TimeBasis::for_records(recs.iter().flatten().copied());
-        let time = |label: &str| -> Option<f64> {
-            let i = e.configs.iter().position(|c| c.label == label)?;
-            let r = recs[i]?;
-            (r.status == Status::Ok).then(|| basis.time_ms(r)).flatten()
-        };
-        let base = time(e.configs[0].label);
-        let _ = writeln!(t, "### {scene} ({})\n", basis.label());
-        let _ = writeln!(
-            t,
-            "| configuration | ms | speed vs {} | in-scatter rel RMSE | mean in-scatter / reference |",
-            e.configs[0].label
-        );
-        let _ = writeln!(t, "|---|---|---|---|---|");
-        for (c, r) in e.configs.iter().zip(&recs) {
-            match r {
-                Some(r) if r.status == Status::Ok => {
-                    let ms = time(c.label);
-                    let speed = match (base, ms) {
-                        (Some(b), Some(m)) if m > 0.0 => format!("{:.2}×", b / m),
-                        _ => "-".into(),
-                    };
-                    let _ = writeln!(
-                        t,
-                        "| {} | {} | {speed} | {} | {} |",
-                        c.label,
-                        ms.map_or("-".into(), |m| format!("{m:.2}")),
-                        analysis::inscatter_error(r).map_or("-".into(), |v| format!("{v:.4}")),
-                        mean_ratio(out, r).map_or("-".into(), |v| format!("{v:.3}"))
-                    );
-                }
-                Some(r) => {
-                    let _ = writeln!(
-                        t,
-                        "| {} | {:?}: {} | | | |",
-                        c.label,
-                        r.status,
-                        r.reason.as_deref().unwrap_or("")
-                    );
-                }
-                None => {
-                    let _ = writeln!(t, "| {} | not run | | | |", c.label);
-                }
-            }
-        }
-        let _ = writeln!(t);
-        for claim in &e.claims {
-            if claim.scene.is_some_and(|s| s != *scene) {
-                continue;
-            }
-            let measured = match (time(claim.faster), time(claim.slower)) {
-                (Some(f), Some(s)) if f > 0.0 => format!("{:.2}×", s / f),
-                _ => "not measured".into(),
-            };
-            let _ = writeln!(
-                t,
-                "- {}: {} vs {} — paper {}, measured {measured}",
-                claim.what, claim.faster, claim.slower, claim.paper
-            );
-        }
-        let _ = writeln!(t);
-    }
-    for q in e.qualitative {
-        let _ = writeln!(t, "- paper: {q}");
-    }
-    let _ = writeln!(t);
-    t
-}
-
-/// The paper's exponent for Biri et al. 2006, Table II: 31 → 7.6 fps over 14 785 → 136 266
-/// triangles (direct scattering and shadows).
-fn biri_table2_exponent() -> f64 {
-    (31.0f64 / 7.6).ln() / (136_266.0f64 / 14_785.0).ln()
-}
-
-/// A scene family: the library name of a `<scene>-sub<L>` variant.
-fn family(scene: &str) -> &str {
-    match scene.rsplit_once("-sub") {
-        Some((base, l)) if l.parse::<u32>().is_ok() => base,
-        _ => scene,
-    }
-}
-
-/// Biri 2006 Table II: per scene variant its triangles, silhouette edges, shadow-plane
-/// counters and time; per family the fitted exponent of time vs triangles and vs silhouette
-/// edges, next to the paper's.
-fn triangles_text(e: &Experiment, results: &Results, scenes: &[scenes::Scene]) -> String {
-    let mut t = String::new();
-    let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
-    let c = &e.configs[0];
-    let recs: Vec<(&str, Option<&Record>)> =
-        e.scenes.iter().map(|s| (*s, find(results, s, c))).collect();
-    let basis = TimeBasis::for_records(recs.iter().filter_map(|r| r.1));
-    let _ = writeln!(t, "{} ({})\n", c.method, basis.label());
-    let _ = writeln!(
-        t,
-        "| scene | triangles | silhouette edges | shadow-plane counters | ms | × time of the family's first |"
-    );
-    let _ = writeln!(t, "|---|---|---|---|---|---|");
-    let mut families: Vec<(&str, Vec<(f64, f64, f64)>)> = Vec::new();
-    for (scene, r) in &recs {
-        let tris = scenes
-            .iter()
-            .find(|s| s.name == *scene)
-            .map_or(0, |s| s.triangle_count());
-        let Some(r) = r.filter(|r| r.status == Status::Ok) else {
-            let why = r.map_or("not run".to_string(), |r| {
-                format!("{:?}: {}", r.status, r.reason.as_deref().unwrap_or(""))
-            });
-            let _ = writeln!(t, "| {scene} | {tris} | | | {why} | |");
-            continue;
-        };
-        let edges = r.counters.get("silhouette_edges").copied();
-        let planes: Vec<String> = r
-            .counters
-            .iter()
-            .filter(|(k, _)| k.contains("plane"))
-            .map(|(k, v)| format!("{k}={v:.0}"))
-            .collect();
-        let ms = basis.time_ms(r);
-        let fam = family(scene);
-        if !families.iter().any(|f| f.0 == fam) {
-            families.push((fam, Vec::new()));
-        }
-        let pts = &mut families.iter_mut().find(|f| f.0 == fam).expect("pushed").1;
-        if let Some(ms) = ms {
-            pts.push((tris as f64, edges.unwrap_or(f64::NAN), ms));
-        }
-        let first = pts.first().map(|p| p.2);
-        let _ = writeln!(
-            t,
-            "| {scene} | {tris} | {} | {} | {} | {} |",
-            edges.map_or("-".into(), |v| format!("{v:.0}")),
-            if planes.is_empty() {
-                "(none reported)".into()
-            } else {
-                planes.join(" ")
-            },
-            ms.map_or("-".into(), |m| format!("{m:.2}")),
-            match (ms, first) {
-                (Some(m), Some(f)) if f > 0.0 => format!("{:.2}×", m / f),
-                _ => "-".into(),
-            }
-        );
-    }
-    let _ = writeln!(t);
-    let paper = biri_table2_exponent();
-    for (fam, pts) in &families {
-        if pts.len() < 2 {
-            continue;
-        }
-        let vs_tris: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.2)).collect();
-        let vs_edges: Vec<(f64, f64)> = pts.iter().map(|p| (p.1, p.2)).collect();
-        let fit = |v: &[(f64, f64)]| {
-            report::scaling::loglog_fit(v).map_or("not fitted".into(), |f| {
-                format!("^{:.2} (r² {:.2})", f.slope, f.r2)
-            })
-        };
-        let (lo, hi) = (pts[0], pts[pts.len() - 1]);
-        let _ = writeln!(
-            t,
-            "- {fam}: time ∝ triangles{} and ∝ silhouette edges{}; {:.0} → {:.0} triangles ({:.1}×) cost {:.2}× the time — paper: time ∝ triangles^{paper:.2} (14 785 → 136 266, 9.2×, cost 4.08×); measured exponent / paper's: {}",
-            fit(&vs_tris),
-            fit(&vs_edges),
-            lo.0,
-            hi.0,
-            hi.0 / lo.0,
-            hi.2 / lo.2,
-            report::scaling::loglog_fit(&vs_tris)
-                .map_or("-".into(), |f| format!("{:.2}", f.slope / paper))
-        );
-    }
-    for q in e.qualitative {
-        let _ = writeln!(t, "- paper: {q}");
-    }
-    let _ = writeln!(t);
-    t
-}
-
-/// Biri 2003 Table 1: the method's per-frame phase counters (`*_ms`) as shares of the median
-/// wall time, next to the paper's work loads.
-fn breakdown_text(e: &Experiment, results: &Results) -> String {
-    let mut t = String::new();
-    let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
-    let c = &e.configs[0];
-    let mut names: Vec<String> = Vec::new();
-    let recs: Vec<(&str, Option<&Record>)> = e
-        .scenes
-        .iter()
-        .map(|s| (*s, find(results, s, c).filter(|r| r.status == Status::Ok)))
-        .collect();
-    for (_, r) in &recs {
-        for k in r.iter().flat_map(|r| r.counters.keys()) {
-            let timed = k.ends_with("_ms") || k.starts_with("gpu_ms_");
-            if timed && !names.contains(k) {
-                names.push(k.clone());
-            }
-        }
-    }
-    // The paper's column order; anything else after it.
-    const ORDER: [&str; 6] = [
-        "silhouette_ms",
-        "gpu_ms_first_pass",
-        "sort_ms",
-        "gpu_ms_second_pass_surfaces",
-        "gpu_ms_second_pass_volumes",
-        "gpu_ms_resolve",
-    ];
-    names.sort_by_key(|n| ORDER.iter().position(|o| o == n).unwrap_or(ORDER.len()));
-    if !names.iter().any(|n| n.starts_with("gpu_ms")) {
-        let _ = writeln!(
-            t,
-            "The method reports no GPU phase counters (gpu_ms_*) yet: only its CPU stages are split out.\n"
-        );
-    }
-    let _ = writeln!(
-        t,
-        "| scene | wall ms (median) | {} | rest |",
-        names.join(" | ")
-    );
-    let _ = writeln!(t, "|---|---|{}---|", "---|".repeat(names.len()));
-    for (scene, r) in &recs {
-        let Some(r) = r else {
-            let _ = writeln!(t, "| {scene} | not run or not ok | |");
-            continue;
-        };
-        let Some(wall) = r.timing.as_ref().map(|t| t.wall_ms.median) else {
-            continue;
-        };
-        // GPU phases nest inside the frame; CPU stages too (they run inside `render`).
-        let mut accounted = 0.0;
-        let cells: Vec<String> = names
-            .iter()
-            .map(|n| match r.counters.get(n) {
-                Some(v) => {
-                    accounted += v;
-                    format!("{v:.2} ms ({:.1} %)", 100.0 * v / wall)
-                }
-                None => "-".into(),
-            })
-            .collect();
-        let _ = writeln!(
-            t,
-            "| {scene} | {wall:.2} | {} | {:.1} % |",
-            cells.join(" | "),
-            100.0 * (1.0 - accounted / wall)
-        );
-    }
-    let _ = writeln!(
-        t,
-        "\n- paper (30 / 10 triangles per shadow plane): silhouettes 1 % / 1.7 %, first pass 8.7 % / 14 %, ordering 9.6 % / 16 %, second pass surfaces 21.7 % / 33.6 %, volumes 59 % / 34.7 %"
-    );
-    let _ = writeln!(
-        t,
-        "- mapping: silhouettes ↔ silhouette_ms, ordering ↔ sort_ms, the passes ↔ gpu_ms_* (when reported)\n"
-    );
-    t
-}
-
-/// Each scene × method: the cheapest configuration of this run under each error budget.
-fn equal_error_text(results: &Results) -> String {
-    let mut t = String::from(
-        "## Equal error: cheapest configuration per method under each in-scatter rel RMSE budget\n\n",
-    );
-    let mut scenes: Vec<&str> = results.records.iter().map(|r| r.scene.as_str()).collect();
-    scenes.dedup();
-    let header: Vec<String> = BUDGETS
-        .iter()
-        .map(|b| format!("≤ {:.0} %", b * 100.0))
-        .collect();
-    for scene in scenes {
-        let recs: Vec<&Record> = results
-            .records
-            .iter()
-            .filter(|r| r.scene == scene)
-            .collect();
-        let basis = TimeBasis::for_records(recs.iter().copied());
-        let _ = writeln!(t, "### {scene} ({})\n", basis.label());
-        let _ = writeln!(t, "| method | {} |", header.join(" | "));
-        let _ = writeln!(t, "|---|{}", "---|".repeat(BUDGETS.len()));
-        let mut ids: Vec<&str> = recs.iter().map(|r| r.method.as_str()).collect();
-        ids.sort();
-        ids.dedup();
-        for id in ids {
-            let mine: Vec<&Record> = recs.iter().copied().filter(|r| r.method == id).collect();
-            let pts = analysis::points(&mine, basis);
-            let cells: Vec<String> = BUDGETS
-                .iter()
-                .map(|&b| match analysis::cheapest_under_budget(&pts, b) {
-                    Some(p) => format!(
-                        "{:.2} ms ({}, {:.2} %)",
-                        p.time,
-                        super::papers::params_text(id, &mine[p.index].params),
-                        p.error * 100.0
-                    ),
-                    None => "none".into(),
-                })
-                .collect();
-            let _ = writeln!(t, "| {id} | {} |", cells.join(" | "));
-        }
-        let _ = writeln!(t);
-    }
-    t
 }

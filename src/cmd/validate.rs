@@ -1,11 +1,23 @@
-//! `scatterbench validate FILE...`: every problem of every file, exit 2 if any.
+//! `scatterbench validate FILE...`: every problem of every file, exit 2 if any (ARCHITECTURE
+//! §6, §8.3).
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
-pub fn run(files: &[PathBuf]) -> ExitCode {
+use anyhow::Result;
+use clap::Args;
+
+use crate::args::refuse;
+
+#[derive(Args)]
+pub struct ValidateArgs {
+    /// Scene files (.json).
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+}
+
+pub fn run(a: ValidateArgs) -> Result<()> {
     let mut bad = 0;
-    for f in files {
+    for f in &a.files {
         match scenes::load_scene(f) {
             Ok(s) => println!(
                 "{}: ok ({} objects, {} triangles, {} lights)",
@@ -21,9 +33,10 @@ pub fn run(files: &[PathBuf]) -> ExitCode {
         }
     }
     if bad > 0 {
-        eprintln!("{bad} of {} scene files have problems", files.len());
-        ExitCode::from(2)
-    } else {
-        ExitCode::SUCCESS
+        return refuse(format!(
+            "{bad} of {} scene files have problems",
+            a.files.len()
+        ));
     }
+    Ok(())
 }

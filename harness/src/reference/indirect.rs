@@ -39,7 +39,7 @@ use glam::DVec3;
 use scenes::desc::Material;
 use scenes::{Homogeneous, LightState, Scene};
 
-use super::integrate::{gk15, refine};
+use super::quadrature::{gk15, refine};
 
 /// Why the reference cannot compute this scene's indirect term, if it cannot.
 pub fn check(scene: &Scene) -> Result<(), String> {
@@ -341,7 +341,7 @@ pub fn point_light(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference::integrate::adaptive;
+    use crate::reference::quadrature::adaptive;
     use glam::Vec3;
     use scenes::Phase;
 

@@ -16,7 +16,9 @@ pub mod bvh;
 pub mod cache;
 pub mod indirect;
 pub mod integrate;
+mod particle_ray;
 pub mod particles;
+pub mod quadrature;
 pub mod shadow;
 pub mod world;
 

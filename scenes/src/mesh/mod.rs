@@ -21,6 +21,21 @@ impl TriMesh {
         self.indices.len()
     }
 
+    /// Surface area in local units², summed in f64 over the triangles.
+    pub fn area(&self) -> f64 {
+        self.indices
+            .iter()
+            .map(|&[a, b, c]| {
+                let (pa, pb, pc) = (
+                    self.positions[a as usize].as_dvec3(),
+                    self.positions[b as usize].as_dvec3(),
+                    self.positions[c as usize].as_dvec3(),
+                );
+                (pb - pa).cross(pc - pa).length() * 0.5
+            })
+            .sum()
+    }
+
     /// Axis-aligned bounds (min, max) of the mesh after `world_from_local`.
     pub fn bounds(&self, world_from_local: &Mat4) -> (Vec3, Vec3) {
         let mut lo = Vec3::splat(f32::INFINITY);

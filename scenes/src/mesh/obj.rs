@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::fs::File;
 use std::io::{BufRead, BufReader, ErrorKind};
 use std::panic::{self, AssertUnwindSafe};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
@@ -166,6 +166,17 @@ fn fill_normals(positions: &[Vec3], given: &[Option<Vec3>], indices: &[[u32; 3]]
                 .unwrap_or(Vec3::Y)
         })
         .collect()
+}
+
+/// An OBJ path as a scene file gives it: absolute, or relative to the scene file's directory
+/// `base`.
+pub fn resolve_path(base: &Path, path: &str) -> PathBuf {
+    let p = Path::new(path);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
 }
 
 #[cfg(test)]

@@ -63,27 +63,13 @@ mod tests {
     use super::*;
     use crate::mesh::procedural;
 
-    fn area(m: &TriMesh) -> f64 {
-        m.indices
-            .iter()
-            .map(|&[a, b, c]| {
-                let (pa, pb, pc) = (
-                    m.positions[a as usize].as_dvec3(),
-                    m.positions[b as usize].as_dvec3(),
-                    m.positions[c as usize].as_dvec3(),
-                );
-                (pb - pa).cross(pc - pa).length() * 0.5
-            })
-            .sum()
-    }
-
     #[test]
     fn quadruples_triangles_and_keeps_area_and_welding() {
         let sphere = procedural::sphere(1.0, 12, 6);
         let fine = subdivide(&sphere, 2);
         assert_eq!(fine.triangle_count(), sphere.triangle_count() * 16);
         // The surface is unchanged: same area (flat split), same bounds.
-        let (a0, a1) = (area(&sphere), area(&fine));
+        let (a0, a1) = (TriMesh::area(&sphere), TriMesh::area(&fine));
         assert!((a0 - a1).abs() < 1e-5 * a0, "{a0} vs {a1}");
         // Midpoint subdivision preserves V − E + F (V' = V + E, E' = 2E + 3F, F' = 4F), and only
         // does so if every shared edge got exactly one midpoint.

@@ -1,9 +1,7 @@
-//! The papers' headline tables as data for `scatterbench reproduce`: which scenes, which
-//! method configurations, and what the paper claims about them. A claim is a speed ratio
+//! The papers' headline tables as data for `scatterbench reproduce` (ARCHITECTURE §9.6):
+//! which scenes, which method configurations, and what the paper claims about them. A claim is a speed ratio
 //! between two configurations of the same scene (time of the slower / time of the faster),
 //! so it compares across machines; the paper's side is derived from its own table.
-
-use harness::method::Params;
 
 /// `--paper` values, in the order `all` runs them.
 pub const PAPERS: &[&str] = &[
@@ -464,28 +462,6 @@ pub fn experiments() -> Vec<Experiment> {
     ]
 }
 
-/// The knobs of `params` that differ from `method`'s defaults, `k=v …`, or "defaults".
-pub fn params_text(method: &str, params: &Params) -> String {
-    let defaults: Params = methods::find(method)
-        .map(|e| {
-            e.knobs()
-                .into_iter()
-                .map(|s| (s.name.to_string(), s.default))
-                .collect()
-        })
-        .unwrap_or_default();
-    let v: Vec<String> = params
-        .iter()
-        .filter(|(k, v)| defaults.get(*k) != Some(*v))
-        .map(|(k, v)| format!("{k}={v}"))
-        .collect();
-    if v.is_empty() {
-        "defaults".into()
-    } else {
-        v.join(" ")
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -521,7 +497,7 @@ mod tests {
             }
             if e.configs.iter().all(|c| methods::find(c.method).is_some()) {
                 for s in e.scenes {
-                    super::super::scaling::resolve_scene(s)
+                    scenes::library::resolve(s)
                         .unwrap_or_else(|err| panic!("{}: {err}", e.paper));
                 }
             }

@@ -1,0 +1,73 @@
+//! scatterbench experiments: the runs that are more than "scenes × methods" (ARCHITECTURE
+//! §9.5, §9.6), as library code the CLI calls and tests can drive.
+//!
+//! - [`papers`]: the papers' headline tables as data — which scenes, which configurations,
+//!   what each paper claims. One module for all of them rather than one beside each method:
+//!   a table compares several methods (Wyman & Ramsey's hybrid against the brute-force
+//!   march, Umenhoffer's blocks against the per-particle splat), and it is data about the
+//!   papers, not part of any method's contract.
+//! - [`reproduce`]: runs those tables as one results run and writes the claim-vs-measured
+//!   text and the equal-error table.
+//! - [`scaling`]: frame time vs caster triangles and vs pixels (scene variants from
+//!   `scenes::variants`), a results run plus `scaling.json`.
+//! - [`stress`]: the stability table of a `scatterbench stress` run as text.
+
+pub mod papers;
+pub mod reproduce;
+pub mod scaling;
+pub mod stress;
+
+use std::path::Path;
+
+use harness::method::Params;
+use harness::reference::Settings;
+use harness::runner::RunConfig;
+
+/// The knobs of `params` that differ from `method`'s defaults, `k=v …`, or "defaults".
+pub fn params_text(method: &str, params: &Params) -> String {
+    let defaults: Params = methods::find(method)
+        .map(|e| {
+            e.knobs()
+                .into_iter()
+                .map(|s| (s.name.to_string(), s.default))
+                .collect()
+        })
+        .unwrap_or_default();
+    let v: Vec<String> = params
+        .iter()
+        .filter(|(k, v)| defaults.get(*k) != Some(*v))
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    if v.is_empty() {
+        "defaults".into()
+    } else {
+        v.join(" ")
+    }
+}
+
+/// The runner configuration of an experiment: explicit work items (no sweep, no overrides),
+/// every pass as the scene needs it, no time budget, the reference cache in `cache`.
+pub fn run_config(
+    out: &Path,
+    (width, height): (u32, u32),
+    (frames, warmup): (u32, u32),
+    cache: &Path,
+    run_id: &str,
+) -> RunConfig {
+    RunConfig {
+        out_dir: out.to_path_buf(),
+        width,
+        height,
+        frames,
+        warmup,
+        no_skip: false,
+        resume: false,
+        sweep: false,
+        overrides: Default::default(),
+        reference: Settings::default(),
+        cache_dir: Some(cache.to_path_buf()),
+        run_id: run_id.to_string(),
+        budget_ms: None,
+        isolation: Default::default(),
+    }
+}
