@@ -116,7 +116,8 @@ impl PipelineStats {
 /// A pass whose pipeline statistics are counted; ends its query when dropped. Derefs to the
 /// wrapped `wgpu::RenderPass` / `wgpu::ComputePass`.
 pub struct Counted<P: StatsQuery> {
-    pass: P,
+    /// Always Some until dropped (taken only by `forget_lifetime`).
+    pass: Option<P>,
     counting: bool,
 }
 
@@ -161,7 +162,7 @@ impl<P: StatsQuery> Counted<P> {
             pass.begin_query(&s.set, i);
         }
         Counted {
-            pass,
+            pass: Some(pass),
             counting: index.is_some(),
         }
     }
@@ -169,8 +170,19 @@ impl<P: StatsQuery> Counted<P> {
 
 impl<P: StatsQuery> Drop for Counted<P> {
     fn drop(&mut self) {
-        if self.counting {
-            self.pass.end_query();
+        if let (true, Some(pass)) = (self.counting, self.pass.as_mut()) {
+            pass.end_query();
+        }
+    }
+}
+
+impl Counted<wgpu::RenderPass<'_>> {
+    /// Like `wgpu::RenderPass::forget_lifetime`: the counted pass no longer borrows its encoder.
+    pub fn forget_lifetime(mut self) -> Counted<wgpu::RenderPass<'static>> {
+        let pass = self.pass.take().expect("a pass until dropped");
+        Counted {
+            pass: Some(pass.forget_lifetime()),
+            counting: std::mem::take(&mut self.counting),
         }
     }
 }
@@ -178,13 +190,13 @@ impl<P: StatsQuery> Drop for Counted<P> {
 impl<P: StatsQuery> Deref for Counted<P> {
     type Target = P;
     fn deref(&self) -> &P {
-        &self.pass
+        self.pass.as_ref().expect("a pass until dropped")
     }
 }
 
 impl<P: StatsQuery> DerefMut for Counted<P> {
     fn deref_mut(&mut self) -> &mut P {
-        &mut self.pass
+        self.pass.as_mut().expect("a pass until dropped")
     }
 }
 

@@ -628,7 +628,7 @@ impl Passes {
         let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
         // Depth of the (tessellated) scene.
         {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                 label: Some("biri-poly depth"),
                 depth_stencil_attachment: Some(ds(
                     wgpu::LoadOp::Clear(1.0),
@@ -648,7 +648,7 @@ impl Passes {
             for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
                 let offset = [(k as u64 * SLOT) as u32];
                 {
-                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                         label: Some("biri-poly surface-shadow count"),
                         depth_stencil_attachment: Some(ds(
                             wgpu::LoadOp::Load,
@@ -673,7 +673,7 @@ impl Passes {
         // §4.3's first pass (surfaces and ambient fog) into the 8-bit target.
         if self.cfg.accumulate == Accumulate::Unorm8 {
             let attachments = color(clear);
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                 label: Some("biri-poly first pass"),
                 color_attachments: &attachments,
                 depth_stencil_attachment: Some(ds(wgpu::LoadOp::Load, wgpu::LoadOp::Load)),
@@ -695,7 +695,7 @@ impl Passes {
                 .as_ref()
                 .filter(|r| r.is_spot.get(k) == Some(&true))
             {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                let mut pass = gpu.compute_pass(enc, &wgpu::ComputePassDescriptor {
                     label: Some("biri-poly spot rays"),
                     timestamp_writes: None,
                 });
@@ -706,7 +706,7 @@ impl Passes {
             }
             // Stencil = shadow volumes around each visible point (z-pass from the eye's count).
             {
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("biri-poly count"),
                     depth_stencil_attachment: Some(ds(
                         wgpu::LoadOp::Load,
@@ -727,7 +727,7 @@ impl Passes {
                 let load = if first { clear } else { wgpu::LoadOp::Load };
                 first = false;
                 let attachments = color(load);
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("biri-poly surfaces"),
                     color_attachments: &attachments,
                     depth_stencil_attachment: Some(ds(wgpu::LoadOp::Load, wgpu::LoadOp::Load)),
@@ -750,7 +750,7 @@ impl Passes {
             // Stage 2: the planes front to back, stencil re-seeded with the eye's count.
             if has_planes {
                 let attachments = color(wgpu::LoadOp::Load);
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("biri-poly planes"),
                     color_attachments: &attachments,
                     depth_stencil_attachment: Some(ds(

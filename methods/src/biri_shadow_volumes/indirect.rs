@@ -351,7 +351,7 @@ impl IndirectPass {
         renderer: &SceneRenderer,
         targets: &Targets,
     ) {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some("biri iss"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: targets.surface,

@@ -234,7 +234,7 @@ impl PixelPass {
             let offset = [(k as u64 * SLOT) as u32];
             enc.clear_buffer(&self.counts, 0, None);
             if let (Some(v), true) = (vertices, r.end > r.first) {
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("biri crossing gather"),
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: depth,
@@ -255,7 +255,7 @@ impl PixelPass {
                 pass.set_vertex_buffer(0, v.slice(..));
                 pass.draw(r.first..r.end, 0..1);
             }
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            let mut pass = gpu.compute_pass(enc, &wgpu::ComputePassDescriptor {
                 label: Some("biri crossing walk"),
                 timestamp_writes: None,
             });

@@ -464,7 +464,7 @@ impl Planes {
         for (k, r) in self.ranges.iter().enumerate() {
             let offset = [(k as u64 * SLOT) as u32];
             {
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("biri surface-shadow count"),
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &self.depth_view,
@@ -521,7 +521,7 @@ impl Planes {
             }
         };
         {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                 label: Some("biri scene depth"),
                 depth_stencil_attachment: Some(ds(
                     &self.depth_view,
@@ -559,7 +559,7 @@ impl Planes {
             let planes = self.vertices.as_ref().filter(|_| r.end > r.first);
             mark(enc, VOLUMES);
             {
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some("biri plane count"),
                     depth_stencil_attachment: Some(ds(
                         &self.depth_view,
@@ -594,7 +594,7 @@ impl Planes {
                         store: wgpu::StoreOp::Store,
                     },
                 })];
-                enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
                     label: Some(label),
                     color_attachments: &color,
                     depth_stencil_attachment: Some(ds(

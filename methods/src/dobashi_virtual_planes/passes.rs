@@ -321,7 +321,7 @@ impl Passes {
     /// The far-extent reduction over the surface pass's distances.
     pub fn encode_far(&self, enc: &mut wgpu::CommandEncoder, renderer: &SceneRenderer) {
         enc.clear_buffer(&self.far_bits, 0, None);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        let mut pass = renderer.passes.compute_pass(enc, &wgpu::ComputePassDescriptor {
             label: Some("dobashi far"),
             timestamp_writes: None,
         });
@@ -338,7 +338,7 @@ impl Passes {
         renderer: &SceneRenderer,
         planes: u32,
     ) {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some("dobashi planes"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &self.accum_view,

@@ -336,11 +336,11 @@ impl Method for FroxelFog {
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {
-        vec![ConformanceCase::new(
-            "sphere-point",
-            48,
-            Aov::Inscatter,
-            0.3,
-        )]
+        // A fine grid (2 px froxels, 256 slices): at the defaults a 48² image is 6×6 froxels.
+        vec![
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.3)
+                .knob("pixel_size", 2i64)
+                .knob("slices", 256i64),
+        ]
     }
 }

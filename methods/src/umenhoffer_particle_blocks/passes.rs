@@ -2,6 +2,7 @@
 //! (impostor, light, gather, resolve) and their bind groups. Every pass uses the shared frame
 //! bind group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
 
+use harness::gpu::Counted;
 use bytemuck::{Pod, Zeroable};
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
@@ -379,11 +380,12 @@ impl Passes {
     }
 
     fn pass<'e>(
+        renderer: &SceneRenderer,
         enc: &'e mut wgpu::CommandEncoder,
         label: &str,
         views: &[&wgpu::TextureView],
         clear: wgpu::Color,
-    ) -> wgpu::RenderPass<'e> {
+    ) -> Counted<wgpu::RenderPass<'e>> {
         let attachments: Vec<_> = views
             .iter()
             .map(|v| {
@@ -398,7 +400,7 @@ impl Passes {
                 })
             })
             .collect();
-        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
             label: Some(label),
             color_attachments: &attachments,
             ..Default::default()
@@ -414,7 +416,7 @@ impl Passes {
             b: 1e4,
             a: 0.0,
         };
-        let mut p = Self::pass(enc, "particle impostors", &[&self.atlas_view], empty);
+        let mut p = Self::pass(renderer, enc, "particle impostors", &[&self.atlas_view], empty);
         p.set_pipeline(&self.impostor);
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_impostor, &[]);
@@ -431,6 +433,7 @@ impl Passes {
         let views: Vec<&wgpu::TextureView> = self.slice_views.iter().collect();
         let n = if self.sizes.slices > 4 { 2 } else { 1 };
         let mut p = Self::pass(
+            renderer,
             enc,
             "particle light pass",
             &views[..n],
@@ -447,6 +450,7 @@ impl Passes {
     /// Back-to-front gathering (the primitives buffer holds them in that order).
     pub fn encode_gather(&self, enc: &mut wgpu::CommandEncoder, renderer: &SceneRenderer) {
         let mut p = Self::pass(
+            renderer,
             enc,
             "particle gather",
             &[&self.gather_view],
@@ -466,6 +470,7 @@ impl Passes {
         targets: &Targets,
     ) {
         let mut p = Self::pass(
+            renderer,
             enc,
             "particle resolve",
             &[targets.inscatter, targets.surface],
@@ -477,6 +482,7 @@ impl Passes {
         p.draw(0..3, 0..1);
         drop(p);
         let mut p = Self::pass(
+            renderer,
             enc,
             "particle total",
             &[targets.total],

@@ -456,7 +456,7 @@ impl Prepared for State {
                 }),
                 store: wgpu::StoreOp::Store,
             };
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
                 label: Some("shadow volumes"),
                 color_attachments: &[
                     Some(wgpu::RenderPassColorAttachment {
