@@ -36,30 +36,92 @@ fn refused(args: &[&str], needles: &[&str]) {
 fn out_of_range_numbers_exit_2_naming_the_argument_value_and_range() {
     let out = temp_dir("cli-never-written");
     let o = out.to_str().unwrap();
-    refused(&["run", "--res", "0", "--out", o], &["--res", "0", "1..=16384"]);
-    refused(&["run", "--res", "64x16385", "--out", o], &["--res", "16385", "1..=16384"]);
-    refused(&["run", "--res", "big", "--out", o], &["--res", "big", "WxH"]);
-    // Zero timed frames would write an ok record with a median of 0 ms.
-    refused(&["run", "--frames", "0", "--out", o], &["--frames", "0", "1..=100000"]);
-    refused(&["run", "--warmup=-1", "--out", o], &["--warmup", "-1"]);
-    refused(&["run", "--time-budget=-1", "--out", o], &["--time-budget", "-1", "0..=86400"]);
-    refused(&["run", "--time-budget", "NaN", "--out", o], &["--time-budget", "NaN"]);
-    refused(&["run", "--shard", "3/2", "--out", o], &["--shard", "3/2", "1 ≤ i ≤ n"]);
-    refused(&["reproduce", "--frames", "0", "--out", o], &["--frames", "0", "1..=100000"]);
-    refused(&["reproduce", "--res", "0", "--out", o], &["--res", "1..=16384"]);
-    refused(&["stress", "--res", "0", "--out", o], &["--res", "1..=16384"]);
-    refused(&["stress", "--triangles", "0", "--out", o], &["--triangles", "0", "1..=100000000"]);
-    refused(&["scaling", "--frames", "0", "--out", o], &["--frames", "1..=100000"]);
-    refused(&["scaling", "--res", "64x32", "--out", o], &["--res", "64x32", "square"]);
-    refused(&["scaling", "--triangles", "0", "--out", o], &["--triangles", "'0'", "1..=100M"]);
-    refused(&["scaling", "--max-frame-s", "inf", "--out", o], &["--max-frame-s", "inf"]);
     refused(
-        &["scaling", "--triangles", "none", "--res", "none", "--out", o],
+        &["run", "--res", "0", "--out", o],
+        &["--res", "0", "1..=16384"],
+    );
+    refused(
+        &["run", "--res", "64x16385", "--out", o],
+        &["--res", "16385", "1..=16384"],
+    );
+    refused(
+        &["run", "--res", "big", "--out", o],
+        &["--res", "big", "WxH"],
+    );
+    // Zero timed frames would write an ok record with a median of 0 ms.
+    refused(
+        &["run", "--frames", "0", "--out", o],
+        &["--frames", "0", "1..=100000"],
+    );
+    refused(&["run", "--warmup=-1", "--out", o], &["--warmup", "-1"]);
+    refused(
+        &["run", "--time-budget=-1", "--out", o],
+        &["--time-budget", "-1", "0..=86400"],
+    );
+    refused(
+        &["run", "--time-budget", "NaN", "--out", o],
+        &["--time-budget", "NaN"],
+    );
+    refused(
+        &["run", "--shard", "3/2", "--out", o],
+        &["--shard", "3/2", "1 ≤ i ≤ n"],
+    );
+    refused(
+        &["reproduce", "--frames", "0", "--out", o],
+        &["--frames", "0", "1..=100000"],
+    );
+    refused(
+        &["reproduce", "--res", "0", "--out", o],
+        &["--res", "1..=16384"],
+    );
+    refused(
+        &["stress", "--res", "0", "--out", o],
+        &["--res", "1..=16384"],
+    );
+    refused(
+        &["stress", "--triangles", "0", "--out", o],
+        &["--triangles", "0", "1..=100000000"],
+    );
+    refused(
+        &["scaling", "--frames", "0", "--out", o],
+        &["--frames", "1..=100000"],
+    );
+    refused(
+        &["scaling", "--res", "64x32", "--out", o],
+        &["--res", "64x32", "square"],
+    );
+    refused(
+        &["scaling", "--triangles", "0", "--out", o],
+        &["--triangles", "'0'", "1..=100M"],
+    );
+    refused(
+        &["scaling", "--max-frame-s", "inf", "--out", o],
+        &["--max-frame-s", "inf"],
+    );
+    refused(
+        &[
+            "scaling",
+            "--triangles",
+            "none",
+            "--res",
+            "none",
+            "--out",
+            o,
+        ],
         &["nothing to do"],
     );
-    refused(&["reference", "--scene", "sphere-point", "--res", "0"], &["--res", "1..=16384"]);
     refused(
-        &["reference", "--scene", "sphere-point", "--convergence-stride", "0"],
+        &["reference", "--scene", "sphere-point", "--res", "0"],
+        &["--res", "1..=16384"],
+    );
+    refused(
+        &[
+            "reference",
+            "--scene",
+            "sphere-point",
+            "--convergence-stride",
+            "0",
+        ],
         &["--convergence-stride", "1..=1024"],
     );
     // sphere-point is static: frame 0 only.
@@ -74,34 +136,96 @@ fn out_of_range_numbers_exit_2_naming_the_argument_value_and_range() {
 fn unknown_names_and_bad_knobs_exit_2_with_the_valid_choices() {
     let out = temp_dir("cli-never-written-2");
     let o = out.to_str().unwrap();
-    refused(&["reproduce", "--paper", "nobody", "--out", o], &["nobody", "wyman", "umenhoffer"]);
     refused(
-        &["run", "--methods", "raymarch-brute", "--param", "raymarch-brute.steps=many", "--out", o],
-        &["--param", "raymarch-brute.steps=many", "an integer in 1..=65536"],
+        &["reproduce", "--paper", "nobody", "--out", o],
+        &["nobody", "wyman", "umenhoffer"],
+    );
+    refused(
+        &[
+            "run",
+            "--methods",
+            "raymarch-brute",
+            "--param",
+            "raymarch-brute.steps=many",
+            "--out",
+            o,
+        ],
+        &[
+            "--param",
+            "raymarch-brute.steps=many",
+            "an integer in 1..=65536",
+        ],
     );
     // Out of range: refused, never clamped (0 steps used to render 1, 10⁸ to run for minutes).
     for v in ["0", "100000000"] {
         let item = format!("raymarch-brute.steps={v}");
         refused(
-            &["run", "--methods", "raymarch-brute", "--param", &item, "--out", o],
-            &["--param", "raymarch-brute.steps", v, "out of range", "1..=65536"],
+            &[
+                "run",
+                "--methods",
+                "raymarch-brute",
+                "--param",
+                &item,
+                "--out",
+                o,
+            ],
+            &[
+                "--param",
+                "raymarch-brute.steps",
+                v,
+                "out of range",
+                "1..=65536",
+            ],
         );
     }
     refused(
-        &["run", "--methods", "raymarch-brute", "--param", "raymarch-brute.nope=1", "--out", o],
+        &[
+            "run",
+            "--methods",
+            "raymarch-brute",
+            "--param",
+            "raymarch-brute.nope=1",
+            "--out",
+            o,
+        ],
         &["--param", "nope", "steps"],
     );
     refused(
-        &["run", "--methods", "raymarch-brute", "--param", "raymarch-brute", "--out", o],
+        &[
+            "run",
+            "--methods",
+            "raymarch-brute",
+            "--param",
+            "raymarch-brute",
+            "--out",
+            o,
+        ],
         &["--param", "METHOD.KNOB=VALUE"],
     );
     refused(
-        &["run", "--methods", "no-scatter", "--param", "raymarch-brute.steps=8", "--out", o],
+        &[
+            "run",
+            "--methods",
+            "no-scatter",
+            "--param",
+            "raymarch-brute.steps=8",
+            "--out",
+            o,
+        ],
         &["--param", "not in --methods"],
     );
-    refused(&["run", "--resume", "--out", o], &["--resume", "no results.json"]);
-    refused(&["run", "--scenes", "sphere-point-sub9", "--out", o], &["sphere-point-sub9", "at most 8"]);
-    refused(&["scaling", "--scene", "nowhere", "--out", o], &["nowhere", "sphere-point"]);
+    refused(
+        &["run", "--resume", "--out", o],
+        &["--resume", "no results.json"],
+    );
+    refused(
+        &["run", "--scenes", "sphere-point-sub9", "--out", o],
+        &["sphere-point-sub9", "at most 8"],
+    );
+    refused(
+        &["scaling", "--scene", "nowhere", "--out", o],
+        &["nowhere", "sphere-point"],
+    );
     refused(&["report", o], &["RUN_DIR", "no results.json"]);
     assert!(!out.exists(), "a refused command wrote {}", out.display());
 }
@@ -113,9 +237,15 @@ fn an_invalid_scene_file_exits_2_in_validate_and_in_run() {
     let bad = dir.join("bad.json");
     std::fs::write(&bad, "{\"camera\": 3}").unwrap();
     let b = bad.to_str().unwrap();
-    refused(&["validate", b], &["bad.json", "1 of 1 scene files have problems"]);
+    refused(
+        &["validate", b],
+        &["bad.json", "1 of 1 scene files have problems"],
+    );
     let out = dir.join("out");
-    refused(&["run", "--scenes", b, "--out", out.to_str().unwrap()], &["bad.json"]);
+    refused(
+        &["run", "--scenes", b, "--out", out.to_str().unwrap()],
+        &["bad.json"],
+    );
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(dir);
 }

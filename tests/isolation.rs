@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
+use harness::Gpu;
 use harness::isolate::marker::{self, InFlight};
 use harness::isolate::{Isolation, Phase, Reuse, WorkerCommand, worker};
 use harness::method::{
@@ -22,7 +23,6 @@ use harness::method::{
 };
 use harness::results::{Record, Results, Status};
 use harness::runner::{WorkItem, run_items};
-use harness::Gpu;
 use scenes::{FrameState, SceneFeatures};
 
 /// Where the gate methods look for their gate file (set in the worker's environment).
@@ -114,20 +114,42 @@ impl Prepared for TestState {
 }
 
 static TEST_METHODS: &[&dyn Method] = &[
-    &TestMethod { id: "test-abort-in-render", misbehave: Misbehave::AbortInRender },
-    &TestMethod { id: "test-hang-in-render", misbehave: Misbehave::HangInRender },
-    &TestMethod { id: "test-exit-in-prepare", misbehave: Misbehave::ExitInPrepare },
-    &TestMethod { id: "test-gate-in-prepare", misbehave: Misbehave::GateInPrepare },
-    &TestMethod { id: "test-gate-in-render", misbehave: Misbehave::GateInRender },
+    &TestMethod {
+        id: "test-abort-in-render",
+        misbehave: Misbehave::AbortInRender,
+    },
+    &TestMethod {
+        id: "test-hang-in-render",
+        misbehave: Misbehave::HangInRender,
+    },
+    &TestMethod {
+        id: "test-exit-in-prepare",
+        misbehave: Misbehave::ExitInPrepare,
+    },
+    &TestMethod {
+        id: "test-gate-in-prepare",
+        misbehave: Misbehave::GateInPrepare,
+    },
+    &TestMethod {
+        id: "test-gate-in-render",
+        misbehave: Misbehave::GateInRender,
+    },
 ];
 
 /// What this binary serves as a worker: the real methods and the test-only ones.
 fn registry() -> Vec<&'static dyn Method> {
-    methods::REGISTRY.iter().chain(TEST_METHODS).copied().collect()
+    methods::REGISTRY
+        .iter()
+        .chain(TEST_METHODS)
+        .copied()
+        .collect()
 }
 
 fn entry(id: &str) -> &'static dyn Method {
-    registry().into_iter().find(|m| m.id() == id).unwrap_or_else(|| panic!("no method {id}"))
+    registry()
+        .into_iter()
+        .find(|m| m.id() == id)
+        .unwrap_or_else(|| panic!("no method {id}"))
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -178,7 +200,10 @@ fn record<'a>(r: &'a Results, method: &str) -> &'a Record {
 fn assert_ok(r: &Results, method: &str) {
     let rec = record(r, method);
     assert_eq!(rec.status, Status::Ok, "{method}: {:?}", rec.reason);
-    assert!(rec.timing.is_some() && !rec.errors.is_empty(), "{method}: not measured");
+    assert!(
+        rec.timing.is_some() && !rec.errors.is_empty(),
+        "{method}: not measured"
+    );
 }
 
 fn assert_failed(r: &Results, method: &str, needles: &[&str]) {
@@ -191,7 +216,12 @@ fn assert_failed(r: &Results, method: &str, needles: &[&str]) {
 }
 
 /// Waits until the in-flight marker names `method` in `phase` with a worker pid.
-fn wait_for_marker(out: &Path, method: &str, phase: Phase, alive: &mut dyn FnMut() -> bool) -> InFlight {
+fn wait_for_marker(
+    out: &Path,
+    method: &str,
+    phase: Phase,
+    alive: &mut dyn FnMut() -> bool,
+) -> InFlight {
     loop {
         if let Ok(Some(m)) = marker::read(out)
             && m.method == method
@@ -207,14 +237,21 @@ fn wait_for_marker(out: &Path, method: &str, phase: Phase, alive: &mut dyn FnMut
 
 fn signal(pid: u32, sig: i32) {
     // SAFETY: kill(2) takes no pointers.
-    assert_eq!(unsafe { libc::kill(pid as i32, sig) }, 0, "kill({pid}, {sig})");
+    assert_eq!(
+        unsafe { libc::kill(pid as i32, sig) },
+        0,
+        "kill({pid}, {sig})"
+    );
 }
 
 /// Whether a process is gone (no such pid, or a zombie waiting for a reaper).
 fn gone(pid: u32) -> bool {
     match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
         Err(_) => true,
-        Ok(s) => s.rsplit(')').next().is_some_and(|rest| rest.trim_start().starts_with('Z')),
+        Ok(s) => s
+            .rsplit(')')
+            .next()
+            .is_some_and(|rest| rest.trim_start().starts_with('Z')),
     }
 }
 
@@ -251,16 +288,27 @@ fn misbehaving_methods_fail_with_reason_and_phase() {
     assert_failed(
         &r,
         "test-abort-in-render",
-        &["crashed in render", "signal 6 (SIGABRT)", "aborting on purpose"],
+        &[
+            "crashed in render",
+            "signal 6 (SIGABRT)",
+            "aborting on purpose",
+        ],
     );
     assert_failed(&r, "test-hang-in-render", &["timed out in render"]);
     assert_failed(
         &r,
         "test-exit-in-prepare",
-        &["crashed in prepare", "exited with code 7", "exiting with code 7 on purpose"],
+        &[
+            "crashed in prepare",
+            "exited with code 7",
+            "exiting with code 7 on purpose",
+        ],
     );
     // What the parent wrote is what it returned, and no record is left in flight.
-    assert_eq!(Results::load(&out.join("results.json")).unwrap().records, r.records);
+    assert_eq!(
+        Results::load(&out.join("results.json")).unwrap().records,
+        r.records
+    );
     assert!(marker::read(&out).unwrap().is_none());
 }
 
@@ -269,14 +317,25 @@ fn sigkill_of_a_worker_fails_only_its_record() {
     let out = scratch("sigkill");
     let o = out.clone();
     let runner = std::thread::spawn(move || {
-        run(&o, &["no-scatter", "test-hang-in-render", "raymarch-brute"], isolation(&o.join("gate"), 600.0), false)
+        run(
+            &o,
+            &["no-scatter", "test-hang-in-render", "raymarch-brute"],
+            isolation(&o.join("gate"), 600.0),
+            false,
+        )
     });
-    let m = wait_for_marker(&out, "test-hang-in-render", Phase::Render, &mut || !runner.is_finished());
+    let m = wait_for_marker(&out, "test-hang-in-render", Phase::Render, &mut || {
+        !runner.is_finished()
+    });
     signal(m.pid.unwrap(), libc::SIGKILL);
     let r = runner.join().unwrap();
     assert_ok(&r, "no-scatter");
     assert_ok(&r, "raymarch-brute");
-    assert_failed(&r, "test-hang-in-render", &["crashed in render", "signal 9 (SIGKILL)"]);
+    assert_failed(
+        &r,
+        "test-hang-in-render",
+        &["crashed in render", "signal 9 (SIGKILL)"],
+    );
 }
 
 /// A stopped worker (SIGSTOP) trips the watchdog: the gate opens right after the stop, so
@@ -287,9 +346,16 @@ fn sigstop_on_a_worker_trips_the_watchdog() {
     let gate = out.join("gate");
     let (o, g) = (out.clone(), gate.clone());
     let runner = std::thread::spawn(move || {
-        run(&o, &["test-gate-in-prepare", "no-scatter"], isolation(&g, 20.0), false)
+        run(
+            &o,
+            &["test-gate-in-prepare", "no-scatter"],
+            isolation(&g, 20.0),
+            false,
+        )
     });
-    let m = wait_for_marker(&out, "test-gate-in-prepare", Phase::Prepare, &mut || !runner.is_finished());
+    let m = wait_for_marker(&out, "test-gate-in-prepare", Phase::Prepare, &mut || {
+        !runner.is_finished()
+    });
     let pid = m.pid.unwrap();
     signal(pid, libc::SIGSTOP);
     std::fs::write(&gate, "open").unwrap();
@@ -324,7 +390,10 @@ fn killed_parent_resume_and_retry_failed() {
     let ids = ["no-scatter", "test-gate-in-render", "raymarch-brute"];
     let r = run(&out, &ids, isolation(&gate, 60.0), true);
     assert_eq!(r.records.len(), 3);
-    assert_eq!(r.records[0], before.records[0], "the finished record is kept as it was");
+    assert_eq!(
+        r.records[0], before.records[0],
+        "the finished record is kept as it was"
+    );
     assert_failed(&r, "test-gate-in-render", &["interrupted", "in render"]);
     assert_ok(&r, "raymarch-brute");
     assert!(marker::read(&out).unwrap().is_none());
@@ -334,16 +403,27 @@ fn killed_parent_resume_and_retry_failed() {
     iso.retry_failed = true;
     let again = run(&out, &ids, iso, true);
     assert_eq!(again.records.len(), 3, "every record exactly once");
-    assert_eq!(again.records[1].method, "test-gate-in-render", "replaced in place");
+    assert_eq!(
+        again.records[1].method, "test-gate-in-render",
+        "replaced in place"
+    );
     assert_ok(&again, "test-gate-in-render");
     assert_eq!(again.records[0], r.records[0]);
-    assert_eq!(again.records[2], r.records[2], "ok records are not run again");
+    assert_eq!(
+        again.records[2], r.records[2],
+        "ok records are not run again"
+    );
 }
 
 /// The parent of `killed_parent_resume_and_retry_failed`: runs until it is killed.
 fn serve_as_parent(out: &Path) -> ! {
     let gate = out.join("gate");
-    run(out, &["no-scatter", "test-gate-in-render", "raymarch-brute"], isolation(&gate, 600.0), false);
+    run(
+        out,
+        &["no-scatter", "test-gate-in-render", "raymarch-brute"],
+        isolation(&gate, 600.0),
+        false,
+    );
     std::process::exit(0)
 }
 
@@ -364,7 +444,10 @@ fn every_command_exits_cleanly_on_a_closed_pipe() {
     let bin = env!("CARGO_BIN_EXE_scatterbench");
     let out = scratch("pipes");
     let d = |s: &str| out.join(s).display().to_string();
-    let library = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/library/sphere-point.json");
+    let library = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/library/sphere-point.json"
+    );
     let small = ["--res", "16", "--cache", &d("cache")];
     let commands: Vec<(Vec<String>, Option<String>)> = vec![
         (vec!["--help".into()], None),
@@ -373,21 +456,91 @@ fn every_command_exits_cleanly_on_a_closed_pipe() {
         (vec!["list".into(), "--json".into()], None),
         (vec!["validate".into(), library.into()], None),
         (
-            ["reference", "--scene", "sphere-point", "--res", "8", "--out", &d("ref")].map(String::from).to_vec(),
+            [
+                "reference",
+                "--scene",
+                "sphere-point",
+                "--res",
+                "8",
+                "--out",
+                &d("ref"),
+            ]
+            .map(String::from)
+            .to_vec(),
             Some(d("ref")),
         ),
         (
-            [&["run", "--scenes", "sphere-point", "--methods", "no-scatter", "--frames", "1", "--warmup", "0", "--out", &d("run")][..], &small[..]].concat().iter().map(|s| s.to_string()).collect(),
+            [
+                &[
+                    "run",
+                    "--scenes",
+                    "sphere-point",
+                    "--methods",
+                    "no-scatter",
+                    "--frames",
+                    "1",
+                    "--warmup",
+                    "0",
+                    "--out",
+                    &d("run"),
+                ][..],
+                &small[..],
+            ]
+            .concat()
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
             Some(d("run/results.json")),
         ),
-        (vec!["report".into(), d("run")], Some(d("run/report/index.html"))),
-        (vec!["merge".into(), d("run"), "--out".into(), d("merged")], Some(d("merged/results.json"))),
         (
-            [&["stress", "--methods", "no-scatter", "--cases", "camera-at-light", "--out", &d("stress")][..], &small[..]].concat().iter().map(|s| s.to_string()).collect(),
+            vec!["report".into(), d("run")],
+            Some(d("run/report/index.html")),
+        ),
+        (
+            vec!["merge".into(), d("run"), "--out".into(), d("merged")],
+            Some(d("merged/results.json")),
+        ),
+        (
+            [
+                &[
+                    "stress",
+                    "--methods",
+                    "no-scatter",
+                    "--cases",
+                    "camera-at-light",
+                    "--out",
+                    &d("stress"),
+                ][..],
+                &small[..],
+            ]
+            .concat()
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
             Some(d("stress/results.json")),
         ),
         (
-            ["scaling", "--methods", "no-scatter", "--triangles", "1k", "--triangles-res", "16", "--res", "16", "--frames", "1", "--warmup", "0", "--cache", &d("cache"), "--out", &d("scaling")].map(String::from).to_vec(),
+            [
+                "scaling",
+                "--methods",
+                "no-scatter",
+                "--triangles",
+                "1k",
+                "--triangles-res",
+                "16",
+                "--res",
+                "16",
+                "--frames",
+                "1",
+                "--warmup",
+                "0",
+                "--cache",
+                &d("cache"),
+                "--out",
+                &d("scaling"),
+            ]
+            .map(String::from)
+            .to_vec(),
             Some(d("scaling/results.json")),
         ),
     ];
@@ -403,8 +556,15 @@ fn every_command_exits_cleanly_on_a_closed_pipe() {
         let o = child.wait_with_output().unwrap();
         let mut err = String::from_utf8_lossy(&o.stderr).into_owned();
         err.truncate(4000);
-        assert!(!err.contains("panicked") && !err.contains("Broken pipe"), "{args:?}: {err}");
-        assert!(o.status.code().is_some(), "{args:?} ended by a signal: {:?}", o.status);
+        assert!(
+            !err.contains("panicked") && !err.contains("Broken pipe"),
+            "{args:?}: {err}"
+        );
+        assert!(
+            o.status.code().is_some(),
+            "{args:?} ended by a signal: {:?}",
+            o.status
+        );
         assert_ne!(o.status.code(), Some(101), "{args:?}: {err}");
         if let Some(f) = file {
             assert!(Path::new(&f).exists(), "{args:?} did not write {f}: {err}");
@@ -425,11 +585,26 @@ fn every_command_exits_cleanly_on_a_closed_pipe() {
 }
 
 const TESTS: &[(&str, fn())] = &[
-    ("misbehaving_methods_fail_with_reason_and_phase", misbehaving_methods_fail_with_reason_and_phase),
-    ("sigkill_of_a_worker_fails_only_its_record", sigkill_of_a_worker_fails_only_its_record),
-    ("sigstop_on_a_worker_trips_the_watchdog", sigstop_on_a_worker_trips_the_watchdog),
-    ("killed_parent_resume_and_retry_failed", killed_parent_resume_and_retry_failed),
-    ("every_command_exits_cleanly_on_a_closed_pipe", every_command_exits_cleanly_on_a_closed_pipe),
+    (
+        "misbehaving_methods_fail_with_reason_and_phase",
+        misbehaving_methods_fail_with_reason_and_phase,
+    ),
+    (
+        "sigkill_of_a_worker_fails_only_its_record",
+        sigkill_of_a_worker_fails_only_its_record,
+    ),
+    (
+        "sigstop_on_a_worker_trips_the_watchdog",
+        sigstop_on_a_worker_trips_the_watchdog,
+    ),
+    (
+        "killed_parent_resume_and_retry_failed",
+        killed_parent_resume_and_retry_failed,
+    ),
+    (
+        "every_command_exits_cleanly_on_a_closed_pipe",
+        every_command_exits_cleanly_on_a_closed_pipe,
+    ),
 ];
 
 fn main() {
@@ -439,7 +614,10 @@ fn main() {
     if let Some(out) = std::env::var_os(PARENT_ENV) {
         serve_as_parent(Path::new(&out));
     }
-    let filters: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with('-')).collect();
+    let filters: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
     let chosen: Vec<_> = TESTS
         .iter()
         .filter(|(n, _)| filters.is_empty() || filters.iter().any(|f| n.contains(f.as_str())))
@@ -458,7 +636,11 @@ fn main() {
             }
         }
     }
-    eprintln!("{} passed, {} failed {failed:?}", chosen.len() - failed.len(), failed.len());
+    eprintln!(
+        "{} passed, {} failed {failed:?}",
+        chosen.len() - failed.len(),
+        failed.len()
+    );
     if !failed.is_empty() {
         std::process::exit(1);
     }

@@ -117,7 +117,9 @@ fn sigkill_mid_run_leaves_valid_results_and_resume_completes_them() {
     // (a crash must not repeat forever: ARCHITECTURE §9.2); every other record is ok.
     let interrupted = |r: &harness::results::Record| {
         r.status == Status::Failed
-            && r.reason.as_deref().is_some_and(|m| m.starts_with("interrupted"))
+            && r.reason
+                .as_deref()
+                .is_some_and(|m| m.starts_with("interrupted"))
     };
     assert!(
         done.records

@@ -72,394 +72,424 @@ const fn c(
 
 pub fn experiments() -> Vec<Experiment> {
     vec![
-        Experiment {
-            paper: "wyman",
-            title: "Wyman & Ramsey 2008, Table 1: hybrid (50 samples) vs brute-force ray marching (150)",
-            note: "Paper: 1024² output, GeForce 8800 GTX, fps; sphere and spring rows. Low-resolution \
-                   scattering is the paper's 256² of 1024², i.e. wyman-hybrid scale=4. raymarch-brute \
-                   has no low-resolution mode, so the paper's 'brute @256²' column is not reproduced. \
-                   The extra hybrid and brute sample counts feed the equal-error table.",
-            scenes: &["sphere-point", "spring-point"],
-            configs: vec![
-                c("brute 150", "raymarch-brute", &[("steps", "150")]),
-                c(
-                    "hybrid 50",
-                    "wyman-hybrid",
-                    &[("samples", "50"), ("scale", "1")],
-                ),
-                c(
-                    "hybrid 50 @1/4",
-                    "wyman-hybrid",
-                    &[("samples", "50"), ("scale", "4")],
-                ),
-                c("brute 32", "raymarch-brute", &[("steps", "32")]),
-                c("brute 64", "raymarch-brute", &[("steps", "64")]),
-                c("brute 300", "raymarch-brute", &[("steps", "300")]),
-                c(
-                    "hybrid 10",
-                    "wyman-hybrid",
-                    &[("samples", "10"), ("scale", "1")],
-                ),
-                c(
-                    "hybrid 25",
-                    "wyman-hybrid",
-                    &[("samples", "25"), ("scale", "1")],
-                ),
-                c(
-                    "hybrid 100",
-                    "wyman-hybrid",
-                    &[("samples", "100"), ("scale", "1")],
-                ),
-            ],
-            claims: vec![
-                Claim {
-                    what: "hybrid over brute force, full-resolution scattering",
-                    scene: Some("sphere-point"),
-                    faster: "hybrid 50",
-                    slower: "brute 150",
-                    paper: "6.59× (85.0 / 12.9 fps)",
-                },
-                Claim {
-                    what: "hybrid at 1/4 resolution over brute force at full",
-                    scene: Some("sphere-point"),
-                    faster: "hybrid 50 @1/4",
-                    slower: "brute 150",
-                    paper: "7.72× (99.6 / 12.9 fps)",
-                },
-                Claim {
-                    what: "low-resolution scattering over full, hybrid",
-                    scene: Some("sphere-point"),
-                    faster: "hybrid 50 @1/4",
-                    slower: "hybrid 50",
-                    paper: "1.17× (99.6 / 85.0 fps)",
-                },
-                Claim {
-                    what: "hybrid over brute force, full-resolution scattering",
-                    scene: Some("spring-point"),
-                    faster: "hybrid 50",
-                    slower: "brute 150",
-                    paper: "5.26× (76.8 / 14.6 fps)",
-                },
-                Claim {
-                    what: "hybrid at 1/4 resolution over brute force at full",
-                    scene: Some("spring-point"),
-                    faster: "hybrid 50 @1/4",
-                    slower: "brute 150",
-                    paper: "7.71× (112.5 / 14.6 fps)",
-                },
-                Claim {
-                    what: "low-resolution scattering over full, hybrid",
-                    scene: Some("spring-point"),
-                    faster: "hybrid 50 @1/4",
-                    slower: "hybrid 50",
-                    paper: "1.46× (112.5 / 76.8 fps)",
-                },
-            ],
-            qualitative: &[
-                "hybrid 3–8× faster than brute force at 1024² and equal samples (§4)",
-                "low-resolution scattering adds another 25–100 % (§4)",
-                "the sphere needs > 300 brute-force samples but 75–100 hybrid samples (Fig. 6)",
-            ],
-            needs: &["wyman-hybrid", "raymarch-brute"],
-            section: Section::Configs,
-        },
-        Experiment {
-            paper: "dobashi",
-            title: "Dobashi et al. 2000, Figs. 5 and 6: virtual planes (lattice 40²) and lattice (75 planes)",
-            note: "Paper: 640×480, Pentium III 733 MHz + GeForce256; the figures' times were lost in \
-                   the text extraction, so only its words are compared: error and cost against the \
-                   planes and lattice counts.",
-            scenes: &["stained-glass-spot"],
-            configs: vec![
-                c(
-                    "planes 75 lattice 40",
-                    "dobashi-virtual-planes",
-                    &[("planes", "75"), ("lattice", "40")],
-                ),
-                c(
-                    "planes 15 lattice 40",
-                    "dobashi-virtual-planes",
-                    &[("planes", "15"), ("lattice", "40")],
-                ),
-                c(
-                    "planes 30 lattice 40",
-                    "dobashi-virtual-planes",
-                    &[("planes", "30"), ("lattice", "40")],
-                ),
-                c(
-                    "planes 150 lattice 40",
-                    "dobashi-virtual-planes",
-                    &[("planes", "150"), ("lattice", "40")],
-                ),
-                c(
-                    "planes 75 lattice 5",
-                    "dobashi-virtual-planes",
-                    &[("planes", "75"), ("lattice", "5")],
-                ),
-                c(
-                    "planes 75 lattice 20",
-                    "dobashi-virtual-planes",
-                    &[("planes", "75"), ("lattice", "20")],
-                ),
-                c(
-                    "planes 75 lattice 80",
-                    "dobashi-virtual-planes",
-                    &[("planes", "75"), ("lattice", "80")],
-                ),
-            ],
-            claims: vec![
-                Claim {
-                    what: "15 planes over 75 (Fig. 5a vs 5c)",
-                    scene: None,
-                    faster: "planes 15 lattice 40",
-                    slower: "planes 75 lattice 40",
-                    paper: "faster, with shadow aliasing (time not in the extraction)",
-                },
-                Claim {
-                    what: "5² lattice over 80² (Fig. 6a vs 6c)",
-                    scene: None,
-                    faster: "planes 75 lattice 5",
-                    slower: "planes 75 lattice 80",
-                    paper: "faster (time not in the extraction)",
-                },
-            ],
-            qualitative: &[
-                "Fig. 5: 15 and 30 planes alias the shadows; 75 planes remove it at a higher cost",
-                "Fig. 6: a 5×5 lattice makes the scattering much weaker (mean in-scatter / reference < 1); 20×20 ≈ 80×80",
-                "§5.4: ~70 % of the time is shadow-texture generation (read-back; gone with shadow maps)",
-            ],
-            needs: &["dobashi-virtual-planes"],
-            section: Section::Configs,
-        },
-        Experiment {
-            paper: "biri2006",
-            title: "Biri et al. 2006, Table II: frame rate vs triangle count (and silhouette edges)",
-            note: "Paper: GeForce-class GPU, three different scenes of 14 785, 110 014 and 136 266 \
-                   triangles at 31 / 10.5 / 7.6 fps (direct scattering and shadows; 30 / 10.2 / 7 \
-                   with indirect scattering), i.e. time ∝ triangles^0.63. Here: the same method on \
-                   one scene tessellated further and further (midpoint subdivision of the casters, \
-                   the surface unchanged), so only the triangle count and its silhouette change. \
-                   This is also issue 5's cost vs silhouette-edge count.",
-            scenes: &[
-                "sphere-point-sub0",
-                "sphere-point-sub1",
-                "sphere-point-sub2",
-                "sphere-point-sub3",
-                "spring-point-sub0",
-                "spring-point-sub1",
-                "spring-point-sub2",
-                "spring-point-sub3",
-                "pen-orbit",
-            ],
-            configs: vec![c("defaults", "biri-shadow-volumes", &[])],
-            claims: vec![],
-            qualitative: &[
-                "Table II: 14 785 → 136 266 triangles (9.2×) costs 4.1× the time without indirect scattering (31 → 7.6 fps), 4.3× with it (30 → 7 fps)",
-                "§V: the pen of Fig. 11a (here pen-orbit) renders at more than 30 fps with two lights",
-            ],
-            needs: &["biri-shadow-volumes"],
-            section: Section::Triangles,
-        },
-        Experiment {
-            paper: "biri2003",
-            title: "Biri et al. 2003, Table 1: work load of each stage",
-            note: "Paper: GeForce 2 + 550 MHz CPU, the 35 000-triangle scene of its Fig. 12, shadow \
-                   planes meshed with 30 (10) triangles each: silhouettes 1 % (1.7 %), first pass \
-                   8.7 % (14 %), ordering of shadow planes 9.6 % (16 %), second pass surfaces 21.7 % \
-                   (33.6 %), second pass volumes 59 % (34.7 %). Here: biri-shadow-volumes' per-frame \
-                   counters as a share of the median wall time (CPU counters: silhouette_ms, \
-                   sort_ms; GPU phases: gpu_ms_* where the method reports them). The silhouettes \
-                   are recomputed only when a light or caster moves, so static scenes show ~0.",
-            scenes: &["desk-pencils", "pen-orbit", "spring-point-sub2"],
-            configs: vec![c("defaults", "biri-shadow-volumes", &[])],
-            claims: vec![],
-            qualitative: &[],
-            needs: &["biri-shadow-volumes"],
-            section: Section::Breakdown,
-        },
-        Experiment {
-            paper: "biri-poly",
-            title: "Biri et al. 2003: error of the polynomial kernel vs its order",
-            note: "Paper: Λ(θ) expanded as a polynomial (Taylor series around θ = 0, annex), 'in \
-                   practice we use superior orders' than 2; no error figures in the text. Here: \
-                   orders 2…8 with the paper's Taylor fit and with Chebyshev interpolation over each \
-                   segment's own θ range, on an unshadowed (clear-fog) and a shadowed \
-                   (sphere-point) scene; a scene the method cannot handle is listed with its reason.",
-            scenes: &["clear-fog", "sphere-point"],
-            configs: vec![
-                c(
-                    "taylor 4",
-                    "biri-polynomial",
-                    &[("order", "4"), ("fit", "taylor")],
-                ),
-                c(
-                    "taylor 2",
-                    "biri-polynomial",
-                    &[("order", "2"), ("fit", "taylor")],
-                ),
-                c(
-                    "taylor 3",
-                    "biri-polynomial",
-                    &[("order", "3"), ("fit", "taylor")],
-                ),
-                c(
-                    "taylor 5",
-                    "biri-polynomial",
-                    &[("order", "5"), ("fit", "taylor")],
-                ),
-                c(
-                    "taylor 6",
-                    "biri-polynomial",
-                    &[("order", "6"), ("fit", "taylor")],
-                ),
-                c(
-                    "taylor 7",
-                    "biri-polynomial",
-                    &[("order", "7"), ("fit", "taylor")],
-                ),
-                c(
-                    "taylor 8",
-                    "biri-polynomial",
-                    &[("order", "8"), ("fit", "taylor")],
-                ),
-                c(
-                    "chebyshev 2",
-                    "biri-polynomial",
-                    &[("order", "2"), ("fit", "chebyshev")],
-                ),
-                c(
-                    "chebyshev 3",
-                    "biri-polynomial",
-                    &[("order", "3"), ("fit", "chebyshev")],
-                ),
-                c(
-                    "chebyshev 4",
-                    "biri-polynomial",
-                    &[("order", "4"), ("fit", "chebyshev")],
-                ),
-                c(
-                    "chebyshev 5",
-                    "biri-polynomial",
-                    &[("order", "5"), ("fit", "chebyshev")],
-                ),
-                c(
-                    "chebyshev 6",
-                    "biri-polynomial",
-                    &[("order", "6"), ("fit", "chebyshev")],
-                ),
-                c(
-                    "chebyshev 7",
-                    "biri-polynomial",
-                    &[("order", "7"), ("fit", "chebyshev")],
-                ),
-                c(
-                    "chebyshev 8",
-                    "biri-polynomial",
-                    &[("order", "8"), ("fit", "chebyshev")],
-                ),
-            ],
-            claims: vec![Claim {
-                what: "order 8 costs over order 2 (constant-time evaluation: near 1×)",
-                scene: None,
-                faster: "taylor 2",
-                slower: "taylor 8",
-                paper: "not measured (the per-vertex cost grows with the order's terms only)",
-            }],
-            qualitative: &[
-                "§3: the approximation is good except where the ray passes close to the source or the observer is far from it",
-                "§3: second order is shown; 'in practice we use superior orders' — the error should fall with the order",
-            ],
-            needs: &["biri-polynomial"],
-            section: Section::Configs,
-        },
-        Experiment {
-            paper: "umenhoffer",
-            title: "Umenhoffer et al., Fig. 5: frame rate vs number of particle blocks (8000 particles)",
-            note: "Paper: NV6800GT, 8000 particles, directional light: unblocked 8 fps, 1600 blocks \
-                   20, 800 blocks 42, 400 blocks 60, 40 blocks 200, 20 blocks 180 fps; faster with \
-                   more particles per block down to 40 blocks, slower beyond (block overhead). \
-                   'Unblocked' is particle-splat (every particle splatted and lit on its own).",
-            scenes: &["cloud-8000"],
-            configs: vec![
-                c(
-                    "blocks 40",
-                    "umenhoffer-particle-blocks",
-                    &[("blocks", "40")],
-                ),
-                c("unblocked", "particle-splat", &[]),
-                c("blocks 1", "umenhoffer-particle-blocks", &[("blocks", "1")]),
-                c(
-                    "blocks 20",
-                    "umenhoffer-particle-blocks",
-                    &[("blocks", "20")],
-                ),
-                c(
-                    "blocks 400",
-                    "umenhoffer-particle-blocks",
-                    &[("blocks", "400")],
-                ),
-                c(
-                    "blocks 800",
-                    "umenhoffer-particle-blocks",
-                    &[("blocks", "800")],
-                ),
-                c(
-                    "blocks 1600",
-                    "umenhoffer-particle-blocks",
-                    &[("blocks", "1600")],
-                ),
-            ],
-            claims: vec![
-                Claim {
-                    what: "40 blocks over unblocked",
-                    scene: None,
-                    faster: "blocks 40",
-                    slower: "unblocked",
-                    paper: "25× (200 / 8 fps)",
-                },
-                Claim {
-                    what: "40 blocks over 20",
-                    scene: None,
-                    faster: "blocks 40",
-                    slower: "blocks 20",
-                    paper: "1.11× (200 / 180 fps)",
-                },
-                Claim {
-                    what: "40 blocks over 400",
-                    scene: None,
-                    faster: "blocks 40",
-                    slower: "blocks 400",
-                    paper: "3.33× (200 / 60 fps)",
-                },
-                Claim {
-                    what: "40 blocks over 800",
-                    scene: None,
-                    faster: "blocks 40",
-                    slower: "blocks 800",
-                    paper: "4.76× (200 / 42 fps)",
-                },
-                Claim {
-                    what: "40 blocks over 1600",
-                    scene: None,
-                    faster: "blocks 40",
-                    slower: "blocks 1600",
-                    paper: "10× (200 / 20 fps)",
-                },
-                Claim {
-                    what: "1600 blocks over unblocked",
-                    scene: None,
-                    faster: "blocks 1600",
-                    slower: "unblocked",
-                    paper: "2.5× (20 / 8 fps)",
-                },
-            ],
-            qualitative: &[
-                "§3: rendering speeds up with more particles per block until 40 blocks, then slows (block computation overhead)",
-            ],
-            needs: &["umenhoffer-particle-blocks"],
-            section: Section::Configs,
-        },
+        wyman(),
+        dobashi(),
+        biri2006(),
+        biri2003(),
+        biri_poly(),
+        umenhoffer(),
     ]
+}
+
+/// Wyman & Ramsey 2008, Table 1.
+fn wyman() -> Experiment {
+    Experiment {
+        paper: "wyman",
+        title: "Wyman & Ramsey 2008, Table 1: hybrid (50 samples) vs brute-force ray marching (150)",
+        note: "Paper: 1024² output, GeForce 8800 GTX, fps; sphere and spring rows. Low-resolution \
+               scattering is the paper's 256² of 1024², i.e. wyman-hybrid scale=4. raymarch-brute \
+               has no low-resolution mode, so the paper's 'brute @256²' column is not reproduced. \
+               The extra hybrid and brute sample counts feed the equal-error table.",
+        scenes: &["sphere-point", "spring-point"],
+        configs: vec![
+            c("brute 150", "raymarch-brute", &[("steps", "150")]),
+            c(
+                "hybrid 50",
+                "wyman-hybrid",
+                &[("samples", "50"), ("scale", "1")],
+            ),
+            c(
+                "hybrid 50 @1/4",
+                "wyman-hybrid",
+                &[("samples", "50"), ("scale", "4")],
+            ),
+            c("brute 32", "raymarch-brute", &[("steps", "32")]),
+            c("brute 64", "raymarch-brute", &[("steps", "64")]),
+            c("brute 300", "raymarch-brute", &[("steps", "300")]),
+            c(
+                "hybrid 10",
+                "wyman-hybrid",
+                &[("samples", "10"), ("scale", "1")],
+            ),
+            c(
+                "hybrid 25",
+                "wyman-hybrid",
+                &[("samples", "25"), ("scale", "1")],
+            ),
+            c(
+                "hybrid 100",
+                "wyman-hybrid",
+                &[("samples", "100"), ("scale", "1")],
+            ),
+        ],
+        claims: vec![
+            Claim {
+                what: "hybrid over brute force, full-resolution scattering",
+                scene: Some("sphere-point"),
+                faster: "hybrid 50",
+                slower: "brute 150",
+                paper: "6.59× (85.0 / 12.9 fps)",
+            },
+            Claim {
+                what: "hybrid at 1/4 resolution over brute force at full",
+                scene: Some("sphere-point"),
+                faster: "hybrid 50 @1/4",
+                slower: "brute 150",
+                paper: "7.72× (99.6 / 12.9 fps)",
+            },
+            Claim {
+                what: "low-resolution scattering over full, hybrid",
+                scene: Some("sphere-point"),
+                faster: "hybrid 50 @1/4",
+                slower: "hybrid 50",
+                paper: "1.17× (99.6 / 85.0 fps)",
+            },
+            Claim {
+                what: "hybrid over brute force, full-resolution scattering",
+                scene: Some("spring-point"),
+                faster: "hybrid 50",
+                slower: "brute 150",
+                paper: "5.26× (76.8 / 14.6 fps)",
+            },
+            Claim {
+                what: "hybrid at 1/4 resolution over brute force at full",
+                scene: Some("spring-point"),
+                faster: "hybrid 50 @1/4",
+                slower: "brute 150",
+                paper: "7.71× (112.5 / 14.6 fps)",
+            },
+            Claim {
+                what: "low-resolution scattering over full, hybrid",
+                scene: Some("spring-point"),
+                faster: "hybrid 50 @1/4",
+                slower: "hybrid 50",
+                paper: "1.46× (112.5 / 76.8 fps)",
+            },
+        ],
+        qualitative: &[
+            "hybrid 3–8× faster than brute force at 1024² and equal samples (§4)",
+            "low-resolution scattering adds another 25–100 % (§4)",
+            "the sphere needs > 300 brute-force samples but 75–100 hybrid samples (Fig. 6)",
+        ],
+        needs: &["wyman-hybrid", "raymarch-brute"],
+        section: Section::Configs,
+    }
+}
+
+/// Dobashi et al. 2000, Figs. 5 and 6.
+fn dobashi() -> Experiment {
+    Experiment {
+        paper: "dobashi",
+        title: "Dobashi et al. 2000, Figs. 5 and 6: virtual planes (lattice 40²) and lattice (75 planes)",
+        note: "Paper: 640×480, Pentium III 733 MHz + GeForce256; the figures' times were lost in \
+               the text extraction, so only its words are compared: error and cost against the \
+               planes and lattice counts.",
+        scenes: &["stained-glass-spot"],
+        configs: vec![
+            c(
+                "planes 75 lattice 40",
+                "dobashi-virtual-planes",
+                &[("planes", "75"), ("lattice", "40")],
+            ),
+            c(
+                "planes 15 lattice 40",
+                "dobashi-virtual-planes",
+                &[("planes", "15"), ("lattice", "40")],
+            ),
+            c(
+                "planes 30 lattice 40",
+                "dobashi-virtual-planes",
+                &[("planes", "30"), ("lattice", "40")],
+            ),
+            c(
+                "planes 150 lattice 40",
+                "dobashi-virtual-planes",
+                &[("planes", "150"), ("lattice", "40")],
+            ),
+            c(
+                "planes 75 lattice 5",
+                "dobashi-virtual-planes",
+                &[("planes", "75"), ("lattice", "5")],
+            ),
+            c(
+                "planes 75 lattice 20",
+                "dobashi-virtual-planes",
+                &[("planes", "75"), ("lattice", "20")],
+            ),
+            c(
+                "planes 75 lattice 80",
+                "dobashi-virtual-planes",
+                &[("planes", "75"), ("lattice", "80")],
+            ),
+        ],
+        claims: vec![
+            Claim {
+                what: "15 planes over 75 (Fig. 5a vs 5c)",
+                scene: None,
+                faster: "planes 15 lattice 40",
+                slower: "planes 75 lattice 40",
+                paper: "faster, with shadow aliasing (time not in the extraction)",
+            },
+            Claim {
+                what: "5² lattice over 80² (Fig. 6a vs 6c)",
+                scene: None,
+                faster: "planes 75 lattice 5",
+                slower: "planes 75 lattice 80",
+                paper: "faster (time not in the extraction)",
+            },
+        ],
+        qualitative: &[
+            "Fig. 5: 15 and 30 planes alias the shadows; 75 planes remove it at a higher cost",
+            "Fig. 6: a 5×5 lattice makes the scattering much weaker (mean in-scatter / reference < 1); 20×20 ≈ 80×80",
+            "§5.4: ~70 % of the time is shadow-texture generation (read-back; gone with shadow maps)",
+        ],
+        needs: &["dobashi-virtual-planes"],
+        section: Section::Configs,
+    }
+}
+
+/// Biri et al. 2006, Table II.
+fn biri2006() -> Experiment {
+    Experiment {
+        paper: "biri2006",
+        title: "Biri et al. 2006, Table II: frame rate vs triangle count (and silhouette edges)",
+        note: "Paper: GeForce-class GPU, three different scenes of 14 785, 110 014 and 136 266 \
+               triangles at 31 / 10.5 / 7.6 fps (direct scattering and shadows; 30 / 10.2 / 7 \
+               with indirect scattering), i.e. time ∝ triangles^0.63. Here: the same method on \
+               one scene tessellated further and further (midpoint subdivision of the casters, \
+               the surface unchanged), so only the triangle count and its silhouette change. \
+               This is also issue 5's cost vs silhouette-edge count.",
+        scenes: &[
+            "sphere-point-sub0",
+            "sphere-point-sub1",
+            "sphere-point-sub2",
+            "sphere-point-sub3",
+            "spring-point-sub0",
+            "spring-point-sub1",
+            "spring-point-sub2",
+            "spring-point-sub3",
+            "pen-orbit",
+        ],
+        configs: vec![c("defaults", "biri-shadow-volumes", &[])],
+        claims: vec![],
+        qualitative: &[
+            "Table II: 14 785 → 136 266 triangles (9.2×) costs 4.1× the time without indirect scattering (31 → 7.6 fps), 4.3× with it (30 → 7 fps)",
+            "§V: the pen of Fig. 11a (here pen-orbit) renders at more than 30 fps with two lights",
+        ],
+        needs: &["biri-shadow-volumes"],
+        section: Section::Triangles,
+    }
+}
+
+/// Biri et al. 2003, Table 1: the work load of each stage.
+fn biri2003() -> Experiment {
+    Experiment {
+        paper: "biri2003",
+        title: "Biri et al. 2003, Table 1: work load of each stage",
+        note: "Paper: GeForce 2 + 550 MHz CPU, the 35 000-triangle scene of its Fig. 12, shadow \
+               planes meshed with 30 (10) triangles each: silhouettes 1 % (1.7 %), first pass \
+               8.7 % (14 %), ordering of shadow planes 9.6 % (16 %), second pass surfaces 21.7 % \
+               (33.6 %), second pass volumes 59 % (34.7 %). Here: biri-shadow-volumes' per-frame \
+               counters as a share of the median wall time (CPU counters: silhouette_ms, \
+               sort_ms; GPU phases: gpu_ms_* where the method reports them). The silhouettes \
+               are recomputed only when a light or caster moves, so static scenes show ~0.",
+        scenes: &["desk-pencils", "pen-orbit", "spring-point-sub2"],
+        configs: vec![c("defaults", "biri-shadow-volumes", &[])],
+        claims: vec![],
+        qualitative: &[],
+        needs: &["biri-shadow-volumes"],
+        section: Section::Breakdown,
+    }
+}
+
+/// Biri et al. 2003: the polynomial kernel's error vs its order.
+fn biri_poly() -> Experiment {
+    Experiment {
+        paper: "biri-poly",
+        title: "Biri et al. 2003: error of the polynomial kernel vs its order",
+        note: "Paper: Λ(θ) expanded as a polynomial (Taylor series around θ = 0, annex), 'in \
+               practice we use superior orders' than 2; no error figures in the text. Here: \
+               orders 2…8 with the paper's Taylor fit and with Chebyshev interpolation over each \
+               segment's own θ range, on an unshadowed (clear-fog) and a shadowed \
+               (sphere-point) scene; a scene the method cannot handle is listed with its reason.",
+        scenes: &["clear-fog", "sphere-point"],
+        configs: vec![
+            c(
+                "taylor 4",
+                "biri-polynomial",
+                &[("order", "4"), ("fit", "taylor")],
+            ),
+            c(
+                "taylor 2",
+                "biri-polynomial",
+                &[("order", "2"), ("fit", "taylor")],
+            ),
+            c(
+                "taylor 3",
+                "biri-polynomial",
+                &[("order", "3"), ("fit", "taylor")],
+            ),
+            c(
+                "taylor 5",
+                "biri-polynomial",
+                &[("order", "5"), ("fit", "taylor")],
+            ),
+            c(
+                "taylor 6",
+                "biri-polynomial",
+                &[("order", "6"), ("fit", "taylor")],
+            ),
+            c(
+                "taylor 7",
+                "biri-polynomial",
+                &[("order", "7"), ("fit", "taylor")],
+            ),
+            c(
+                "taylor 8",
+                "biri-polynomial",
+                &[("order", "8"), ("fit", "taylor")],
+            ),
+            c(
+                "chebyshev 2",
+                "biri-polynomial",
+                &[("order", "2"), ("fit", "chebyshev")],
+            ),
+            c(
+                "chebyshev 3",
+                "biri-polynomial",
+                &[("order", "3"), ("fit", "chebyshev")],
+            ),
+            c(
+                "chebyshev 4",
+                "biri-polynomial",
+                &[("order", "4"), ("fit", "chebyshev")],
+            ),
+            c(
+                "chebyshev 5",
+                "biri-polynomial",
+                &[("order", "5"), ("fit", "chebyshev")],
+            ),
+            c(
+                "chebyshev 6",
+                "biri-polynomial",
+                &[("order", "6"), ("fit", "chebyshev")],
+            ),
+            c(
+                "chebyshev 7",
+                "biri-polynomial",
+                &[("order", "7"), ("fit", "chebyshev")],
+            ),
+            c(
+                "chebyshev 8",
+                "biri-polynomial",
+                &[("order", "8"), ("fit", "chebyshev")],
+            ),
+        ],
+        claims: vec![Claim {
+            what: "order 8 costs over order 2 (constant-time evaluation: near 1×)",
+            scene: None,
+            faster: "taylor 2",
+            slower: "taylor 8",
+            paper: "not measured (the per-vertex cost grows with the order's terms only)",
+        }],
+        qualitative: &[
+            "§3: the approximation is good except where the ray passes close to the source or the observer is far from it",
+            "§3: second order is shown; 'in practice we use superior orders' — the error should fall with the order",
+        ],
+        needs: &["biri-polynomial"],
+        section: Section::Configs,
+    }
+}
+
+/// Umenhoffer et al., Fig. 5.
+fn umenhoffer() -> Experiment {
+    Experiment {
+        paper: "umenhoffer",
+        title: "Umenhoffer et al., Fig. 5: frame rate vs number of particle blocks (8000 particles)",
+        note: "Paper: NV6800GT, 8000 particles, directional light: unblocked 8 fps, 1600 blocks \
+               20, 800 blocks 42, 400 blocks 60, 40 blocks 200, 20 blocks 180 fps; faster with \
+               more particles per block down to 40 blocks, slower beyond (block overhead). \
+               'Unblocked' is particle-splat (every particle splatted and lit on its own).",
+        scenes: &["cloud-8000"],
+        configs: vec![
+            c(
+                "blocks 40",
+                "umenhoffer-particle-blocks",
+                &[("blocks", "40")],
+            ),
+            c("unblocked", "particle-splat", &[]),
+            c("blocks 1", "umenhoffer-particle-blocks", &[("blocks", "1")]),
+            c(
+                "blocks 20",
+                "umenhoffer-particle-blocks",
+                &[("blocks", "20")],
+            ),
+            c(
+                "blocks 400",
+                "umenhoffer-particle-blocks",
+                &[("blocks", "400")],
+            ),
+            c(
+                "blocks 800",
+                "umenhoffer-particle-blocks",
+                &[("blocks", "800")],
+            ),
+            c(
+                "blocks 1600",
+                "umenhoffer-particle-blocks",
+                &[("blocks", "1600")],
+            ),
+        ],
+        claims: vec![
+            Claim {
+                what: "40 blocks over unblocked",
+                scene: None,
+                faster: "blocks 40",
+                slower: "unblocked",
+                paper: "25× (200 / 8 fps)",
+            },
+            Claim {
+                what: "40 blocks over 20",
+                scene: None,
+                faster: "blocks 40",
+                slower: "blocks 20",
+                paper: "1.11× (200 / 180 fps)",
+            },
+            Claim {
+                what: "40 blocks over 400",
+                scene: None,
+                faster: "blocks 40",
+                slower: "blocks 400",
+                paper: "3.33× (200 / 60 fps)",
+            },
+            Claim {
+                what: "40 blocks over 800",
+                scene: None,
+                faster: "blocks 40",
+                slower: "blocks 800",
+                paper: "4.76× (200 / 42 fps)",
+            },
+            Claim {
+                what: "40 blocks over 1600",
+                scene: None,
+                faster: "blocks 40",
+                slower: "blocks 1600",
+                paper: "10× (200 / 20 fps)",
+            },
+            Claim {
+                what: "1600 blocks over unblocked",
+                scene: None,
+                faster: "blocks 1600",
+                slower: "unblocked",
+                paper: "2.5× (20 / 8 fps)",
+            },
+        ],
+        qualitative: &[
+            "§3: rendering speeds up with more particles per block until 40 blocks, then slows (block computation overhead)",
+        ],
+        needs: &["umenhoffer-particle-blocks"],
+        section: Section::Configs,
+    }
 }
 
 #[cfg(test)]
@@ -497,8 +527,7 @@ mod tests {
             }
             if e.configs.iter().all(|c| methods::find(c.method).is_some()) {
                 for s in e.scenes {
-                    scenes::library::resolve(s)
-                        .unwrap_or_else(|err| panic!("{}: {err}", e.paper));
+                    scenes::library::resolve(s).unwrap_or_else(|err| panic!("{}: {err}", e.paper));
                 }
             }
         }

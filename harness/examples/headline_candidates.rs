@@ -48,14 +48,23 @@ const AOVS: [&str; 2] = ["inscatter", "total"];
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().collect();
-    let run = PathBuf::from(args.get(1).ok_or("usage: headline_candidates RUN_DIR [REFCACHE]")?);
+    let run = PathBuf::from(
+        args.get(1)
+            .ok_or("usage: headline_candidates RUN_DIR [REFCACHE]")?,
+    );
     let refcache = PathBuf::from(args.get(2).map_or("/work/refcache", |s| s.as_str()));
     let results = Results::load(&run.join("results.json"))?;
     let (w, h) = (results.run.resolution[0], results.run.resolution[1]);
     let mut rows = Vec::new();
     let mut masks: BTreeMap<String, Option<Vec<bool>>> = BTreeMap::new();
     for rec in results.records.iter().filter(|r| r.status == Status::Ok) {
-        let reference = |aov: &str| read_exr(&run.join(&rec.scene).join("reference").join(format!("{aov}.exr")));
+        let reference = |aov: &str| {
+            read_exr(
+                &run.join(&rec.scene)
+                    .join("reference")
+                    .join(format!("{aov}.exr")),
+            )
+        };
         let mask = masks
             .entry(rec.scene.clone())
             .or_insert_with(|| core_mask(&rec.scene, w, h, &refcache))
@@ -139,9 +148,25 @@ fn main() -> Result<(), String> {
             let (ra, rb) = (&rows[a], &rows[b]);
             println!(
                 "  {:18} {:26} vs {:26} relMAE in {:.4}/{:.4} tot {:.4}/{:.4} | trimmed-rmse in {:.4}/{:.4} tot {:.4}/{:.4} FLIP {:.5}/{:.5} relRMSE-in {:.3}/{:.3} core-in {}/{} half-err-px {:.2}%/{:.2}%",
-                ra.scene, ra.method, rb.method, ra.rel_l1[0], rb.rel_l1[0], ra.rel_l1[1], rb.rel_l1[1], ra.trimmed[0], rb.trimmed[0], ra.trimmed[1],
-                rb.trimmed[1], ra.flip_total, rb.flip_total, ra.rel_rmse[0], rb.rel_rmse[0],
-                show(ra.core[0]), show(rb.core[0]), 100.0 * ra.half_share, 100.0 * rb.half_share
+                ra.scene,
+                ra.method,
+                rb.method,
+                ra.rel_l1[0],
+                rb.rel_l1[0],
+                ra.rel_l1[1],
+                rb.rel_l1[1],
+                ra.trimmed[0],
+                rb.trimmed[0],
+                ra.trimmed[1],
+                rb.trimmed[1],
+                ra.flip_total,
+                rb.flip_total,
+                ra.rel_rmse[0],
+                rb.rel_rmse[0],
+                show(ra.core[0]),
+                show(rb.core[0]),
+                100.0 * ra.half_share,
+                100.0 * rb.half_share
             );
         }
     }
@@ -175,12 +200,20 @@ fn half_share(d: &Image) -> f64 {
 /// `fraction` of pixels of largest Σ_c|d_c|^p (p = 2: the trimmed relative RMSE).
 fn trimmed_relative(d: &Image, r: &Image, fraction: f64, power: i32) -> f64 {
     let sum = |p: &[f32; 3]| p.iter().map(|&c| (c as f64).abs().powi(power)).sum::<f64>();
-    let mut px: Vec<(f64, f64)> =
-        d.pixels.iter().zip(&r.pixels).map(|(a, b)| (sum(a), sum(b))).collect();
+    let mut px: Vec<(f64, f64)> = d
+        .pixels
+        .iter()
+        .zip(&r.pixels)
+        .map(|(a, b)| (sum(a), sum(b)))
+        .collect();
     px.sort_by(|a, b| b.0.total_cmp(&a.0));
     let kept = &px[(fraction * px.len() as f64).floor() as usize..];
     let (e, s): (f64, f64) = kept.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
-    if s > 1e-30 { (e / s).powf(1.0 / power as f64) } else { 0.0 }
+    if s > 1e-30 {
+        (e / s).powf(1.0 / power as f64)
+    } else {
+        0.0
+    }
 }
 
 fn show(v: Option<f64>) -> String {
@@ -196,7 +229,10 @@ fn core_mask(scene: &str, w: u32, h: u32, refcache: &Path) -> Option<Vec<bool>> 
 }
 
 /// (pairs ordered like FLIP, pairs compared, FLIP ties skipped, the disagreeing pairs).
-fn agreement(rows: &[Row], metric: impl Fn(&Row) -> f64) -> (usize, usize, usize, Vec<(usize, usize)>) {
+fn agreement(
+    rows: &[Row],
+    metric: impl Fn(&Row) -> f64,
+) -> (usize, usize, usize, Vec<(usize, usize)>) {
     let (mut agree, mut total, mut ties, mut bad) = (0, 0, 0, Vec::new());
     for a in 0..rows.len() {
         for b in a + 1..rows.len() {
@@ -226,13 +262,34 @@ fn agreement(rows: &[Row], metric: impl Fn(&Row) -> f64) -> (usize, usize, usize
 fn print_rows(rows: &[Row]) {
     println!(
         "{:18} {:26} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
-        "scene", "method", "relmae-in", "relmae-tot", "head-in", "head-tot", "rel-in", "relmse-in", "smape-in", "flip-tot", "core-in", "core-tot"
+        "scene",
+        "method",
+        "relmae-in",
+        "relmae-tot",
+        "head-in",
+        "head-tot",
+        "rel-in",
+        "relmse-in",
+        "smape-in",
+        "flip-tot",
+        "core-in",
+        "core-tot"
     );
     for r in rows {
         println!(
             "{:18} {:26} {:9.4} {:9.4} {:9.4} {:9.4} {:9.4} {:9.4} {:9.4} {:9.5} {:>9} {:>9}",
-            r.scene, r.method, r.rel_l1[0], r.rel_l1[1], r.trimmed[0], r.trimmed[1], r.rel_rmse[0], r.sqrt_rel_mse[0],
-            r.smape[0], r.flip_total, show(r.core[0]), show(r.core[1])
+            r.scene,
+            r.method,
+            r.rel_l1[0],
+            r.rel_l1[1],
+            r.trimmed[0],
+            r.trimmed[1],
+            r.rel_rmse[0],
+            r.sqrt_rel_mse[0],
+            r.smape[0],
+            r.flip_total,
+            show(r.core[0]),
+            show(r.core[1])
         );
     }
 }

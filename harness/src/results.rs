@@ -142,7 +142,8 @@ impl ErrorsPerFrame {
                 .filter_map(|f| f.errors.get(aov).map(|m| (f.frame, m)))
                 .collect();
             let n = of.len() as f64;
-            let avg = |g: &dyn Fn(&ErrorMetrics) -> f64| of.iter().map(|(_, m)| g(m)).sum::<f64>() / n;
+            let avg =
+                |g: &dyn Fn(&ErrorMetrics) -> f64| of.iter().map(|(_, m)| g(m)).sum::<f64>() / n;
             let cores: Vec<f64> = of.iter().filter_map(|(_, m)| m.light_core).collect();
             mean.insert(
                 aov.clone(),

@@ -45,8 +45,7 @@ pub fn frame_references(
     }
     let mut refs = vec![Arc::new(frame0.clone())];
     for f in 1..scene.frame_count() {
-        let (r, _) =
-            reference::cache::render_cached(cache_dir, scene, f, w, h, settings, &|_| {})?;
+        let (r, _) = reference::cache::render_cached(cache_dir, scene, f, w, h, settings, &|_| {})?;
         refs.push(Arc::new(r));
     }
     *memo = Some((key, refs.clone()));
@@ -124,7 +123,9 @@ impl<'a> FrameScorer<'a> {
             .into_par_iter()
             .map(|k| {
                 let mut m = compare(&images[k], refs[k], self.tone)?;
-                m.light_core = mask.as_ref().and_then(|m| masked_relative(&clean[k], refs[k], m));
+                m.light_core = mask
+                    .as_ref()
+                    .and_then(|m| masked_relative(&clean[k], refs[k], m));
                 Ok::<_, String>((AOV_NAMES[k].to_string(), m))
             })
             .collect();
@@ -192,16 +193,17 @@ mod tests {
                 pixels: img
                     .pixels
                     .iter()
-                    .map(|p| {
-                        p.map(|c| 0.9 * c + noise * (rng.uniform() as f32 - 0.5))
-                    })
+                    .map(|p| p.map(|c| 0.9 * c + noise * (rng.uniform() as f32 - 0.5)))
                     .collect(),
                 ..img.clone()
             });
             scorer.timed_frame(f, &frame).unwrap();
         }
         let (per_frame, temporal) = scorer.finish();
-        assert!(per_frame.is_none(), "a static scene has no per-frame errors");
+        assert!(
+            per_frame.is_none(),
+            "a static scene has no per-frame errors"
+        );
         temporal
     }
 
@@ -233,10 +235,20 @@ mod tests {
         for f in 3..11u32 {
             let own = &refs[(f % 8) as usize];
             exact
-                .timed_frame(f, &[own.inscatter.clone(), own.surface.clone(), own.total.clone()])
+                .timed_frame(
+                    f,
+                    &[
+                        own.inscatter.clone(),
+                        own.surface.clone(),
+                        own.total.clone(),
+                    ],
+                )
                 .unwrap();
             frozen
-                .timed_frame(f, &[r0.inscatter.clone(), r0.surface.clone(), r0.total.clone()])
+                .timed_frame(
+                    f,
+                    &[r0.inscatter.clone(), r0.surface.clone(), r0.total.clone()],
+                )
                 .unwrap();
         }
         let (exact_frames, exact_t) = exact.finish();

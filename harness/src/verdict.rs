@@ -78,8 +78,14 @@ pub fn light_core_mask(
             continue; // a surface in front of the light
         }
         any = true;
-        let (j0, j1) = ((py - radius).floor().max(0.0) as u32, (py + radius).ceil() as u32);
-        let (i0, i1) = ((px - radius).floor().max(0.0) as u32, (px + radius).ceil() as u32);
+        let (j0, j1) = (
+            (py - radius).floor().max(0.0) as u32,
+            (py + radius).ceil() as u32,
+        );
+        let (i0, i1) = (
+            (px - radius).floor().max(0.0) as u32,
+            (px + radius).ceil() as u32,
+        );
         for j in j0..j1.min(height) {
             for i in i0..i1.min(width) {
                 let (dx, dy) = (i as f64 + 0.5 - px, j as f64 + 0.5 - py);
@@ -154,8 +160,12 @@ mod tests {
     #[test]
     fn lights_behind_the_camera_outside_the_frame_or_hidden_have_no_core() {
         let far = vec![100.0f32; 64 * 64];
-        assert!(light_core_mask(&frame_with_light(Vec3::new(0.0, 0.0, 9.0)), 64, 64, &far).is_none());
-        assert!(light_core_mask(&frame_with_light(Vec3::new(30.0, 0.0, 0.0)), 64, 64, &far).is_none());
+        assert!(
+            light_core_mask(&frame_with_light(Vec3::new(0.0, 0.0, 9.0)), 64, 64, &far).is_none()
+        );
+        assert!(
+            light_core_mask(&frame_with_light(Vec3::new(30.0, 0.0, 0.0)), 64, 64, &far).is_none()
+        );
         // A wall 2 m from the eye hides a light 5 m away.
         let near = vec![2.0f32; 64 * 64];
         assert!(light_core_mask(&frame_with_light(Vec3::ZERO), 64, 64, &near).is_none());

@@ -5,7 +5,7 @@
 //! Without an adapter these tests skip with a message — except when `CI` is set, where a missing
 //! adapter is a failure.
 
-use harness::testing::{gpu_or_skip as gpu, render_method, rel_rmse};
+use harness::testing::{gpu_or_skip as gpu, rel_rmse, render_method};
 
 use harness::Gpu;
 use harness::image::Image;
@@ -49,7 +49,10 @@ fn matches_reference_on_sphere_point() {
     let refimg = reference_inscatter(&s, 128);
     let (ins, report) = render(&gpu, &s, 128, &map(1024, 1.0));
     let e = rel_rmse(&ins, &refimg);
-    eprintln!("sphere-point 128², map 1024, mesh 1: in-scatter rel RMSE {e}, {:?}", report.counters);
+    eprintln!(
+        "sphere-point 128², map 1024, mesh 1: in-scatter rel RMSE {e}, {:?}",
+        report.counters
+    );
     assert!(e < 0.01, "in-scatter rel RMSE {e}");
 }
 
@@ -64,7 +67,11 @@ fn matches_reference_on_sphere_point() {
 #[test]
 fn matches_reference_for_spot_directional_and_camera_in_shadow() {
     let Some(gpu) = gpu() else { return };
-    for (name, bound) in [("fence-spot", 0.03), ("window-sun", 0.08), ("overlap-point", 0.03)] {
+    for (name, bound) in [
+        ("fence-spot", 0.03),
+        ("window-sun", 0.08),
+        ("overlap-point", 0.03),
+    ] {
         let s = scene(name);
         let refimg = reference_inscatter(&s, 96);
         let (ins, _) = render(&gpu, &s, 96, &map(1024, 1.0));
@@ -88,7 +95,10 @@ fn error_falls_as_the_shadow_map_grows() {
         .map(|(n, m)| rel_rmse(&render(&gpu, &s, 96, &map(*n, *m)).0, &refimg))
         .collect();
     eprintln!("sphere-point 96², maps 64/128/512: in-scatter rel RMSE {e:?}");
-    assert!(e.windows(2).all(|p| p[1] < 0.8 * p[0]), "error does not fall: {e:?}");
+    assert!(
+        e.windows(2).all(|p| p[1] < 0.8 * p[0]),
+        "error does not fall: {e:?}"
+    );
 }
 
 /// `table = 0` evaluates every point-light fragment by quadrature instead of the Γ table: an
@@ -103,7 +113,10 @@ fn gamma_table_agrees_with_quadrature_on_desk_pencils() {
         &gpu,
         &s,
         64,
-        &[("table", ParamValue::Int(0)), ("panels", ParamValue::Int(64))],
+        &[
+            ("table", ParamValue::Int(0)),
+            ("panels", ParamValue::Int(64)),
+        ],
     );
     let e = rel_rmse(&table, &quad);
     eprintln!("desk-pencils 64²: table vs quadrature rel RMSE {e}");
@@ -118,7 +131,13 @@ fn light_without_casters_gets_no_volume() {
     let s = scene("clear-fog");
     let refimg = reference_inscatter(&s, 64);
     let (ins, report) = render(&gpu, &s, 64, &[]);
-    assert!(report.skipped.iter().any(|p| p.pass.starts_with("light-volume")), "{report:?}");
+    assert!(
+        report
+            .skipped
+            .iter()
+            .any(|p| p.pass.starts_with("light-volume")),
+        "{report:?}"
+    );
     assert_eq!(report.counters.get("volume_triangles"), Some(&0.0));
     let e = rel_rmse(&ins, &refimg);
     eprintln!("clear-fog 64²: in-scatter rel RMSE {e}");

@@ -10,8 +10,8 @@ use harness::method::ParamValue;
 use harness::results::{Record, Results, Status};
 use serde::Serialize;
 
-use crate::plot::{Line, loglog};
 use crate::format::{PlotLinks, anchor, url_path};
+use crate::plot::{Line, loglog};
 
 /// Fewest points on one line for a knob to be plotted.
 const MIN_POINTS: usize = 3;
@@ -53,12 +53,14 @@ pub fn responses(records: &[&Record]) -> Vec<Response> {
             let label: Vec<String> = varying
                 .iter()
                 .filter(|k| *k != knob)
-                .map(|k| format!("{k}={}", r.params.get(*k).map_or("-".into(), |v| v.to_string())))
+                .map(|k| {
+                    format!(
+                        "{k}={}",
+                        r.params.get(*k).map_or("-".into(), |v| v.to_string())
+                    )
+                })
                 .collect();
-            lines
-                .entry(label.join(" "))
-                .or_default()
-                .push((x, e));
+            lines.entry(label.join(" ")).or_default().push((x, e));
         }
         let mut kept: Vec<(String, Vec<(f64, f64)>)> = lines
             .into_iter()
@@ -106,7 +108,12 @@ pub fn view(results: &Results, plots: &Path) -> Result<Vec<KnobPlot>> {
     let mut out = Vec::new();
     for ((scene, method), recs) in groups {
         for resp in responses(&recs) {
-            let stem = format!("knob-{}-{}-{}", anchor(&scene), anchor(&method), anchor(&resp.knob));
+            let stem = format!(
+                "knob-{}-{}-{}",
+                anchor(&scene),
+                anchor(&method),
+                anchor(&resp.knob)
+            );
             let (png, svg) = (format!("{stem}.png"), format!("{stem}.svg"));
             let lines: Vec<Line> = resp
                 .lines
@@ -208,8 +215,16 @@ mod tests {
         let labels: Vec<&str> = r[0].lines.iter().map(|(l, _)| l.as_str()).collect();
         assert_eq!(labels.len(), 2);
         assert!(labels.contains(&"fit=taylor") && labels.contains(&"fit=chebyshev"));
-        let taylor = &r[0].lines.iter().find(|(l, _)| l == "fit=taylor").unwrap().1;
-        assert_eq!(taylor, &vec![(2.0, 0.5), (4.0, 0.25), (6.0, 1.0 / 6.0), (8.0, 0.125)]);
+        let taylor = &r[0]
+            .lines
+            .iter()
+            .find(|(l, _)| l == "fit=taylor")
+            .unwrap()
+            .1;
+        assert_eq!(
+            taylor,
+            &vec![(2.0, 0.5), (4.0, 0.25), (6.0, 1.0 / 6.0), (8.0, 0.125)]
+        );
     }
 
     #[test]

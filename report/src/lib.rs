@@ -91,7 +91,18 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         v.plots = metrics
             .iter()
             .zip(&metric_views)
-            .map(|(&m, mv)| scene_plot(&data.records, data.basis, m, &mv.label, device, &v.anchor, &name, &plots))
+            .map(|(&m, mv)| {
+                scene_plot(
+                    &data.records,
+                    data.basis,
+                    m,
+                    &mv.label,
+                    device,
+                    &v.anchor,
+                    &name,
+                    &plots,
+                )
+            })
             .collect();
         scenes.push(v);
     }

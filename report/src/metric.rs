@@ -101,7 +101,11 @@ pub fn available(results: &Results) -> Vec<Metric> {
         out.push(Metric::RelRmse);
     }
     out.extend([Metric::RelMse, Metric::Flip]);
-    if results.records.iter().any(|r| Metric::LightCore.of(r).is_some()) {
+    if results
+        .records
+        .iter()
+        .any(|r| Metric::LightCore.of(r).is_some())
+    {
         out.push(Metric::LightCore);
     }
     out
@@ -164,7 +168,10 @@ mod tests {
         assert_eq!(annotate(&mut old, &raw), None);
         let r = &old.records[0];
         assert_eq!(verdict_error(r), Some(r.errors["inscatter"].rel_rmse));
-        assert_eq!(available(&old), [Metric::Verdict, Metric::RelMse, Metric::Flip]);
+        assert_eq!(
+            available(&old),
+            [Metric::Verdict, Metric::RelMse, Metric::Flip]
+        );
 
         let mut raw = raw;
         raw["run"]["headline"] = Value::from("rel_rmse_trimmed_0.1%");
@@ -174,15 +181,28 @@ mod tests {
         let name = annotate(&mut new, &raw);
         assert_eq!(name.as_deref(), Some("rel_rmse_trimmed_0.1%"));
         assert_eq!(verdict_error(&new.records[0]), Some(0.0123));
-        assert_eq!(Metric::RelRmse.of(&new.records[0]), Some(r.errors["inscatter"].rel_rmse));
+        assert_eq!(
+            Metric::RelRmse.of(&new.records[0]),
+            Some(r.errors["inscatter"].rel_rmse)
+        );
         assert_eq!(Metric::LightCore.of(&new.records[0]), Some(0.5));
         // Other records keep falling back record by record.
         let r1 = &new.records[1];
         assert_eq!(verdict_error(r1), Some(r1.errors["inscatter"].rel_rmse));
         assert_eq!(
             available(&new),
-            [Metric::Verdict, Metric::RelRmse, Metric::RelMse, Metric::Flip, Metric::LightCore]
+            [
+                Metric::Verdict,
+                Metric::RelRmse,
+                Metric::RelMse,
+                Metric::Flip,
+                Metric::LightCore
+            ]
         );
-        assert!(Metric::Verdict.label(name.as_deref()).contains("rel_rmse_trimmed_0.1%"));
+        assert!(
+            Metric::Verdict
+                .label(name.as_deref())
+                .contains("rel_rmse_trimmed_0.1%")
+        );
     }
 }

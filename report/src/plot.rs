@@ -372,7 +372,11 @@ where
         }
         let y = 28 + 22 * i as i32;
         with_marker!(i, (12, y), color.stroke_width(2), e => legend_area.draw(&e)?);
-        legend_area.draw(&Text::new(l.name.clone(), (26, y - 7), (FAMILY, 12).into_font()))?;
+        legend_area.draw(&Text::new(
+            l.name.clone(),
+            (26, y - 7),
+            (FAMILY, 12).into_font(),
+        ))?;
         if let (Some(f), Some(a), Some(b)) = (l.fit, pts.first(), pts.last()) {
             let fit: Vec<(f64, f64)> = [a.0, b.0].iter().map(|&x| (x, f.eval(x))).collect();
             chart.draw_series(DashedLineSeries::new(fit, 5, 4, color.stroke_width(1)))?;

@@ -49,11 +49,19 @@ pub fn tables(results: &Results, metrics: &[Metric]) -> Vec<VerdictTable> {
 }
 
 fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
-    let records: Vec<&Record> = results.records.iter().filter(|r| r.scene == scene).collect();
+    let records: Vec<&Record> = results
+        .records
+        .iter()
+        .filter(|r| r.scene == scene)
+        .collect();
     let basis = TimeBasis::for_records(records.iter().copied());
     let points = analysis::points_by(&records, basis, metric);
     let front_points = analysis::pareto_front(&points);
-    let front = ordered(front_points.iter().map(|p| records[p.index].method.as_str()));
+    let front = ordered(
+        front_points
+            .iter()
+            .map(|p| records[p.index].method.as_str()),
+    );
     // A method with several configurations names the one that won.
     let several = |m: &str| records.iter().filter(|r| r.method == m).count() > 1;
     let budgets: Vec<Option<BudgetWinner>> = BUDGETS
@@ -140,7 +148,11 @@ mod tests {
     #[test]
     fn sentences_merge_budgets_and_name_the_missed_ones() {
         assert_eq!(
-            sentence("fence-spot", &[None, w("wyman-hybrid"), w("wyman-hybrid")], false),
+            sentence(
+                "fence-spot",
+                &[None, w("wyman-hybrid"), w("wyman-hybrid")],
+                false
+            ),
             "fence-spot: wyman-hybrid is the fastest under 5 % and 10 %; nothing reaches 1 % at the measured knobs."
         );
         assert_eq!(

@@ -158,7 +158,11 @@ fn row(r: &Record, on_front: Vec<bool>, metrics: &[Metric], pixels: f64) -> Row 
 }
 
 fn basis_name(basis: TimeBasis) -> &'static str {
-    if basis == TimeBasis::Gpu { "GPU" } else { "wall" }
+    if basis == TimeBasis::Gpu {
+        "GPU"
+    } else {
+        "wall"
+    }
 }
 
 fn budget_rows(records: &[&Record], points: &[Point], basis: TimeBasis) -> Vec<BudgetRow> {
@@ -223,9 +227,7 @@ fn method_budget_rows(
 /// the page must not depend on files outside the run).
 fn inside(run_dir: &Path, rel: &str) -> Option<std::path::PathBuf> {
     let p = Path::new(rel);
-    let escapes = p.is_absolute()
-        || p.components()
-            .any(|c| c == std::path::Component::ParentDir);
+    let escapes = p.is_absolute() || p.components().any(|c| c == std::path::Component::ParentDir);
     (!escapes).then(|| run_dir.join(p))
 }
 

@@ -30,7 +30,10 @@ fn chromium() -> Option<PathBuf> {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scatterbench-browser-{name}-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "scatterbench-browser-{name}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     d
 }
@@ -130,7 +133,12 @@ fn viewer_flips_zooms_and_reads_out_the_exr_value() {
     let results = report::fixture::write(&dir, FIXTURE).expect("fixture");
     let index = report::generate(&dir).expect("report");
     let profile = dir.join("chromium-profile");
-    let url = format!("file://{}#selftest={},{}", index.display(), PIXEL.0, PIXEL.1);
+    let url = format!(
+        "file://{}#selftest={},{}",
+        index.display(),
+        PIXEL.0,
+        PIXEL.1
+    );
     let (dom, stderr) = dump_dom(&chromium, &url, &profile);
     let t = selftest_json(&dom);
 
@@ -169,7 +177,11 @@ fn viewer_flips_zooms_and_reads_out_the_exr_value() {
         .records
         .iter()
         .filter(|r| &r.scene == scene && &r.method == first_method && r.status == Status::Ok)
-        .min_by(|a, b| a.errors["inscatter"].rel_rmse.total_cmp(&b.errors["inscatter"].rel_rmse))
+        .min_by(|a, b| {
+            a.errors["inscatter"]
+                .rel_rmse
+                .total_cmp(&b.errors["inscatter"].rel_rmse)
+        })
         .unwrap();
     let method = at(&dir.join(&record.images["inscatter"]));
     assert!(
@@ -178,18 +190,40 @@ fn viewer_flips_zooms_and_reads_out_the_exr_value() {
     );
 
     // Reference, then key 1 (the first method, compared with the reference), then F back.
-    assert!(t["reference"]["label"].as_str().unwrap().contains("reference"));
-    assert_half_equal("reference", rgb(&t["reference"]["rgb"]), reference);
-    assert_displayed("reference", shown(&t["reference"]["shown"]), &tone, reference);
     assert!(
-        t["method1"]["label"].as_str().unwrap().contains(first_method.as_str()),
+        t["reference"]["label"]
+            .as_str()
+            .unwrap()
+            .contains("reference")
+    );
+    assert_half_equal("reference", rgb(&t["reference"]["rgb"]), reference);
+    assert_displayed(
+        "reference",
+        shown(&t["reference"]["shown"]),
+        &tone,
+        reference,
+    );
+    assert!(
+        t["method1"]["label"]
+            .as_str()
+            .unwrap()
+            .contains(first_method.as_str()),
         "{t:#}"
     );
     assert_half_equal("method 1", rgb(&t["method1"]["rgb"]), method);
-    assert_half_equal("method 1's B", rgb(&t["method1"]["comparedWith"]), reference);
+    assert_half_equal(
+        "method 1's B",
+        rgb(&t["method1"]["comparedWith"]),
+        reference,
+    );
     assert_displayed("method 1", shown(&t["method1"]["shown"]), &tone, method);
     assert_half_equal("flipped back", rgb(&t["flippedBack"]["rgb"]), reference);
-    assert_displayed("flipped back", shown(&t["flippedBack"]["shown"]), &tone, reference);
+    assert_displayed(
+        "flipped back",
+        shown(&t["flippedBack"]["shown"]),
+        &tone,
+        reference,
+    );
     // The error map is a different picture from the radiance at that pixel.
     assert_ne!(shown(&t["errorShown"]), shown(&t["reference"]["shown"]));
     // The read-out text names the pixel.

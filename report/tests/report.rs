@@ -135,7 +135,13 @@ fn page_is_well_formed_and_has_every_record() {
         .map(|r| text(r.children().find(|c| c.has_tag_name("th")).unwrap()))
         .collect();
     assert_eq!(baseline_rows, ["raymarch-brute", "no-scatter"]);
-    assert!(body_rows.iter().rev().take(2).all(|r| has_class(r, "baseline")));
+    assert!(
+        body_rows
+            .iter()
+            .rev()
+            .take(2)
+            .all(|r| has_class(r, "baseline"))
+    );
     assert!(has_class(&body_rows[body_rows.len() - 2], "first-baseline"));
     for row in body_rows {
         assert_eq!(row.children().filter(|c| c.has_tag_name("td")).count(), 2);
@@ -198,7 +204,9 @@ fn every_link_resolves_and_nothing_is_remote() {
     let knob_plots = doc
         .descendants()
         .find(|n| n.attribute("id") == Some("knobs"))
-        .map_or(0, |s| s.descendants().filter(|n| n.has_tag_name("img")).count());
+        .map_or(0, |s| {
+            s.descendants().filter(|n| n.has_tag_name("img")).count()
+        });
     assert_eq!(images, metrics.len() * scenes.len() + knob_plots);
     assert!(checked > images, "PNG/SVG download links are checked too");
     // Every record's image is shipped inside the page for the viewer; the path with a space
@@ -206,7 +214,9 @@ fn every_link_resolves_and_nothing_is_remote() {
     assert!(!html.contains("missing:"));
     let shipped = doc
         .descendants()
-        .filter(|n| n.has_tag_name("script") && n.attribute("type") == Some("application/octet-stream"))
+        .filter(|n| {
+            n.has_tag_name("script") && n.attribute("type") == Some("application/octet-stream")
+        })
         .count();
     // Per scene: the reference and each method with an ok, scored record; each AOV shipped.
     let mut viewer_images = 0;
@@ -249,8 +259,14 @@ fn missing_images_are_shown_as_missing_not_shipped() {
     let r = results
         .records
         .iter()
-        .filter(|r| &r.scene == scene && r.status == Status::Ok && r.method == results.records[0].method)
-        .min_by(|a, b| a.errors["inscatter"].rel_rmse.total_cmp(&b.errors["inscatter"].rel_rmse))
+        .filter(|r| {
+            &r.scene == scene && r.status == Status::Ok && r.method == results.records[0].method
+        })
+        .min_by(|a, b| {
+            a.errors["inscatter"]
+                .rel_rmse
+                .total_cmp(&b.errors["inscatter"].rel_rmse)
+        })
         .unwrap();
     let gone = &r.images["inscatter"];
     std::fs::remove_file(dir.join(gone)).unwrap();
@@ -262,17 +278,24 @@ fn missing_images_are_shown_as_missing_not_shipped() {
         .map(text)
         .collect();
     assert_eq!(shown.len(), 1, "{shown:?}");
-    assert!(shown[0].contains(gone.as_str()), "the missing path is not shown: {shown:?}");
+    assert!(
+        shown[0].contains(gone.as_str()),
+        "the missing path is not shown: {shown:?}"
+    );
     // Exactly that image is left out: one data element fewer than the full page.
     let shipped = doc
         .descendants()
-        .filter(|n| n.has_tag_name("script") && n.attribute("type") == Some("application/octet-stream"))
+        .filter(|n| {
+            n.has_tag_name("script") && n.attribute("type") == Some("application/octet-stream")
+        })
         .count();
     let (_, _, full) = build("missing-full");
     let full_doc = parse(&full);
     let full_shipped = full_doc
         .descendants()
-        .filter(|n| n.has_tag_name("script") && n.attribute("type") == Some("application/octet-stream"))
+        .filter(|n| {
+            n.has_tag_name("script") && n.attribute("type") == Some("application/octet-stream")
+        })
         .count();
     assert_eq!(shipped + 1, full_shipped);
     let _ = std::fs::remove_dir_all(dir);

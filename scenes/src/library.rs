@@ -20,7 +20,10 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ),
     ("clear-fog", include_str!("../library/clear-fog.json")),
     ("pen-orbit", include_str!("../library/pen-orbit.json")),
-    ("overlap-point", include_str!("../library/overlap-point.json")),
+    (
+        "overlap-point",
+        include_str!("../library/overlap-point.json"),
+    ),
     ("cloud-8000", include_str!("../library/cloud-8000.json")),
     ("cloud-plane", include_str!("../library/cloud-plane.json")),
     ("smoke-point", include_str!("../library/smoke-point.json")),

@@ -370,7 +370,11 @@ fn obj_line() -> impl Strategy<Value = String> {
         Just("a".to_string()),
         any::<i32>().prop_map(|i| i.to_string()),
     ];
-    let corner = (index.clone(), prop::option::of(index.clone()), prop::option::of(index))
+    let corner = (
+        index.clone(),
+        prop::option::of(index.clone()),
+        prop::option::of(index),
+    )
         .prop_map(|(v, t, n)| match (t, n) {
             (None, None) => v,
             (Some(t), None) => format!("{v}/{t}"),
@@ -424,32 +428,63 @@ fn arbitrary_obj_files_never_panic_and_refusals_name_the_object() {
     panics_since_last_call();
     let accepted = std::cell::Cell::new(0u32);
     runner()
-        .run(&(any::<bool>(), prop::collection::vec(obj_line(), 0..24)), |(seed, lines)| {
-            // Half the files start from a valid triangle, so the accepting path is reached too.
-            let seed = if seed { "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" } else { "" };
-            let obj = format!("{seed}{}", lines.join("\n"));
-            std::fs::write(dir.join("fuzz.obj"), &obj).unwrap();
-            let out = catch_unwind(AssertUnwindSafe(|| parse_scene(&scene_text, FILE, "fuzz", &dir)));
-            let res = out.map_err(|_| TestCaseError::fail(format!("parse_scene panicked on OBJ:\n{obj}")))?;
-            prop_assert_eq!(panics_since_last_call(), 0, "a panic (contained) on OBJ:\n{}", obj);
-            match res {
-                Err(e) => {
-                    let msg = e.to_string();
-                    prop_assert!(msg.starts_with(FILE), "refusal does not name the file: {msg}");
-                    prop_assert!(msg.contains("objects[0].shape"), "refusal does not name the object: {msg}");
+        .run(
+            &(any::<bool>(), prop::collection::vec(obj_line(), 0..24)),
+            |(seed, lines)| {
+                // Half the files start from a valid triangle, so the accepting path is reached too.
+                let seed = if seed {
+                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+                } else {
+                    ""
+                };
+                let obj = format!("{seed}{}", lines.join("\n"));
+                std::fs::write(dir.join("fuzz.obj"), &obj).unwrap();
+                let out = catch_unwind(AssertUnwindSafe(|| {
+                    parse_scene(&scene_text, FILE, "fuzz", &dir)
+                }));
+                let res = out.map_err(|_| {
+                    TestCaseError::fail(format!("parse_scene panicked on OBJ:\n{obj}"))
+                })?;
+                prop_assert_eq!(
+                    panics_since_last_call(),
+                    0,
+                    "a panic (contained) on OBJ:\n{}",
+                    obj
+                );
+                match res {
+                    Err(e) => {
+                        let msg = e.to_string();
+                        prop_assert!(
+                            msg.starts_with(FILE),
+                            "refusal does not name the file: {msg}"
+                        );
+                        prop_assert!(
+                            msg.contains("objects[0].shape"),
+                            "refusal does not name the object: {msg}"
+                        );
+                    }
+                    Ok(scene) => {
+                        accepted.set(accepted.get() + 1);
+                        let m = &scene.meshes[0];
+                        prop_assert!(!m.indices.is_empty());
+                        prop_assert!(
+                            m.positions.iter().all(|p| p.is_finite()),
+                            "non-finite position from:\n{obj}"
+                        );
+                        prop_assert!(
+                            m.normals.iter().all(|n| n.is_finite()),
+                            "non-finite normal from:\n{obj}"
+                        );
+                        let n = m.positions.len() as u32;
+                        prop_assert!(
+                            m.indices.iter().flatten().all(|&i| i < n),
+                            "index out of range from:\n{obj}"
+                        );
+                    }
                 }
-                Ok(scene) => {
-                    accepted.set(accepted.get() + 1);
-                    let m = &scene.meshes[0];
-                    prop_assert!(!m.indices.is_empty());
-                    prop_assert!(m.positions.iter().all(|p| p.is_finite()), "non-finite position from:\n{obj}");
-                    prop_assert!(m.normals.iter().all(|n| n.is_finite()), "non-finite normal from:\n{obj}");
-                    let n = m.positions.len() as u32;
-                    prop_assert!(m.indices.iter().flatten().all(|&i| i < n), "index out of range from:\n{obj}");
-                }
-            }
-            Ok(())
-        })
+                Ok(())
+            },
+        )
         .unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     eprintln!("{} of {} OBJ files accepted", accepted.get(), cases());

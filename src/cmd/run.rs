@@ -82,11 +82,10 @@ pub fn run(a: RunArgs) -> Result<()> {
         isolation: a.isolate.isolation()?,
     };
     let mut progress = Progress::new(None);
-    let results =
-        harness::runner::run_shard(&gpu, &scenes, &chosen, &cfg, shard, &mut |ev| {
-            progress.event(ev)
-        })
-        .map_err(|e| anyhow!(e))?;
+    let results = harness::runner::run_shard(&gpu, &scenes, &chosen, &cfg, shard, &mut |ev| {
+        progress.event(ev)
+    })
+    .map_err(|e| anyhow!(e))?;
     let [ok, skipped, failed] = progress.counts();
     println!(
         "{} records ({ok} ok, {skipped} skipped, {failed} failed) in {}",

@@ -13,8 +13,8 @@ use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
-pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use phases::PhaseTimer;
+pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use stats::{Counted, FrameWork, PassCounter, StatsQuery, WORK_COUNTERS};
 pub use timer::GpuTimer;
 

@@ -16,8 +16,8 @@
 //! property of the driver as much as of the method — compare methods within one run.
 
 use std::ops::{Deref, DerefMut};
-use std::sync::{Arc, Mutex};
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
 
 use super::Gpu;
 
@@ -26,10 +26,11 @@ use super::Gpu;
 const CAPACITY: u32 = 1024;
 
 /// The statistics each query records, in the order the device writes them (bit order).
-const TYPES: wgpu::PipelineStatisticsTypes = wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
-    .union(wgpu::PipelineStatisticsTypes::CLIPPER_PRIMITIVES_OUT)
-    .union(wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS)
-    .union(wgpu::PipelineStatisticsTypes::COMPUTE_SHADER_INVOCATIONS);
+const TYPES: wgpu::PipelineStatisticsTypes =
+    wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
+        .union(wgpu::PipelineStatisticsTypes::CLIPPER_PRIMITIVES_OUT)
+        .union(wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS)
+        .union(wgpu::PipelineStatisticsTypes::COMPUTE_SHADER_INVOCATIONS);
 const VALUES: u64 = 4;
 
 /// The work of one frame, summed over its counted passes.

@@ -91,8 +91,10 @@ pub fn difference(test: &Image, reference: &Image) -> Image {
 /// `diff` is an error image (`t − r`, or a frame-to-frame change of it) and `reference` the
 /// image its size is judged against.
 pub fn trimmed_sums(diff: &Image, reference: &Image) -> AbsSums {
-    let mut px: Vec<(usize, (f64, f64))> =
-        pixel_sums(diff, reference).into_iter().enumerate().collect();
+    let mut px: Vec<(usize, (f64, f64))> = pixel_sums(diff, reference)
+        .into_iter()
+        .enumerate()
+        .collect();
     let n = px.len();
     let drop = (TRIM_FRACTION * n as f64).floor() as usize;
     if drop > 0 {
@@ -149,7 +151,11 @@ pub fn smape(test: &Image, reference: &Image) -> f64 {
             (0..3).map(move |c| {
                 let (a, b) = (t[c] as f64, r[c] as f64);
                 let den = a.abs() + b.abs();
-                if den > 0.0 { 2.0 * (a - b).abs() / den } else { 0.0 }
+                if den > 0.0 {
+                    2.0 * (a - b).abs() / den
+                } else {
+                    0.0
+                }
             })
         })
         .sum();
@@ -267,7 +273,11 @@ mod tests {
         let reference = pattern(48, 48);
         // A static method, 10 % too dark every frame: wrong, but steady.
         let steady: Image = Image {
-            pixels: reference.pixels.iter().map(|p| p.map(|c| 0.9 * c)).collect(),
+            pixels: reference
+                .pixels
+                .iter()
+                .map(|p| p.map(|c| 0.9 * c))
+                .collect(),
             ..reference.clone()
         };
         let mut quiet = Temporal::default();

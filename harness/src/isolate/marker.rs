@@ -76,7 +76,10 @@ pub fn resume(results: &mut Results, run_dir: &Path, retry_failed: bool) -> Resu
     if let Some(m) = read(run_dir)? {
         let key = crate::results::record_key(&m.scene, &m.method, &m.params);
         if !results.records.iter().any(|r| r.key() == key) {
-            let pid = m.pid.map(|p| format!(" (worker pid {p})")).unwrap_or_default();
+            let pid = m
+                .pid
+                .map(|p| format!(" (worker pid {p})"))
+                .unwrap_or_default();
             results.records.push(super::failed_record(&m.scene, &m.method, &m.params, format!(
                 "interrupted: the run stopped while this record was in {}{pid}; not run again — \
                  pass --retry-failed with --resume to run it again",

@@ -75,7 +75,11 @@ impl Pool {
     }
 
     /// Runs one job in a worker. `on_phase` hears every phase and the worker's pid.
-    pub fn run(&mut self, job: &Job, on_phase: &mut dyn FnMut(Phase, u32)) -> Result<Record, Failure> {
+    pub fn run(
+        &mut self,
+        job: &Job,
+        on_phase: &mut dyn FnMut(Phase, u32),
+    ) -> Result<Record, Failure> {
         let key = (job.scene_index, job.method.to_string());
         let keep = match (&self.worker, self.reuse) {
             (Some(_), Reuse::None) => false,
@@ -105,7 +109,9 @@ impl Pool {
             params: job.params.clone(),
             cfg: job.cfg.clone(),
         };
-        sent = sent.and_then(|()| write_line(&mut w.stdin, &msg)).and_then(|()| w.stdin.flush());
+        sent = sent
+            .and_then(|()| write_line(&mut w.stdin, &msg))
+            .and_then(|()| w.stdin.flush());
         w.last = Some(key);
         let mut phase = Phase::Start;
         if sent.is_ok() {
@@ -128,7 +134,10 @@ impl Pool {
                         let w = self.worker.take().expect("live");
                         let (status, tail) = w.end(true);
                         return Err(Failure {
-                            reason: format!("worker failed in {phase}: {m} ({}){tail}", describe(status)),
+                            reason: format!(
+                                "worker failed in {phase}: {m} ({}){tail}",
+                                describe(status)
+                            ),
                         });
                     }
                     Err(RecvTimeoutError::Timeout) => {
@@ -230,7 +239,10 @@ impl Pool {
         };
         let (status, tail) = w.end(true);
         Err(Failure {
-            reason: format!("the worker could not start: {why} ({}){tail}", describe(status)),
+            reason: format!(
+                "the worker could not start: {why} ({}){tail}",
+                describe(status)
+            ),
         })
     }
 
@@ -260,7 +272,13 @@ impl Worker {
         if let Some(t) = self.stderr_thread.take() {
             let _ = t.join();
         }
-        let tail: Vec<String> = self.stderr_tail.lock().expect("tail").iter().cloned().collect();
+        let tail: Vec<String> = self
+            .stderr_tail
+            .lock()
+            .expect("tail")
+            .iter()
+            .cloned()
+            .collect();
         let tail = if tail.is_empty() {
             String::new()
         } else {

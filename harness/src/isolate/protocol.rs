@@ -88,7 +88,11 @@ pub fn read_line<T: for<'de> Deserialize<'de>>(r: &mut impl BufRead) -> Result<O
 }
 
 /// Sends a scene and its reference: the header line, then the payload.
-pub fn write_scene(w: &mut impl Write, scene: &Scene, reference: &ReferenceImages) -> std::io::Result<()> {
+pub fn write_scene(
+    w: &mut impl Write,
+    scene: &Scene,
+    reference: &ReferenceImages,
+) -> std::io::Result<()> {
     let header = ToWorker::Scene(SceneHeader {
         name: scene.name.clone(),
         desc: scene.desc.clone(),
@@ -114,8 +118,14 @@ pub fn write_scene(w: &mut impl Write, scene: &Scene, reference: &ReferenceImage
 
 /// Reads the payload announced by `header`: the scene and the reference (without distances
 /// and statistics, which scoring does not use).
-pub fn read_scene(r: &mut impl Read, header: SceneHeader) -> Result<(Scene, ReferenceImages), String> {
-    fn vec<T: bytemuck::Pod + bytemuck::Zeroable>(r: &mut impl Read, n: usize) -> Result<Vec<T>, String> {
+pub fn read_scene(
+    r: &mut impl Read,
+    header: SceneHeader,
+) -> Result<(Scene, ReferenceImages), String> {
+    fn vec<T: bytemuck::Pod + bytemuck::Zeroable>(
+        r: &mut impl Read,
+        n: usize,
+    ) -> Result<Vec<T>, String> {
         let mut v = vec![T::zeroed(); n];
         r.read_exact(bytemuck::cast_slice_mut(&mut v))
             .map_err(|e| format!("scene payload cut short: {e}"))?;

@@ -67,7 +67,12 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
     let send = |proto: &mut File, msg: &FromWorker| {
         write_line(proto, msg).map_err(|e| format!("cannot write to the parent: {e}"))
     };
-    send(proto, &FromWorker::Ready { pid: std::process::id() })?;
+    send(
+        proto,
+        &FromWorker::Ready {
+            pid: std::process::id(),
+        },
+    )?;
     let mut input = BufReader::new(std::io::stdin().lock());
     let mut scene: Option<(Scene, ReferenceImages, ToneMap)> = None;
     let proto = Rc::new(RefCell::new(proto.try_clone().map_err(|e| e.to_string())?));
@@ -84,10 +89,9 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
                 cfg,
             } => {
                 let (s, r, tone) = scene.as_ref().ok_or("a job before any scene")?;
-                let entry = registry
-                    .iter()
-                    .find(|m| m.id() == method)
-                    .ok_or_else(|| format!("unknown method '{method}' in this worker's registry"))?;
+                let entry = registry.iter().find(|m| m.id() == method).ok_or_else(|| {
+                    format!("unknown method '{method}' in this worker's registry")
+                })?;
                 let out = Rc::clone(&proto);
                 let record: Record = phase::with_hook(
                     move |p: Phase| {
@@ -96,7 +100,10 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
                     },
                     || runner::run_one(&gpu, s, *entry, &params, &run_config(&cfg), r, tone),
                 );
-                send(&mut proto.borrow_mut(), &FromWorker::Record(Box::new(record)))?;
+                send(
+                    &mut proto.borrow_mut(),
+                    &FromWorker::Record(Box::new(record)),
+                )?;
             }
         }
     }
@@ -146,7 +153,9 @@ fn die_with_parent() {
     // SAFETY: prctl(PR_SET_PDEATHSIG) and getppid take no pointers.
     unsafe {
         libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL as libc::c_ulong);
-        let expected = std::env::var(PARENT_ENV).ok().and_then(|s| s.parse::<i32>().ok());
+        let expected = std::env::var(PARENT_ENV)
+            .ok()
+            .and_then(|s| s.parse::<i32>().ok());
         if expected.is_some_and(|p| p != libc::getppid()) {
             std::process::exit(EXIT_FATAL);
         }

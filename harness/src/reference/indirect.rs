@@ -130,7 +130,11 @@ pub fn s_of_phi(medium: &Homogeneous, lambda: DVec3, phi: f64, pieces: usize) ->
     let f = |a: f64| {
         let (s, c) = a.sin_cos();
         // tan(α/2 + π/4) = (1 + sin α)/cos α = cos α/(1 − sin α): the form without cancellation.
-        let q = if s >= 0.0 { (1.0 + s) / c } else { c / (1.0 - s) };
+        let q = if s >= 0.0 {
+            (1.0 + s) / c
+        } else {
+            c / (1.0 - s)
+        };
         let e = cp + sp * q;
         let ph = medium.phase.eval(-s);
         DVec3::new(
@@ -155,7 +159,11 @@ pub fn s_of_phi(medium: &Homogeneous, lambda: DVec3, phi: f64, pieces: usize) ->
         );
     }
     let width = (FRAC_PI_2 - lo) / pieces as f64;
-    cuts.extend((1..pieces).map(|k| lo + width * k as f64).filter(|a| *a < hi));
+    cuts.extend(
+        (1..pieces)
+            .map(|k| lo + width * k as f64)
+            .filter(|a| *a < hi),
+    );
     cuts.push(lo);
     cuts.push(hi);
     cuts.sort_by(f64::total_cmp);
@@ -458,7 +466,10 @@ mod tests {
         assert!(check(&scene).is_ok(), "the flag is off");
         scene.desc.indirect_single_scattering = true;
         let err = check(&scene).unwrap_err();
-        assert!(err.contains("spot") && err.contains("point lights only"), "{err}");
+        assert!(
+            err.contains("spot") && err.contains("point lights only"),
+            "{err}"
+        );
         assert!(check(&scenes::library::resolve("indirect-point").unwrap()).is_ok());
     }
 

@@ -20,9 +20,9 @@ use scenes::light::{pattern_breaks, spot_frame};
 use scenes::{Homogeneous, LightState};
 
 use super::particles::ParticleField;
-use super::quadrature::{exp, exp_integral};
 /// Re-exported: methods' tests integrate their closed forms with it.
 pub use super::quadrature::adaptive;
+use super::quadrature::{exp, exp_integral};
 use super::shadow::{Source, shadowed};
 use super::world::World;
 
@@ -260,7 +260,13 @@ impl Tracer<'_> {
     /// The sub-intervals of [0, len] where `light` reaches the ray unblocked by triangles and
     /// with non-zero intensity, split at every place the integrand is not smooth: shadow
     /// boundaries, the spot's cone edges, the pattern's edges.
-    pub(super) fn lit_intervals(&self, o: DVec3, d: DVec3, len: f64, light: &LightState) -> Vec<(f64, f64)> {
+    pub(super) fn lit_intervals(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        len: f64,
+        light: &LightState,
+    ) -> Vec<(f64, f64)> {
         if let LightState::Directional { direction, .. } = light {
             return self.lit_intervals_directional(o, d, len, direction.as_dvec3());
         }

@@ -324,7 +324,6 @@ impl Tracer<'_> {
             }
         }
     }
-
 }
 
 /// Per-thread buffers of the particle path, grown once and reused by every ray.

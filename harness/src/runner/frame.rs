@@ -232,7 +232,8 @@ pub(super) fn measure(
     }
     // Work counts are per frame, median over the timed frames (an animated scene's frames differ).
     for (name, values) in &work {
-        last.counters.insert(name.to_string(), Stat::of(values).median);
+        last.counters
+            .insert(name.to_string(), Stat::of(values).median);
     }
     if cfg.budget_ms.is_some() {
         last.count("warmup_frames", warmed as f64);

@@ -66,10 +66,10 @@ pub struct RunConfig {
 mod frame;
 mod score;
 
+use frame::measure;
 pub use frame::{AovTargets, FrameTiming, MIN_TIMED_FRAMES, another_frame, render_frame};
 pub use score::error_scale;
 pub(crate) use score::run_one;
-use frame::measure;
 use score::write_aovs;
 
 /// Events the caller may show (progress bars, log lines).
@@ -241,9 +241,12 @@ pub fn run_items(
         }
     };
     if cfg.isolation.retry_failed && !cfg.resume {
-        return Err("--retry-failed runs the failed records of an earlier run: it needs --resume".into());
+        return Err(
+            "--retry-failed runs the failed records of an earlier run: it needs --resume".into(),
+        );
     }
-    let resume = crate::isolate::marker::resume(&mut results, &cfg.out_dir, cfg.isolation.retry_failed)?;
+    let resume =
+        crate::isolate::marker::resume(&mut results, &cfg.out_dir, cfg.isolation.retry_failed)?;
     let (done, mut retry) = (resume.done, resume.retry);
     results.save(&results_path)?;
     let mut dispatch = crate::isolate::Dispatch::new(gpu, cfg);

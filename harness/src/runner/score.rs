@@ -21,7 +21,14 @@ pub(crate) fn run_one(
         cfg.cache_dir.as_deref(),
     ) {
         Ok(s) => s,
-        Err(e) => return failed(scene, entry.id(), params, format!("per-frame references: {e}")),
+        Err(e) => {
+            return failed(
+                scene,
+                entry.id(),
+                params,
+                format!("per-frame references: {e}"),
+            );
+        }
     };
     let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
         measure(gpu, scene, entry, params, cfg, &mut scorer)
@@ -111,7 +118,8 @@ pub(crate) fn run_one(
     let (per_frame, temporal) = scorer.finish();
     rec.counters.insert(
         "light_core_pixels".into(),
-        core.as_ref().map_or(0, |m| m.iter().filter(|&&c| c).count()) as f64,
+        core.as_ref()
+            .map_or(0, |m| m.iter().filter(|&&c| c).count()) as f64,
     );
     for (name, m) in scores {
         match m {

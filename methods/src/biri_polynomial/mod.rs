@@ -68,10 +68,12 @@ pub mod geometry;
 #[cfg(test)]
 mod measure_tests;
 mod passes;
+mod pipelines;
 pub mod poly;
 #[cfg(test)]
 mod poly_tests;
 pub mod spot;
+mod spot_rays;
 mod spot_tables;
 #[cfg(test)]
 mod spot_tests;

@@ -351,27 +351,30 @@ impl IndirectPass {
         renderer: &SceneRenderer,
         targets: &Targets,
     ) {
-        let mut pass = renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some("biri iss"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: targets.surface,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &renderer.depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
+        let mut pass = renderer.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("biri iss"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: targets.surface,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &renderer.depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
                 }),
-                stencil_ops: None,
-            }),
-            ..Default::default()
-        });
+                ..Default::default()
+            },
+        );
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &self.bind, &[]);

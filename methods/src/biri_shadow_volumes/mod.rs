@@ -56,6 +56,7 @@ mod gamma;
 pub mod indirect;
 mod pixel;
 mod planes;
+mod stencil_pipes;
 
 pub use gamma::{GammaTable, gamma_direct, gamma_of_w, w_of_gamma};
 

@@ -234,31 +234,37 @@ impl PixelPass {
             let offset = [(k as u64 * SLOT) as u32];
             enc.clear_buffer(&self.counts, 0, None);
             if let (Some(v), true) = (vertices, r.end > r.first) {
-                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-                    label: Some("biri crossing gather"),
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
+                let mut pass = gpu.render_pass(
+                    enc,
+                    &wgpu::RenderPassDescriptor {
+                        label: Some("biri crossing gather"),
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: depth,
+                            depth_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            }),
+                            stencil_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            }),
                         }),
-                        stencil_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                    }),
-                    ..Default::default()
-                });
+                        ..Default::default()
+                    },
+                );
                 pass.set_pipeline(&self.gather);
                 pass.set_bind_group(0, &renderer.frame_bind, &[]);
                 pass.set_bind_group(1, &bind, &offset);
                 pass.set_vertex_buffer(0, v.slice(..));
                 pass.draw(r.first..r.end, 0..1);
             }
-            let mut pass = gpu.compute_pass(enc, &wgpu::ComputePassDescriptor {
-                label: Some("biri crossing walk"),
-                timestamp_writes: None,
-            });
+            let mut pass = gpu.compute_pass(
+                enc,
+                &wgpu::ComputePassDescriptor {
+                    label: Some("biri crossing walk"),
+                    timestamp_writes: None,
+                },
+            );
             pass.set_pipeline(&self.walk);
             pass.set_bind_group(0, &renderer.frame_bind, &[]);
             pass.set_bind_group(1, &bind, &offset);

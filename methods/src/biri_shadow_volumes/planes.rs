@@ -8,16 +8,16 @@ use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
 use scenes::FrameState;
 
-use crate::common::gpu_scene::Vertex;
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
-use crate::common::stencil;
+use crate::common::stencil::PipelineBuilder;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::wgsl;
 
 use harness::gpu::PhaseTimer;
 
 use super::pixel::PixelPass;
+use super::stencil_pipes::{StencilPipes, depth_pipe};
 
 /// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
 /// need), and the shadow planes (stencil count and plane passes, or the per-pixel passes).
@@ -65,18 +65,6 @@ pub struct LightRange {
     pub first: u32,
     pub end: u32,
     pub eye_count: u32,
-}
-
-/// The plane pipelines of the stencil resolve.
-struct StencilPipes {
-    count: wgpu::RenderPipeline,
-    surface: wgpu::RenderPipeline,
-    /// Float, every crossing: all planes in one draw.
-    all: wgpu::RenderPipeline,
-    /// Per-plane draws: the colour pipelines (one, or front/back for unorm8) ...
-    color: Vec<wgpu::RenderPipeline>,
-    /// ... and, with the rules, the stencil step after each plane's colour.
-    step: Option<wgpu::RenderPipeline>,
 }
 
 pub struct Planes {
@@ -148,181 +136,13 @@ impl Planes {
             mapped_at_creation: false,
         });
         let module = wgsl::module(&gpu.device, "biri planes", &source());
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("biri planes"),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-                immediate_size: 0,
-            });
-        use wgpu::{BlendOperation as B, CompareFunction as C, StencilOperation as S};
-        let depth_state = stencil::depth_stencil;
-        let keep = stencil::face(C::Always, S::Keep, S::Keep);
-        let blend = |operation| wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation,
-            },
-            alpha: wgpu::BlendComponent::REPLACE,
-        };
-        let color = |op, writes| {
-            [Some(wgpu::ColorTargetState {
-                format: acc_format,
-                blend: Some(blend(op)),
-                write_mask: writes,
-            })]
-        };
-        let pipe = |label,
-                    vs,
-                    vbuf: Option<wgpu::VertexBufferLayout>,
-                    fs: Option<&str>,
-                    targets: &[Option<wgpu::ColorTargetState>],
-                    cull_mode,
-                    depth: wgpu::DepthStencilState| {
-            gpu.device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(&pl),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some(vs),
-                        compilation_options: Default::default(),
-                        buffers: &vbuf.into_iter().map(Some).collect::<Vec<_>>(),
-                    },
-                    // silhouette::extrude winds quads outward in a right-handed sense, which wgpu's
-                    // y-up clip space rasterises clockwise: "front" (entering a shadow) is Cw here.
-                    primitive: wgpu::PrimitiveState {
-                        cull_mode,
-                        front_face: wgpu::FrontFace::Cw,
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(depth),
-                    multisample: Default::default(),
-                    fragment: fs.map(|fs| wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(fs),
-                        compilation_options: Default::default(),
-                        targets,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-        };
-        let depth_pipe = pipe(
-            "biri scene depth",
-            "vs_scene",
-            Some(Vertex::LAYOUT),
-            None,
-            &[],
-            None,
-            depth_state(C::Less, true, keep, keep),
-        );
-        // z-pass count: entering a volume (front face) +1, leaving (back face) −1.
-        let count = pipe(
-            "biri plane count",
-            "vs_plane",
-            Some(PLANE_LAYOUT),
-            None,
-            &[],
-            None,
-            depth_state(
-                C::Less,
-                false,
-                stencil::face(C::Always, S::IncrementWrap, S::Keep),
-                stencil::face(C::Always, S::DecrementWrap, S::Keep),
-            ),
-        );
-        let all_writes = wgpu::ColorWrites::ALL;
-        // Lit ray ends: stencil == reference 0.
-        let equal = stencil::face(C::Equal, S::Keep, S::Keep);
-        let surface = pipe(
-            "biri lit surfaces",
-            "vs_fullscreen",
-            None,
-            Some(if opts.unorm8 {
-                "fs_surface_full"
-            } else {
-                "fs_surface"
-            }),
-            &color(B::Add, all_writes),
-            None,
-            depth_state(C::Always, false, equal, equal),
-        );
-        // Every crossing, float: one draw, order irrelevant.
-        let all = pipe(
+        let builder = PipelineBuilder::new(
+            &gpu.device,
             "biri planes",
-            "vs_plane",
-            Some(PLANE_LAYOUT),
-            Some("fs_plane"),
-            &color(B::Add, all_writes),
-            None,
-            depth_state(C::Less, false, keep, keep),
+            [&renderer.frame_layout, &layout],
+            &module,
+            &[],
         );
-        // Step 5 with reference 1: a front face (its far side, where the walk from the visible
-        // point towards the eye comes from, is in shadow) counts on stencil == 1, a back face on
-        // stencil == 0 (1 > stencil). The stencil itself is stepped by a second draw of the same
-        // plane (`step`), because a stencil op on a failed stencil test cannot be told apart from
-        // one on a plane behind the visible point (the test comes before the depth test).
-        let test = |cmp| {
-            if opts.rules {
-                stencil::face(cmp, S::Keep, S::Keep)
-            } else {
-                keep
-            }
-        };
-        let tested = depth_state(C::Less, false, test(C::Equal), test(C::Greater));
-        let color_pipes = if opts.unorm8 {
-            // The paper's blending: front faces add, back faces reverse-subtract, L_dss from the eye.
-            vec![
-                pipe(
-                    "biri planes front",
-                    "vs_plane",
-                    Some(PLANE_LAYOUT),
-                    Some("fs_plane_full"),
-                    &color(B::Add, all_writes),
-                    Some(wgpu::Face::Back),
-                    tested.clone(),
-                ),
-                pipe(
-                    "biri planes back",
-                    "vs_plane",
-                    Some(PLANE_LAYOUT),
-                    Some("fs_plane_full"),
-                    &color(B::ReverseSubtract, all_writes),
-                    Some(wgpu::Face::Front),
-                    tested,
-                ),
-            ]
-        } else {
-            vec![pipe(
-                "biri planes",
-                "vs_plane",
-                Some(PLANE_LAYOUT),
-                Some("fs_plane"),
-                &color(B::Add, all_writes),
-                None,
-                tested,
-            )]
-        };
-        // Walking from the visible point towards the eye: a front face leaves a volume (−1),
-        // a back face enters one (+1); planes behind the visible point fail the depth test.
-        let step = opts.rules.then(|| {
-            pipe(
-                "biri plane stencil step",
-                "vs_plane",
-                Some(PLANE_LAYOUT),
-                Some("fs_plane"),
-                &color(B::Add, wgpu::ColorWrites::empty()),
-                None,
-                depth_state(
-                    C::Less,
-                    false,
-                    stencil::face(C::Always, S::DecrementWrap, S::Keep),
-                    stencil::face(C::Always, S::IncrementWrap, S::Keep),
-                ),
-            )
-        });
         let pixel = (opts.resolve == Resolve::PerPixel).then(|| {
             PixelPass::new(
                 gpu,
@@ -340,14 +160,8 @@ impl Planes {
             acc_view: acc.create_view(&Default::default()),
             layout,
             uniform,
-            depth_pipe,
-            stencil: StencilPipes {
-                count,
-                surface,
-                all,
-                color: color_pipes,
-                step,
-            },
+            depth_pipe: depth_pipe(&builder),
+            stencil: StencilPipes::new(&builder, &opts, acc_format),
             pixel,
             vertices: None,
             ranges: Vec::new(),
@@ -464,21 +278,24 @@ impl Planes {
         for (k, r) in self.ranges.iter().enumerate() {
             let offset = [(k as u64 * SLOT) as u32];
             {
-                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-                    label: Some("biri surface-shadow count"),
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &self.depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
+                let mut pass = gpu.render_pass(
+                    enc,
+                    &wgpu::RenderPassDescriptor {
+                        label: Some("biri surface-shadow count"),
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: &self.depth_view,
+                            depth_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            }),
+                            stencil_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(r.eye_count),
+                                store: wgpu::StoreOp::Store,
+                            }),
                         }),
-                        stencil_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(r.eye_count),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                    }),
-                    ..Default::default()
-                });
+                        ..Default::default()
+                    },
+                );
                 if let Some(v) = self.vertices.as_ref().filter(|_| r.end > r.first) {
                     pass.set_pipeline(&self.stencil.count);
                     pass.set_bind_group(0, &renderer.frame_bind, &[]);
@@ -521,15 +338,18 @@ impl Planes {
             }
         };
         {
-            let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-                label: Some("biri scene depth"),
-                depth_stencil_attachment: Some(ds(
-                    &self.depth_view,
-                    wgpu::LoadOp::Clear(1.0),
-                    wgpu::LoadOp::Clear(0),
-                )),
-                ..Default::default()
-            });
+            let mut pass = gpu.render_pass(
+                enc,
+                &wgpu::RenderPassDescriptor {
+                    label: Some("biri scene depth"),
+                    depth_stencil_attachment: Some(ds(
+                        &self.depth_view,
+                        wgpu::LoadOp::Clear(1.0),
+                        wgpu::LoadOp::Clear(0),
+                    )),
+                    ..Default::default()
+                },
+            );
             pass.set_pipeline(&self.depth_pipe);
             pass.set_bind_group(0, &renderer.frame_bind, &[]);
             pass.set_bind_group(1, &bind, &[0]);
@@ -559,15 +379,18 @@ impl Planes {
             let planes = self.vertices.as_ref().filter(|_| r.end > r.first);
             mark(enc, VOLUMES);
             {
-                let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-                    label: Some("biri plane count"),
-                    depth_stencil_attachment: Some(ds(
-                        &self.depth_view,
-                        wgpu::LoadOp::Load,
-                        wgpu::LoadOp::Clear(r.eye_count),
-                    )),
-                    ..Default::default()
-                });
+                let mut pass = gpu.render_pass(
+                    enc,
+                    &wgpu::RenderPassDescriptor {
+                        label: Some("biri plane count"),
+                        depth_stencil_attachment: Some(ds(
+                            &self.depth_view,
+                            wgpu::LoadOp::Load,
+                            wgpu::LoadOp::Clear(r.eye_count),
+                        )),
+                        ..Default::default()
+                    },
+                );
                 if let Some(v) = planes {
                     pass.set_pipeline(&st.count);
                     pass.set_bind_group(0, &renderer.frame_bind, &[]);
@@ -594,17 +417,22 @@ impl Planes {
                         store: wgpu::StoreOp::Store,
                     },
                 })];
-                renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-                    label: Some(label),
-                    color_attachments: &color,
-                    depth_stencil_attachment: Some(ds(
-                        depth_view,
-                        wgpu::LoadOp::Load,
-                        wgpu::LoadOp::Load,
-                    )),
-                    ..Default::default()
-                })
-                .forget_lifetime()
+                renderer
+                    .passes
+                    .render_pass(
+                        enc,
+                        &wgpu::RenderPassDescriptor {
+                            label: Some(label),
+                            color_attachments: &color,
+                            depth_stencil_attachment: Some(ds(
+                                depth_view,
+                                wgpu::LoadOp::Load,
+                                wgpu::LoadOp::Load,
+                            )),
+                            ..Default::default()
+                        },
+                    )
+                    .forget_lifetime()
             };
             // Step 3 (lit surfaces) in its own pass so the phase timer can tell it apart.
             mark(enc, SURFACES);

@@ -321,10 +321,13 @@ impl Passes {
     /// The far-extent reduction over the surface pass's distances.
     pub fn encode_far(&self, enc: &mut wgpu::CommandEncoder, renderer: &SceneRenderer) {
         enc.clear_buffer(&self.far_bits, 0, None);
-        let mut pass = renderer.passes.compute_pass(enc, &wgpu::ComputePassDescriptor {
-            label: Some("dobashi far"),
-            timestamp_writes: None,
-        });
+        let mut pass = renderer.passes.compute_pass(
+            enc,
+            &wgpu::ComputePassDescriptor {
+                label: Some("dobashi far"),
+                timestamp_writes: None,
+            },
+        );
         pass.set_pipeline(&self.far_pipeline);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &self.far_bind, &[]);
@@ -338,19 +341,22 @@ impl Passes {
         renderer: &SceneRenderer,
         planes: u32,
     ) {
-        let mut pass = renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some("dobashi planes"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.accum_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
+        let mut pass = renderer.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("dobashi planes"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &self.accum_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                ..Default::default()
+            },
+        );
         if planes == 0 {
             return;
         }

@@ -12,7 +12,14 @@ use crate::common::uniforms::ShadowSlot;
 const FACE_CORNER_ANGLE: f32 = 0.955_316_6;
 
 /// The cube faces' axes in `common::shadow_maps` order (+X, −X, +Y, −Y, +Z, −Z).
-const FACE_AXES: [Vec3; 6] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+const FACE_AXES: [Vec3; 6] = [
+    Vec3::X,
+    Vec3::NEG_X,
+    Vec3::Y,
+    Vec3::NEG_Y,
+    Vec3::Z,
+    Vec3::NEG_Z,
+];
 
 /// One face to draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,7 +88,10 @@ pub fn plan(
     };
     match light {
         LightState::Directional { direction, .. } => {
-            let deepest = corners.iter().map(|c| c.dot(*direction)).fold(f32::MIN, f32::max);
+            let deepest = corners
+                .iter()
+                .map(|c| c.dot(*direction))
+                .fold(f32::MIN, f32::max);
             let cap = deepest.max(centre.dot(*direction) + radius) + 1.0;
             Ok(LightPlan {
                 faces: vec![face(0)],
@@ -111,7 +121,10 @@ pub fn plan(
             let margin = 3.0 * 2.0 / samples as f32;
             let faces = (0..6u32)
                 .filter(|k| {
-                    FACE_AXES[*k as usize].dot(*direction).clamp(-1.0, 1.0).acos()
+                    FACE_AXES[*k as usize]
+                        .dot(*direction)
+                        .clamp(-1.0, 1.0)
+                        .acos()
                         < outer + FACE_CORNER_ANGLE + margin
                 })
                 .map(face)
@@ -120,7 +133,11 @@ pub fn plan(
             Ok(LightPlan {
                 faces,
                 cap: cap_distance(*position, corners),
-                collapse_cos: if collapse >= std::f32::consts::PI { -2.0 } else { collapse.cos() },
+                collapse_cos: if collapse >= std::f32::consts::PI {
+                    -2.0
+                } else {
+                    collapse.cos()
+                },
                 axis: *direction,
             })
         }
@@ -130,7 +147,10 @@ pub fn plan(
 /// Farther from `light` than any point of the camera's frustum (the convex hull of its
 /// corners, so the farthest point is a corner), plus a margin.
 fn cap_distance(light: Vec3, corners: &[Vec3; 8]) -> f32 {
-    let far = corners.iter().map(|c| (*c - light).length()).fold(0.0, f32::max);
+    let far = corners
+        .iter()
+        .map(|c| (*c - light).length())
+        .fold(0.0, f32::max);
     far * 1.01 + 1.0
 }
 
@@ -166,12 +186,30 @@ mod tests {
     fn cone_test_sees_spheres_inside_and_not_behind() {
         let (apex, axis) = (Vec3::ZERO, Vec3::Z);
         let outer = 0.5;
-        assert!(sphere_meets_cone(apex, axis, outer, Vec3::new(0.0, 0.0, 5.0), 0.1));
-        assert!(!sphere_meets_cone(apex, axis, outer, Vec3::new(0.0, 0.0, -5.0), 1.0));
+        assert!(sphere_meets_cone(
+            apex,
+            axis,
+            outer,
+            Vec3::new(0.0, 0.0, 5.0),
+            0.1
+        ));
+        assert!(!sphere_meets_cone(
+            apex,
+            axis,
+            outer,
+            Vec3::new(0.0, 0.0, -5.0),
+            1.0
+        ));
         // 45° off axis at distance 10: outside a 0.5 rad cone unless the radius reaches in.
         let c = Vec3::new(7.07, 0.0, 7.07);
         assert!(!sphere_meets_cone(apex, axis, outer, c, 0.5));
-        assert!(sphere_meets_cone(apex, axis, outer, c, 10.0 * (0.79 - 0.5f32).sin() + 0.2));
+        assert!(sphere_meets_cone(
+            apex,
+            axis,
+            outer,
+            c,
+            10.0 * (0.79 - 0.5f32).sin() + 0.2
+        ));
     }
 
     #[test]

@@ -73,7 +73,10 @@ const PATTERN_RES: u32 = 512;
 
 /// The composed WGSL of the light-volume pass.
 pub fn volume_source() -> String {
-    wgsl::compose(wgsl::PRELUDE, &format!("{LDSS_WGSL}\n{INTEGRAL_WGSL}\n{VOLUME_WGSL}"))
+    wgsl::compose(
+        wgsl::PRELUDE,
+        &format!("{LDSS_WGSL}\n{INTEGRAL_WGSL}\n{VOLUME_WGSL}"),
+    )
 }
 
 /// The resolve's own WGSL (composed by `common::resolve::source`).
@@ -138,7 +141,9 @@ pub struct State {
 impl State {
     pub fn new(ctx: &PrepareContext) -> Result<State> {
         let k = knobs(ctx.params)?;
-        if let Support::No(why) = PolygonalLightVolumes.support(&ctx.scene.features(), ctx.gpu.device.features()) {
+        if let Support::No(why) =
+            PolygonalLightVolumes.support(&ctx.scene.features(), ctx.gpu.device.features())
+        {
             bail!(why);
         }
         let renderer = SceneRenderer::new(ctx, k.shadow_map, PATTERN_RES)?;
@@ -154,7 +159,8 @@ impl State {
             ("QUADRATURE", crate::common::specialize::flag(k.table == 0)),
             ("PANELS", k.panels as f64),
         ];
-        let volumes = volume::VolumePass::new(ctx.gpu, &renderer, &table_view, k.samples, &constants);
+        let volumes =
+            volume::VolumePass::new(ctx.gpu, &renderer, &table_view, k.samples, &constants);
         let resolve = ResolvePass::per_light(
             ctx.gpu,
             &renderer,
@@ -217,7 +223,8 @@ impl Method for PolygonalLightVolumes {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        let axes: &[(&'static str, &[f64])] = &[("QUADRATURE", &[0.0, 1.0]), ("LIGHT", &[0.0, 1.0])];
+        let axes: &[(&'static str, &[f64])] =
+            &[("QUADRATURE", &[0.0, 1.0]), ("LIGHT", &[0.0, 1.0])];
         [
             ShaderCheck::combinations("polygonal-light-volumes/volume", &volume_source(), axes),
             ShaderCheck::combinations(
@@ -364,7 +371,10 @@ mod tests {
             let e = refused.expect_err(bad.0).to_string();
             assert!(e.contains(bad.0), "{e}");
         }
-        let p = params(&[("shadow_map", ParamValue::Int(1024)), ("mesh", ParamValue::Float(0.25))]);
+        let p = params(&[
+            ("shadow_map", ParamValue::Int(1024)),
+            ("mesh", ParamValue::Float(0.25)),
+        ]);
         assert_eq!(knobs(&p.unwrap()).unwrap().samples, 256);
     }
 }

@@ -136,41 +136,47 @@ impl VolumePass {
             .map(|k| {
                 let own = [&[("LIGHT", k as f64)][..], constants].concat();
                 let all = renderer.specialization.with(&own);
-                let pipeline = |vs: &str| gpu.device
-                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some("light volume"),
-                        layout: Some(&pl),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some(vs),
-                            compilation_options: crate::common::specialize::compile_options(&all),
-                            buffers: &[],
-                        },
-                        // Both facings drawn; the fragment takes its sign from front_facing
-                        // (volume.wgsl winds every face outward).
-                        primitive: wgpu::PrimitiveState {
-                            cull_mode: None,
-                            front_face: wgpu::FrontFace::Ccw,
-                            ..Default::default()
-                        },
-                        depth_stencil: None,
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs_volume"),
-                            compilation_options: crate::common::specialize::compile_options(&all),
-                            targets: &[Some(wgpu::ColorTargetState {
-                                format: ACC_FORMAT,
-                                blend: Some(wgpu::BlendState {
-                                    color: additive,
-                                    alpha: additive,
-                                }),
-                                write_mask: wgpu::ColorWrites::ALL,
-                            })],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    });
+                let pipeline = |vs: &str| {
+                    gpu.device
+                        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                            label: Some("light volume"),
+                            layout: Some(&pl),
+                            vertex: wgpu::VertexState {
+                                module: &module,
+                                entry_point: Some(vs),
+                                compilation_options: crate::common::specialize::compile_options(
+                                    &all,
+                                ),
+                                buffers: &[],
+                            },
+                            // Both facings drawn; the fragment takes its sign from front_facing
+                            // (volume.wgsl winds every face outward).
+                            primitive: wgpu::PrimitiveState {
+                                cull_mode: None,
+                                front_face: wgpu::FrontFace::Ccw,
+                                ..Default::default()
+                            },
+                            depth_stencil: None,
+                            multisample: Default::default(),
+                            fragment: Some(wgpu::FragmentState {
+                                module: &module,
+                                entry_point: Some("fs_volume"),
+                                compilation_options: crate::common::specialize::compile_options(
+                                    &all,
+                                ),
+                                targets: &[Some(wgpu::ColorTargetState {
+                                    format: ACC_FORMAT,
+                                    blend: Some(wgpu::BlendState {
+                                        color: additive,
+                                        alpha: additive,
+                                    }),
+                                    write_mask: wgpu::ColorWrites::ALL,
+                                })],
+                            }),
+                            multiview_mask: None,
+                            cache: None,
+                        })
+                };
                 (pipeline("vs_grid"), pipeline("vs_walls"))
             })
             .collect();
@@ -224,19 +230,22 @@ impl VolumePass {
         }
         gpu.queue.write_buffer(&self.faces, 0, &data);
         // Counted (harness::gpu pipeline statistics): the volumes' vertex and fragment work.
-        let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some("light volumes"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.acc_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
+        let mut pass = gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("light volumes"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &self.acc_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                ..Default::default()
+            },
+        );
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         let mut triangles = 0u64;
         for d in &draws {

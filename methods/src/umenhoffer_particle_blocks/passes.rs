@@ -2,8 +2,8 @@
 //! (impostor, light, gather, resolve) and their bind groups. Every pass uses the shared frame
 //! bind group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
 
-use harness::gpu::Counted;
 use bytemuck::{Pod, Zeroable};
+use harness::gpu::Counted;
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
@@ -400,11 +400,14 @@ impl Passes {
                 })
             })
             .collect();
-        renderer.passes.render_pass(enc, &wgpu::RenderPassDescriptor {
-            label: Some(label),
-            color_attachments: &attachments,
-            ..Default::default()
-        })
+        renderer.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &attachments,
+                ..Default::default()
+            },
+        )
     }
 
     /// Renders every impostor particle into its light tile and its camera tile.
@@ -416,7 +419,13 @@ impl Passes {
             b: 1e4,
             a: 0.0,
         };
-        let mut p = Self::pass(renderer, enc, "particle impostors", &[&self.atlas_view], empty);
+        let mut p = Self::pass(
+            renderer,
+            enc,
+            "particle impostors",
+            &[&self.atlas_view],
+            empty,
+        );
         p.set_pipeline(&self.impostor);
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_impostor, &[]);

@@ -456,24 +456,27 @@ impl Prepared for State {
                 }),
                 store: wgpu::StoreOp::Store,
             };
-            let mut pass = gpu.render_pass(enc, &wgpu::RenderPassDescriptor {
-                label: Some("shadow volumes"),
-                color_attachments: &[
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: &st.front_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: clear(1e30),
-                    }),
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: &st.back_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: clear(-1.0),
-                    }),
-                ],
-                ..Default::default()
-            });
+            let mut pass = gpu.render_pass(
+                enc,
+                &wgpu::RenderPassDescriptor {
+                    label: Some("shadow volumes"),
+                    color_attachments: &[
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &st.front_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: clear(1e30),
+                        }),
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &st.back_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: clear(-1.0),
+                        }),
+                    ],
+                    ..Default::default()
+                },
+            );
             if let (Some(vb), true) = (&st.vertex_buffer, st.vertex_count > 0) {
                 pass.set_pipeline(&st.volumes);
                 pass.set_bind_group(0, &st.renderer.frame_bind, &[]);

@@ -90,7 +90,10 @@ mod tests {
         let plane = procedural::plane(2.0, 2.0);
         let (levels, m) = subdivide_to(&plane, 1000);
         assert!(m.triangle_count() >= 1000 && m.triangle_count() < 4000);
-        assert_eq!(m.triangle_count(), plane.triangle_count() * 4usize.pow(levels));
+        assert_eq!(
+            m.triangle_count(),
+            plane.triangle_count() * 4usize.pow(levels)
+        );
         assert_eq!(subdivide_to(&TriMesh::default(), 10).1.triangle_count(), 0);
     }
 }

@@ -1,0 +1,323 @@
+//! The frame's passes in order (§4.3–4.5): depth, the surface-shadow counts, the unorm8 first pass,
+//! then per light the spot rays, the count, the lit surfaces (stage 1) and the planes (stage 2).
+
+use std::ops::Range;
+
+use harness::{FrameReport, Gpu};
+
+use super::{Accumulate, LightDraws, Passes, PolyUniform, SLOT};
+use crate::common::gpu_scene::GpuScene;
+use crate::common::renderer::SceneRenderer;
+use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::uniforms::MAX_LIGHTS;
+
+impl Passes {
+    /// Every pass of every light into `acc_view`.
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        surface: &wgpu::TextureView,
+        surface_shadows: Option<&StencilSurfaceShadows>,
+        report: &mut FrameReport,
+    ) {
+        let bind = self.bind_group(gpu, renderer, surface);
+        let f = Encoding {
+            gpu,
+            renderer,
+            bind: &bind,
+        };
+        self.encode_depth(&f, enc);
+        // §4.3's surface shadows: per light, the count of its volumes around each visible point,
+        // then its light removed from the surfaces where the count is not zero.
+        if let Some(shadows) = surface_shadows {
+            for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+                self.encode_count(&f, enc, k, light, "biri-poly surface-shadow count");
+                shadows.encode(enc, renderer, surface, &self.depth_view, k);
+            }
+            report.ran("stencil-surface-shadows");
+        }
+        if self.cfg.accumulate == Accumulate::Unorm8 {
+            self.encode_first_pass(&f, enc);
+        }
+        let mut first = self.cfg.accumulate == Accumulate::Float;
+        for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+            self.encode_spot_rays(&f, enc, k);
+            // Stencil = shadow volumes around each visible point (z-pass from the eye's count).
+            self.encode_count(&f, enc, k, light, "biri-poly count");
+            self.encode_lit_surfaces(&f, enc, k, first);
+            first = false;
+            self.encode_planes(&f, enc, k, light);
+        }
+        report.ran("polynomial-surfaces");
+        if self.spot_rays.is_some() {
+            report.ran("spot-rays");
+        }
+        if self.casters.is_some() {
+            report.ran("shadow-planes");
+        } else {
+            report.skip("shadow-planes", "no object casts a volumetric shadow");
+        }
+    }
+
+    /// Group 1 of every pass: distances, the light slots, the surface radiance, Δ, spot rays.
+    fn bind_group(
+        &self,
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        surface: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("biri-poly passes"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.uniform,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<PolyUniform>() as u64),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(surface),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: self.delta.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&self.spot_rays_view),
+                },
+            ],
+        })
+    }
+
+    fn depth_stencil(
+        &self,
+        depth: wgpu::LoadOp<f32>,
+        stencil: wgpu::LoadOp<u32>,
+    ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        let store = wgpu::StoreOp::Store;
+        wgpu::RenderPassDepthStencilAttachment {
+            view: &self.depth_view,
+            depth_ops: Some(wgpu::Operations { load: depth, store }),
+            stencil_ops: Some(wgpu::Operations {
+                load: stencil,
+                store,
+            }),
+        }
+    }
+
+    fn color(
+        &self,
+        load: wgpu::LoadOp<wgpu::Color>,
+    ) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 1] {
+        [Some(wgpu::RenderPassColorAttachment {
+            view: &self.acc_view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            },
+        })]
+    }
+
+    /// The scene (tessellated for vertex evaluation) as the passes draw it.
+    fn scene<'a>(&'a self, renderer: &'a SceneRenderer) -> &'a GpuScene {
+        self.tess.as_ref().unwrap_or(&renderer.gpu_scene)
+    }
+
+    /// Depth of the (tessellated) scene, stencil cleared.
+    fn encode_depth(&self, f: &Encoding, enc: &mut wgpu::CommandEncoder) {
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("biri-poly depth"),
+                depth_stencil_attachment: Some(
+                    self.depth_stencil(wgpu::LoadOp::Clear(1.0), wgpu::LoadOp::Clear(0)),
+                ),
+                ..Default::default()
+            },
+        );
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, f.bind, &[0]);
+        pass.set_pipeline(&self.pipes.depth);
+        self.scene(f.renderer).draw(&mut pass);
+    }
+
+    /// z-pass count of light k's volumes, the stencil seeded with the eye's count.
+    fn encode_count(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        light: &LightDraws,
+        label: &str,
+    ) {
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some(label),
+                depth_stencil_attachment: Some(
+                    self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Clear(light.eye_count)),
+                ),
+                ..Default::default()
+            },
+        );
+        if let Some(v) = self.vertices.as_ref().filter(|_| !light.runs.is_empty()) {
+            pass.set_pipeline(&self.pipes.count);
+            pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+            pass.set_bind_group(1, f.bind, &slot(k));
+            pass.set_vertex_buffer(0, v.slice(..));
+            pass.draw(light.whole(), 0..1);
+        }
+    }
+
+    /// §4.3's first pass (surfaces and ambient fog) into the 8-bit target.
+    fn encode_first_pass(&self, f: &Encoding, enc: &mut wgpu::CommandEncoder) {
+        let attachments = self.color(wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT));
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("biri-poly first pass"),
+                color_attachments: &attachments,
+                depth_stencil_attachment: Some(
+                    self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                ),
+                ..Default::default()
+            },
+        );
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, f.bind, &[0]);
+        pass.set_pipeline(&self.pipes.first);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Light k's per-pixel spot rays, when it is a spot and Γ is evaluated per fragment.
+    fn encode_spot_rays(&self, f: &Encoding, enc: &mut wgpu::CommandEncoder, k: usize) {
+        let Some(rays) = self
+            .spot_rays
+            .as_ref()
+            .filter(|r| r.is_spot.get(k) == Some(&true))
+        else {
+            return;
+        };
+        let mut pass = f.gpu.compute_pass(
+            enc,
+            &wgpu::ComputePassDescriptor {
+                label: Some("biri-poly spot rays"),
+                timestamp_writes: None,
+            },
+        );
+        pass.set_pipeline(&rays.pipeline);
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, &rays.bind, &slot(k));
+        pass.dispatch_workgroups(rays.width.div_ceil(8), rays.height.div_ceil(8), 1);
+    }
+
+    /// Stage 1 of §4.3.2: +Γ(P) where P is lit (stencil 0); `first` clears the target.
+    fn encode_lit_surfaces(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        first: bool,
+    ) {
+        let load = if first {
+            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+        } else {
+            wgpu::LoadOp::Load
+        };
+        let attachments = self.color(load);
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("biri-poly surfaces"),
+                color_attachments: &attachments,
+                depth_stencil_attachment: Some(
+                    self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                ),
+                ..Default::default()
+            },
+        );
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, f.bind, &slot(k));
+        pass.set_stencil_reference(0);
+        pass.set_pipeline(&self.pipes.surface);
+        match &self.grid {
+            Some((grid, n)) => {
+                self.scene(f.renderer).draw(&mut pass);
+                pass.set_pipeline(&self.pipes.grid);
+                pass.set_vertex_buffer(0, grid.slice(..));
+                pass.draw(0..*n, 0..1);
+            }
+            None => pass.draw(0..3, 0..1),
+        }
+    }
+
+    /// Stage 2: light k's planes front to back, stencil re-seeded with the eye's count.
+    fn encode_planes(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        light: &LightDraws,
+    ) {
+        let Some(planes) = self.vertices.as_ref().filter(|_| !light.runs.is_empty()) else {
+            return;
+        };
+        let attachments = self.color(wgpu::LoadOp::Load);
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("biri-poly planes"),
+                color_attachments: &attachments,
+                depth_stencil_attachment: Some(
+                    self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Clear(light.eye_count)),
+                ),
+                ..Default::default()
+            },
+        );
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, f.bind, &slot(k));
+        pass.set_stencil_reference(1);
+        pass.set_vertex_buffer(0, planes.slice(..));
+        if let [signed] = &self.pipes.planes[..] {
+            pass.set_pipeline(signed);
+            pass.draw(light.whole(), 0..1);
+        } else {
+            for (range, front) in &light.runs {
+                pass.set_pipeline(&self.pipes.planes[if *front { 0 } else { 1 }]);
+                pass.draw(range.clone(), 0..1);
+            }
+        }
+    }
+}
+
+/// What every pass of one frame's encoding binds.
+struct Encoding<'a> {
+    gpu: &'a Gpu,
+    renderer: &'a SceneRenderer,
+    bind: &'a wgpu::BindGroup,
+}
+
+/// Light k's dynamic offset into the uniform slots.
+fn slot(k: usize) -> [u32; 1] {
+    [(k as u64 * SLOT) as u32]
+}
+
+impl LightDraws {
+    /// All of the light's planes, in one draw (they are contiguous).
+    fn whole(&self) -> Range<u32> {
+        self.runs.first().map_or(0, |r| r.0.start)..self.runs.last().map_or(0, |r| r.0.end)
+    }
+}
