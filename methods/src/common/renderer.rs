@@ -132,54 +132,7 @@ impl SceneRenderer {
         let camera = uniform("camera", std::mem::size_of::<CameraUniform>());
         let medium = uniform("medium", std::mem::size_of::<MediumUniform>());
         let lights = uniform("lights", std::mem::size_of::<LightsUniform>());
-        let buf = |b: u32, vis: wgpu::ShaderStages, ty: wgpu::BufferBindingType| {
-            wgpu::BindGroupLayoutEntry {
-                binding: b,
-                visibility: vis,
-                ty: wgpu::BindingType::Buffer {
-                    ty,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }
-        };
-        let tex = |b: u32, filterable: bool| wgpu::BindGroupLayoutEntry {
-            binding: b,
-            visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable },
-                view_dimension: wgpu::TextureViewDimension::D2Array,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
-        let frame_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("frame"),
-                entries: &[
-                    buf(0, all, wgpu::BufferBindingType::Uniform),
-                    buf(1, all, wgpu::BufferBindingType::Uniform),
-                    buf(2, all, wgpu::BufferBindingType::Uniform),
-                    buf(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
-                    tex(4, false),
-                    tex(5, true),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 6,
-                        visibility: all,
-                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                        count: None,
-                    },
-                ],
-            });
-        let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("linear clamp"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
+        let frame_layout = frame_layout(&gpu.device);
         let frame_bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
             layout: &frame_layout,
@@ -210,7 +163,7 @@ impl SceneRenderer {
                 },
                 wgpu::BindGroupEntry {
                     binding: 6,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
+                    resource: wgpu::BindingResource::Sampler(&linear_clamp(&gpu.device)),
                 },
             ],
         });
@@ -384,4 +337,56 @@ impl SceneRenderer {
 
 pub fn surface_source() -> String {
     wgsl::compose(wgsl::PRELUDE, include_str!("wgsl/surface_pass.wgsl"))
+}
+
+/// Group 0 of every pass: camera, medium, lights, objects, shadow maps, spot patterns, sampler.
+fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let buf =
+        |b: u32, vis: wgpu::ShaderStages, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding: b,
+            visibility: vis,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+    let tex = |b: u32, filterable: bool| wgpu::BindGroupLayoutEntry {
+        binding: b,
+        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable },
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+            multisampled: false,
+        },
+        count: None,
+    };
+    let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("frame"),
+        entries: &[
+            buf(0, all, wgpu::BufferBindingType::Uniform),
+            buf(1, all, wgpu::BufferBindingType::Uniform),
+            buf(2, all, wgpu::BufferBindingType::Uniform),
+            buf(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
+            tex(4, false),
+            tex(5, true),
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: all,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
+        ],
+    })
+}
+
+fn linear_clamp(device: &wgpu::Device) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("linear clamp"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    })
 }

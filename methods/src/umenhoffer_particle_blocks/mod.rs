@@ -238,7 +238,7 @@ impl State {
         if !set.imp.is_empty() {
             ctx.gpu
                 .queue
-                .write_buffer(&passes.imp, 0, bytemuck::cast_slice(&set.imp));
+                .write_buffer(&passes.res.imp, 0, bytemuck::cast_slice(&set.imp));
         }
         let bg = particles.background;
         Ok(State {
@@ -392,14 +392,14 @@ impl Prepared for State {
         };
         let tiles = blocks::tile_frames(&st.set.tiles, eye, ldir, lpos);
         gpu.queue
-            .write_buffer(&st.passes.uniform, 0, bytemuck::bytes_of(&u));
+            .write_buffer(&st.passes.res.uniform, 0, bytemuck::bytes_of(&u));
         if !sorted.is_empty() {
             gpu.queue
-                .write_buffer(&st.passes.prims, 0, bytemuck::cast_slice(&sorted));
+                .write_buffer(&st.passes.res.prims, 0, bytemuck::cast_slice(&sorted));
         }
         if !tiles.is_empty() {
             gpu.queue
-                .write_buffer(&st.passes.tiles, 0, bytemuck::cast_slice(&tiles));
+                .write_buffer(&st.passes.res.tiles, 0, bytemuck::cast_slice(&tiles));
         }
         let mark =
             |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
@@ -411,7 +411,7 @@ impl Prepared for State {
         st.renderer.encode_shadows(enc, &mut report);
         let surface_targets = Targets {
             inscatter: targets.inscatter,
-            surface: &st.passes.surface_view,
+            surface: &st.passes.res.surface_view,
             total: targets.total,
             width: targets.width,
             height: targets.height,

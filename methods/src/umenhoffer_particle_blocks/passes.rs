@@ -8,7 +8,7 @@ use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
 use super::blocks::{ImpParticle, Prim, Tile};
-use crate::common::renderer::{DISTANCE_FORMAT, SceneRenderer};
+use crate::common::renderer::SceneRenderer;
 use crate::common::wgsl;
 
 /// Mirrors `Pb` in common.wgsl.
@@ -66,7 +66,8 @@ pub struct Modes {
     pub forward_scattering: bool,
 }
 
-pub struct Passes {
+/// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
+pub struct Resources {
     pub uniform: wgpu::Buffer,
     pub prims: wgpu::Buffer,
     pub tiles: wgpu::Buffer,
@@ -75,6 +76,10 @@ pub struct Passes {
     slice_views: [wgpu::TextureView; 2],
     gather_view: wgpu::TextureView,
     pub surface_view: wgpu::TextureView,
+}
+
+pub struct Passes {
+    pub res: Resources,
     impostor: wgpu::RenderPipeline,
     light: wgpu::RenderPipeline,
     gather: wgpu::RenderPipeline,
@@ -125,33 +130,8 @@ fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-impl Passes {
-    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, modes: Modes) -> Passes {
-        let dev = &gpu.device;
-        let flag = crate::common::specialize::flag;
-        let constants = renderer.specialization.with(&[
-            ("BLOCKS", flag(modes.blocks)),
-            ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
-            ("EIGHT_SLICES", flag(sizes.slices > 4)),
-        ]);
-        let options = || crate::common::specialize::compile_options(&constants);
-        let uniform = gpu.buffer(&wgpu::BufferDescriptor {
-            label: Some("particle blocks uniform"),
-            size: std::mem::size_of::<PbUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let prims = storage(gpu, "primitives", sizes.prims * std::mem::size_of::<Prim>());
-        let tiles = storage(
-            gpu,
-            "impostor tiles",
-            sizes.tiles * std::mem::size_of::<Tile>(),
-        );
-        let imp = storage(
-            gpu,
-            "impostor particles",
-            sizes.imp * std::mem::size_of::<ImpParticle>(),
-        );
+impl Resources {
+    fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: &Sizes) -> Resources {
         let tex = |label: &str, w: u32, h: u32, format: wgpu::TextureFormat| {
             gpu.texture_2d(
                 label,
@@ -162,146 +142,208 @@ impl Passes {
             )
             .create_view(&Default::default())
         };
-        // Splat mode has no tiles: a 1×1 atlas keeps the bindings valid.
-        let atlas_view = tex("impostor atlas", sizes.atlas, sizes.atlas, ATLAS_FORMAT);
-        let slice_views = [
-            tex(
-                "light slices 0-3",
-                sizes.light_res,
-                sizes.light_res,
-                ACCUM_FORMAT,
+        let slices = |label| tex(label, sizes.light_res, sizes.light_res, ACCUM_FORMAT);
+        let (w, h) = (renderer.width, renderer.height);
+        Resources {
+            uniform: gpu.buffer(&wgpu::BufferDescriptor {
+                label: Some("particle blocks uniform"),
+                size: std::mem::size_of::<PbUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            prims: storage(gpu, "primitives", sizes.prims * size_of::<Prim>()),
+            tiles: storage(gpu, "impostor tiles", sizes.tiles * size_of::<Tile>()),
+            imp: storage(
+                gpu,
+                "impostor particles",
+                sizes.imp * size_of::<ImpParticle>(),
             ),
-            tex(
-                "light slices 4-7",
-                sizes.light_res,
-                sizes.light_res,
-                ACCUM_FORMAT,
-            ),
-        ];
-        let gather_view = tex("gather", renderer.width, renderer.height, ACCUM_FORMAT);
-        let surface_view = tex(
-            "surface (unshadowed)",
-            renderer.width,
-            renderer.height,
-            AOV_FORMAT,
-        );
+            // Splat mode has no tiles: a 1×1 atlas keeps the bindings valid.
+            atlas_view: tex("impostor atlas", sizes.atlas, sizes.atlas, ATLAS_FORMAT),
+            slice_views: [slices("light slices 0-3"), slices("light slices 4-7")],
+            gather_view: tex("gather", w, h, ACCUM_FORMAT),
+            surface_view: tex("surface (unshadowed)", w, h, AOV_FORMAT),
+        }
+    }
 
-        let layout = |label: &str, bindings: &[u32]| {
-            let entries: Vec<_> = bindings.iter().map(|&b| entry(b)).collect();
-            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(label),
-                entries: &entries,
+    /// Binding `b` of group 1 (`distance` is the renderer's distance AOV, binding 7).
+    fn binding<'a>(&'a self, b: u32, distance: &'a wgpu::TextureView) -> wgpu::BindingResource<'a> {
+        let view = wgpu::BindingResource::TextureView;
+        match b {
+            0 => self.uniform.as_entire_binding(),
+            1 => self.prims.as_entire_binding(),
+            2 => self.tiles.as_entire_binding(),
+            3 => self.imp.as_entire_binding(),
+            4 => view(&self.atlas_view),
+            5 => view(&self.slice_views[0]),
+            6 => view(&self.slice_views[1]),
+            7 => view(distance),
+            8 => view(&self.gather_view),
+            _ => view(&self.surface_view),
+        }
+    }
+}
+
+/// Builds one stage: its group-1 layout and bind group from a subset of the bindings, its module
+/// (common.wgsl plus its own source) and a render pipeline without vertex buffers or depth.
+struct StageBuilder<'a> {
+    device: &'a wgpu::Device,
+    renderer: &'a SceneRenderer,
+    res: &'a Resources,
+    constants: Vec<(&'static str, f64)>,
+}
+
+impl StageBuilder<'_> {
+    fn stage(
+        &self,
+        label: &'static str,
+        bindings: &[u32],
+        own: &str,
+        (vs, fs): (&str, &str),
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> (wgpu::RenderPipeline, wgpu::BindGroup) {
+        let dev = self.device;
+        let entries: Vec<_> = bindings.iter().map(|&b| entry(b)).collect();
+        let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &entries,
+        });
+        let distance = &self.renderer.distance_view;
+        let entries: Vec<_> = bindings
+            .iter()
+            .map(|&b| wgpu::BindGroupEntry {
+                binding: b,
+                resource: self.res.binding(b, distance),
             })
-        };
-        let distance_view = &renderer.distance_view;
-        let resource = |b: u32| -> wgpu::BindingResource {
-            match b {
-                0 => uniform.as_entire_binding(),
-                1 => prims.as_entire_binding(),
-                2 => tiles.as_entire_binding(),
-                3 => imp.as_entire_binding(),
-                4 => wgpu::BindingResource::TextureView(&atlas_view),
-                5 => wgpu::BindingResource::TextureView(&slice_views[0]),
-                6 => wgpu::BindingResource::TextureView(&slice_views[1]),
-                7 => wgpu::BindingResource::TextureView(distance_view),
-                8 => wgpu::BindingResource::TextureView(&gather_view),
-                _ => wgpu::BindingResource::TextureView(&surface_view),
-            }
-        };
-        let make = |label: &'static str,
-                    bindings: &[u32],
-                    own: &str,
-                    vs: &str,
-                    fs: &str,
-                    targets: &[Option<wgpu::ColorTargetState>]| {
-            let bgl = layout(label, bindings);
-            let entries: Vec<_> = bindings
-                .iter()
-                .map(|&b| wgpu::BindGroupEntry {
-                    binding: b,
-                    resource: resource(b),
-                })
-                .collect();
-            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout: &bgl,
-                entries: &entries,
-            });
-            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&bgl)],
-                immediate_size: 0,
-            });
-            let module = wgsl::module(dev, label, &source(own));
-            let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: options(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: options(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
-            (pipeline, bind)
-        };
-        let one = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let target = |format, blend| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
+            .collect();
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &bgl,
+            entries: &entries,
+        });
+        let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(&self.renderer.frame_layout), Some(&bgl)],
+            immediate_size: 0,
+        });
+        let module = wgsl::module(dev, label, &source(own));
+        let options = || crate::common::specialize::compile_options(&self.constants);
+        let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(&pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vs),
+                compilation_options: options(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fs),
+                compilation_options: options(),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        (pipeline, bind)
+    }
+}
+
+const ONE: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::One,
+    operation: wgpu::BlendOperation::Add,
+};
+
+fn target(
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+) -> Option<wgpu::ColorTargetState> {
+    Some(wgpu::ColorTargetState {
+        format,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })
+}
+
+/// The total AOV (in-scatter + surface), a full-screen pass over the harness's targets.
+fn total_pipeline(dev: &wgpu::Device) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+    let aov_texture = crate::common::layouts::fragment_texture;
+    let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("particle total"),
+        entries: &[aov_texture(0), aov_texture(1)],
+    });
+    let module = wgsl::module(
+        dev,
+        "particle total",
+        &wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL),
+    );
+    let pipeline = crate::common::resolve::fullscreen_pipeline(
+        dev,
+        "particle total",
+        &dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("particle total"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        }),
+        &module,
+        "fs_total",
+        &[],
+        &[target(AOV_FORMAT, None)],
+    );
+    (pipeline, layout)
+}
+
+impl Passes {
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, modes: Modes) -> Passes {
+        let flag = crate::common::specialize::flag;
+        let res = Resources::new(gpu, renderer, &sizes);
+        let b = StageBuilder {
+            device: &gpu.device,
+            renderer,
+            res: &res,
+            constants: renderer.specialization.with(&[
+                ("BLOCKS", flag(modes.blocks)),
+                ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
+                ("EIGHT_SLICES", flag(sizes.slices > 4)),
+            ]),
         };
         // Front/back depths by min blending, optical depth by additive alpha (§2.1, one pass).
         let minmax = wgpu::BlendState {
             color: wgpu::BlendComponent {
                 operation: wgpu::BlendOperation::Min,
-                ..one
+                ..ONE
             },
-            alpha: one,
+            alpha: ONE,
         };
-        let (impostor, bind_impostor) = make(
+        let (impostor, bind_impostor) = b.stage(
             "particle impostors",
             &[0, 2, 3],
             IMPOSTOR_WGSL,
-            "vs_impostor",
-            "fs_impostor",
+            ("vs_impostor", "fs_impostor"),
             &[target(ATLAS_FORMAT, Some(minmax))],
         );
         let additive = Some(wgpu::BlendState {
-            color: one,
-            alpha: one,
+            color: ONE,
+            alpha: ONE,
         });
         let eight = sizes.slices > 4;
         let light_targets = [
             target(ACCUM_FORMAT, additive),
             target(ACCUM_FORMAT, additive),
         ];
-        let (light, bind_light) = make(
+        let (light, bind_light) = b.stage(
             "particle light pass",
             &[0, 1, 2, 4],
             LIGHT_WGSL,
-            "vs_light",
-            if eight { "fs_light8" } else { "fs_light4" },
+            ("vs_light", if eight { "fs_light8" } else { "fs_light4" }),
             &light_targets[..if eight { 2 } else { 1 }],
         );
         // Premultiplied "over", back to front; alpha accumulates the opacity.
@@ -310,12 +352,11 @@ impl Passes {
             dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
             operation: wgpu::BlendOperation::Add,
         };
-        let (gather, bind_gather) = make(
+        let (gather, bind_gather) = b.stage(
             "particle gather",
             &[0, 1, 2, 4, 5, 6, 7],
             GATHER_WGSL,
-            "vs_gather",
-            "fs_gather",
+            ("vs_gather", "fs_gather"),
             &[target(
                 ACCUM_FORMAT,
                 Some(wgpu::BlendState {
@@ -324,47 +365,16 @@ impl Passes {
                 }),
             )],
         );
-        let (resolve, bind_resolve) = make(
+        let (resolve, bind_resolve) = b.stage(
             "particle resolve",
             &[0, 5, 6, 7, 8, 9],
             RESOLVE_WGSL,
-            "vs_fullscreen",
-            "fs_resolve",
+            ("vs_fullscreen", "fs_resolve"),
             &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
         );
-        let aov_texture = crate::common::layouts::fragment_texture;
-        let total_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("particle total"),
-            entries: &[aov_texture(0), aov_texture(1)],
-        });
-        let total_module = wgsl::module(
-            dev,
-            "particle total",
-            &wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL),
-        );
-        let total = crate::common::resolve::fullscreen_pipeline(
-            dev,
-            "particle total",
-            &dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("particle total"),
-                bind_group_layouts: &[Some(&total_layout)],
-                immediate_size: 0,
-            }),
-            &total_module,
-            "fs_total",
-            &[],
-            &[target(AOV_FORMAT, None)],
-        );
-        let _ = DISTANCE_FORMAT;
+        let (total, total_layout) = total_pipeline(&gpu.device);
         Passes {
-            uniform,
-            prims,
-            tiles,
-            imp,
-            atlas_view,
-            slice_views,
-            gather_view,
-            surface_view,
+            res,
             impostor,
             light,
             gather,
@@ -423,7 +433,7 @@ impl Passes {
             renderer,
             enc,
             "particle impostors",
-            &[&self.atlas_view],
+            &[&self.res.atlas_view],
             empty,
         );
         p.set_pipeline(&self.impostor);
@@ -439,7 +449,7 @@ impl Passes {
         renderer: &SceneRenderer,
         draw: bool,
     ) {
-        let views: Vec<&wgpu::TextureView> = self.slice_views.iter().collect();
+        let views: Vec<&wgpu::TextureView> = self.res.slice_views.iter().collect();
         let n = if self.sizes.slices > 4 { 2 } else { 1 };
         let mut p = Self::pass(
             renderer,
@@ -462,7 +472,7 @@ impl Passes {
             renderer,
             enc,
             "particle gather",
-            &[&self.gather_view],
+            &[&self.res.gather_view],
             wgpu::Color::TRANSPARENT,
         );
         p.set_pipeline(&self.gather);
