@@ -317,22 +317,20 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self;
-        let mut report = FrameReport::default();
-        st.renderer.update(gpu, frame);
-        st.passes.update(gpu, frame, &mut report);
-        st.renderer.encode_shadows(enc, &mut report);
-        st.renderer.encode_surface(enc, targets, &mut report);
-        st.passes.encode(
+        let mut report = self.renderer.start_frame(gpu, frame);
+        self.passes.update(gpu, frame, &mut report);
+        self.renderer.encode_shadows(enc, &mut report);
+        self.renderer.encode_surface(enc, targets, &mut report);
+        self.passes.encode(
             gpu,
             enc,
-            &st.renderer,
+            &self.renderer,
             targets.surface,
-            st.surface_shadows.as_ref(),
+            self.surface_shadows.as_ref(),
             &mut report,
         );
-        st.resolve
-            .encode_with(gpu, enc, &st.renderer, targets, &[&st.passes.acc_view]);
+        self.resolve
+            .encode_with(gpu, enc, &self.renderer, targets, &[&self.passes.acc_view]);
         report.ran("resolve");
         Ok(report)
     }

@@ -269,17 +269,15 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self;
-        let mut report = FrameReport::default();
-        st.renderer.update(gpu, frame);
-        let shadowed = st.renderer.scene.features().volumetric_occluders;
+        let mut report = self.renderer.start_frame(gpu, frame);
+        let shadowed = self.renderer.scene.features().volumetric_occluders;
         let eye_lit = if shadowed {
-            let lit = st.planes.update(gpu, frame, &mut report);
-            if st.planes.eye_term() { lit } else { 0 }
+            let lit = self.planes.update(gpu, frame, &mut report);
+            if self.planes.eye_term() { lit } else { 0 }
         } else {
             0
         };
-        if let Some(u) = &st.resolve.uniform {
+        if let Some(u) = &self.resolve.uniform {
             gpu.queue.write_buffer(
                 u,
                 0,
@@ -290,40 +288,40 @@ impl Prepared for State {
                 }),
             );
         }
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.mark(enc, "first_pass");
         }
-        st.renderer.encode_shadows(enc, &mut report);
-        st.renderer.encode_surface(enc, targets, &mut report);
-        match &st.indirect {
+        self.renderer.encode_shadows(enc, &mut report);
+        self.renderer.encode_surface(enc, targets, &mut report);
+        match &self.indirect {
             Some(pass) => {
-                pass.encode(enc, &st.renderer, targets);
+                pass.encode(enc, &self.renderer, targets);
                 report.ran("indirect");
             }
-            None if st.renderer.scene.desc.indirect_single_scattering => {
+            None if self.renderer.scene.desc.indirect_single_scattering => {
                 report.skip("indirect", "knob indirect = false")
             }
             None => {}
         }
         if shadowed {
-            st.planes.encode(
+            self.planes.encode(
                 gpu,
                 enc,
-                &st.renderer,
-                &st.table_view,
+                &self.renderer,
+                &self.table_view,
                 &mut report,
-                &mut st.timer,
+                &mut self.timer,
             );
             report.ran("shadow-planes");
-            if let Some(shadows) = &st.surface_shadows {
-                if let Some(t) = st.timer.as_mut() {
+            if let Some(shadows) = &self.surface_shadows {
+                if let Some(t) = self.timer.as_mut() {
                     t.mark(enc, "first_pass");
                 }
-                st.planes.encode_surface_shadows(
+                self.planes.encode_surface_shadows(
                     gpu,
                     enc,
-                    &st.renderer,
-                    &st.table_view,
+                    &self.renderer,
+                    &self.table_view,
                     targets.surface,
                     shadows,
                 );
@@ -332,17 +330,17 @@ impl Prepared for State {
         } else {
             report.skip("shadow-planes", "no object casts a volumetric shadow");
         }
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.mark(enc, "resolve");
         }
-        st.resolve.encode_with(
+        self.resolve.encode_with(
             gpu,
             enc,
-            &st.renderer,
+            &self.renderer,
             targets,
-            &[&st.table_view, &st.planes.acc_view],
+            &[&self.table_view, &self.planes.acc_view],
         );
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.finish(enc);
         }
         report.ran("ldss");

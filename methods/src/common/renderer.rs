@@ -259,11 +259,17 @@ impl SceneRenderer {
         enc: &mut wgpu::CommandEncoder,
         targets: &Targets,
     ) -> FrameReport {
-        let mut report = FrameReport::default();
-        self.update(gpu, frame);
+        let mut report = self.start_frame(gpu, frame);
         self.encode_shadows(enc, &mut report);
         self.encode_surface(enc, targets, &mut report);
         report
+    }
+
+    /// How a method that encodes passes between the renderer's starts its frame: this frame's
+    /// uniforms written, an empty report.
+    pub fn start_frame(&mut self, gpu: &Gpu, frame: &FrameState) -> FrameReport {
+        self.update(gpu, frame);
+        FrameReport::default()
     }
 
     /// The shadow-map passes, or their skip record.

@@ -226,10 +226,9 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self;
-        let cfg = st.cfg;
-        let mut report = st.renderer.begin_frame(gpu, frame, enc, targets);
-        st.passes.write_uniform(
+        let cfg = self.cfg;
+        let mut report = self.renderer.begin_frame(gpu, frame, enc, targets);
+        self.passes.write_uniform(
             gpu,
             &PlanesUniform {
                 count: cfg.planes,
@@ -242,14 +241,14 @@ impl Prepared for State {
                 _pad1: [0.0; 3],
             },
         );
-        if st.skip_planes {
+        if self.skip_planes {
             report.skip("far-extent", "σ_s = 0: no in-scattering");
             report.skip("planes", "σ_s = 0: no in-scattering");
-            st.passes.encode_planes(enc, &st.renderer, 0);
+            self.passes.encode_planes(enc, &self.renderer, 0);
         } else {
-            st.passes.encode_far(enc, &st.renderer);
+            self.passes.encode_far(enc, &self.renderer);
             report.ran("far-extent");
-            st.passes.encode_planes(enc, &st.renderer, cfg.planes);
+            self.passes.encode_planes(enc, &self.renderer, cfg.planes);
             report.ran("planes");
             let lattice = (cfg.lattice as u64).pow(2);
             let pixels = targets.width as u64 * targets.height as u64;
@@ -266,7 +265,8 @@ impl Prepared for State {
             // Rasterised: every plane covers the screen; the surface test then discards some.
             report.count("fragments", (cfg.planes as u64 * pixels) as f64);
         }
-        st.passes.encode_resolve(gpu, enc, &st.renderer, targets);
+        self.passes
+            .encode_resolve(gpu, enc, &self.renderer, targets);
         report.ran("resolve");
         Ok(report)
     }

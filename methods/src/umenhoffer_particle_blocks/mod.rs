@@ -348,22 +348,20 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self;
-        let mut report = FrameReport::default();
-        st.renderer.update(gpu, frame);
+        let mut report = self.renderer.start_frame(gpu, frame);
         let eye = frame.camera.position;
         let mut u = PbUniform::default();
-        let lit = light_frame(st, frame, &mut u)?;
-        let sz = &st.passes.sizes;
+        let lit = light_frame(self, frame, &mut u)?;
+        let sz = &self.passes.sizes;
         u.atlas = [
             sz.cols as f32,
             sz.tile_res as f32,
-            st.set.imp.len() as f32,
+            self.set.imp.len() as f32,
             sz.atlas as f32,
         ];
         u.flags = [
-            st.clip_fix as u32 as f32,
-            if st.background_scatters && lit {
+            self.clip_fix as u32 as f32,
+            if self.background_scatters && lit {
                 BACKGROUND_STEPS
             } else {
                 0.0
@@ -371,9 +369,9 @@ impl Prepared for State {
             0.0,
             0.0,
         ];
-        u.sky = [st.sky.x, st.sky.y, st.sky.z, 0.0];
+        u.sky = [self.sky.x, self.sky.y, self.sky.z, 0.0];
         // Back to front from the eye (the gather composites "over").
-        let mut order: Vec<(f32, usize)> = st
+        let mut order: Vec<(f32, usize)> = self
             .set
             .prims
             .iter()
@@ -384,22 +382,22 @@ impl Prepared for State {
             })
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let sorted: Vec<Prim> = order.iter().map(|&(_, i)| st.set.prims[i]).collect();
+        let sorted: Vec<Prim> = order.iter().map(|&(_, i)| self.set.prims[i]).collect();
         let (ldir, lpos) = match frame.lights.first() {
             Some(LightState::Directional { direction, .. }) => (Some(direction.normalize()), None),
             Some(l) => (None, l.position()),
             None => (None, None),
         };
-        let tiles = blocks::tile_frames(&st.set.tiles, eye, ldir, lpos);
+        let tiles = blocks::tile_frames(&self.set.tiles, eye, ldir, lpos);
         gpu.queue
-            .write_buffer(&st.passes.res.uniform, 0, bytemuck::bytes_of(&u));
+            .write_buffer(&self.passes.res.uniform, 0, bytemuck::bytes_of(&u));
         if !sorted.is_empty() {
             gpu.queue
-                .write_buffer(&st.passes.res.prims, 0, bytemuck::cast_slice(&sorted));
+                .write_buffer(&self.passes.res.prims, 0, bytemuck::cast_slice(&sorted));
         }
         if !tiles.is_empty() {
             gpu.queue
-                .write_buffer(&st.passes.res.tiles, 0, bytemuck::cast_slice(&tiles));
+                .write_buffer(&self.passes.res.tiles, 0, bytemuck::cast_slice(&tiles));
         }
         let mark =
             |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
@@ -407,41 +405,42 @@ impl Prepared for State {
                     t.mark(enc, name);
                 }
             };
-        mark(&mut st.timer, enc, "surfaces");
-        st.renderer.encode_shadows(enc, &mut report);
+        mark(&mut self.timer, enc, "surfaces");
+        self.renderer.encode_shadows(enc, &mut report);
         let surface_targets = Targets {
             inscatter: targets.inscatter,
-            surface: &st.passes.res.surface_view,
+            surface: &self.passes.res.surface_view,
             total: targets.total,
             width: targets.width,
             height: targets.height,
         };
-        st.renderer
+        self.renderer
             .encode_surface(enc, &surface_targets, &mut report);
-        if st.blocked {
-            mark(&mut st.timer, enc, "impostors");
-            st.passes.encode_impostors(enc, &st.renderer);
+        if self.blocked {
+            mark(&mut self.timer, enc, "impostors");
+            self.passes.encode_impostors(enc, &self.renderer);
             report.ran("impostors");
-            report.count("impostor_splats", 2.0 * st.set.imp.len() as f64);
+            report.count("impostor_splats", 2.0 * self.set.imp.len() as f64);
         }
-        mark(&mut st.timer, enc, "light");
-        st.passes.encode_light(enc, &st.renderer, lit);
+        mark(&mut self.timer, enc, "light");
+        self.passes.encode_light(enc, &self.renderer, lit);
         if lit {
             report.ran("light-slices");
         } else {
             report.skip("light-slices", "no light or no particles");
         }
-        mark(&mut st.timer, enc, "gather");
-        st.passes.encode_gather(enc, &st.renderer);
+        mark(&mut self.timer, enc, "gather");
+        self.passes.encode_gather(enc, &self.renderer);
         report.ran("gather");
-        mark(&mut st.timer, enc, "resolve");
-        st.passes.encode_resolve(gpu, enc, &st.renderer, targets);
+        mark(&mut self.timer, enc, "resolve");
+        self.passes
+            .encode_resolve(gpu, enc, &self.renderer, targets);
         report.ran("resolve");
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.finish(enc);
         }
-        report.count("blocks", st.set.prims.len() as f64);
-        report.count("particles_per_block", st.set.per_block);
+        report.count("blocks", self.set.prims.len() as f64);
+        report.count("particles_per_block", self.set.per_block);
         Ok(report)
     }
 

@@ -404,48 +404,46 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self;
-        let mut report = FrameReport::default();
-        st.renderer.update(gpu, frame);
+        let mut report = self.renderer.start_frame(gpu, frame);
         // F' spans x up to the longest camera ray (a corner ray to the far plane).
         let rays = frame.camera.rays(targets.width, targets.height);
         let corner = rays.direction(0, 0);
-        st.uniform.fprime_x_max = (rays.far_distance(corner) * 1.001) as f32;
-        for u in st
+        self.uniform.fprime_x_max = (rays.far_distance(corner) * 1.001) as f32;
+        for u in self
             .resolve
             .uniform
             .iter()
-            .chain(st.fprime.as_ref().and_then(|f| f.pass.uniform.as_ref()))
+            .chain(self.fprime.as_ref().and_then(|f| f.pass.uniform.as_ref()))
         {
             gpu.queue
-                .write_buffer(u, 0, bytemuck::bytes_of(&st.uniform));
+                .write_buffer(u, 0, bytemuck::bytes_of(&self.uniform));
         }
-        let counter_buf = st.resolve.counters.clone().expect("hybrid pass counts");
-        st.counters.begin_frame(gpu, &counter_buf);
-        if let Some(c) = st.counters.latest() {
+        let counter_buf = self.resolve.counters.clone().expect("hybrid pass counts");
+        self.counters.begin_frame(gpu, &counter_buf);
+        if let Some(c) = self.counters.latest() {
             report.count("pixels_marched", c[0] as f64);
             report.count("steps", c[1] as f64);
         }
-        st.renderer.encode_shadows(enc, &mut report);
-        st.renderer.encode_surface(enc, targets, &mut report);
+        self.renderer.encode_shadows(enc, &mut report);
+        self.renderer.encode_surface(enc, targets, &mut report);
 
         let key = (
             frame.lights.clone(),
             frame.world_from_local.clone(),
             frame.camera.position,
         );
-        if !st.no_skip && st.built_for.as_ref() == Some(&key) {
+        if !self.no_skip && self.built_for.as_ref() == Some(&key) {
             report.skip(
                 "silhouettes",
                 "lights and occluders unchanged since the last frame",
             );
-        } else if !st.casters.is_empty() {
-            volumes::build(gpu, st, frame);
-            st.built_for = Some(key);
+        } else if !self.casters.is_empty() {
+            volumes::build(gpu, self, frame);
+            self.built_for = Some(key);
             report.ran("silhouettes");
         }
-        report.count("silhouette_edges", st.silhouette_edges as f64);
-        report.count("shadow_polygons", (st.vertex_count / 6) as f64);
+        report.count("silhouette_edges", self.silhouette_edges as f64);
+        report.count("shadow_polygons", (self.vertex_count / 6) as f64);
         {
             let clear = |v: f64| wgpu::Operations {
                 load: wgpu::LoadOp::Clear(wgpu::Color {
@@ -462,13 +460,13 @@ impl Prepared for State {
                     label: Some("shadow volumes"),
                     color_attachments: &[
                         Some(wgpu::RenderPassColorAttachment {
-                            view: &st.front_view,
+                            view: &self.front_view,
                             depth_slice: None,
                             resolve_target: None,
                             ops: clear(1e30),
                         }),
                         Some(wgpu::RenderPassColorAttachment {
-                            view: &st.back_view,
+                            view: &self.back_view,
                             depth_slice: None,
                             resolve_target: None,
                             ops: clear(-1.0),
@@ -477,14 +475,14 @@ impl Prepared for State {
                     ..Default::default()
                 },
             );
-            if let (Some(vb), true) = (&st.vertex_buffer, st.vertex_count > 0) {
-                pass.set_pipeline(&st.volumes);
-                pass.set_bind_group(0, &st.renderer.frame_bind, &[]);
+            if let (Some(vb), true) = (&self.vertex_buffer, self.vertex_count > 0) {
+                pass.set_pipeline(&self.volumes);
+                pass.set_bind_group(0, &self.renderer.frame_bind, &[]);
                 pass.set_vertex_buffer(0, vb.slice(..));
-                pass.draw(0..st.vertex_count, 0..1);
+                pass.draw(0..self.vertex_count, 0..1);
             }
         }
-        if st.casters.is_empty() && !st.no_skip {
+        if self.casters.is_empty() && !self.no_skip {
             report.skip(
                 "shadow-volumes",
                 "no object casts a volumetric shadow: airlight only",
@@ -492,7 +490,7 @@ impl Prepared for State {
         } else {
             report.ran("shadow-volumes");
         }
-        if let Some(fp) = &st.fprime {
+        if let Some(fp) = &self.fprime {
             let t = Targets {
                 inscatter: &fp.table,
                 surface: targets.surface,
@@ -503,22 +501,22 @@ impl Prepared for State {
             fp.pass.encode_with(
                 gpu,
                 enc,
-                &st.renderer,
+                &self.renderer,
                 &t,
-                &[&st.front_view, &st.back_view, &st.table_view],
+                &[&self.front_view, &self.back_view, &self.table_view],
             );
             report.ran("fprime-table");
         }
         let extra = [
-            &st.front_view,
-            &st.back_view,
-            &st.table_view,
-            &st.fprime_view,
+            &self.front_view,
+            &self.back_view,
+            &self.table_view,
+            &self.fprime_view,
         ];
-        match &st.low {
-            None => st
+        match &self.low {
+            None => self
                 .resolve
-                .encode_with(gpu, enc, &st.renderer, targets, &extra),
+                .encode_with(gpu, enc, &self.renderer, targets, &extra),
             Some(low) => {
                 let low_targets = Targets {
                     inscatter: &low.inscatter,
@@ -527,18 +525,18 @@ impl Prepared for State {
                     width: low.width,
                     height: low.height,
                 };
-                st.resolve
-                    .encode_with(gpu, enc, &st.renderer, &low_targets, &extra);
+                self.resolve
+                    .encode_with(gpu, enc, &self.renderer, &low_targets, &extra);
                 low.upsample
-                    .encode_with(gpu, enc, &st.renderer, targets, &[&low.inscatter]);
+                    .encode_with(gpu, enc, &self.renderer, targets, &[&low.inscatter]);
                 report.ran("upsample");
             }
         }
-        st.counters.end_frame(enc, &counter_buf);
+        self.counters.end_frame(enc, &counter_buf);
         report.ran("hybrid");
         report.count(
             "scattering_pixels",
-            st.low
+            self.low
                 .as_ref()
                 .map_or(targets.width * targets.height, |l| l.width * l.height) as f64,
         );
