@@ -228,6 +228,31 @@ pub struct Timing {
 }
 
 impl Record {
+    /// A record with nothing measured: skipped or failed, and why.
+    pub fn unmeasured(
+        scene: &str,
+        method: &str,
+        params: &Params,
+        status: Status,
+        reason: String,
+    ) -> Record {
+        Record {
+            scene: scene.to_string(),
+            method: method.to_string(),
+            params: params.clone(),
+            status,
+            reason: Some(reason),
+            ignored: Vec::new(),
+            timing: None,
+            memory_bytes: None,
+            passes: None,
+            counters: Default::default(),
+            errors: Default::default(),
+            images: Default::default(),
+            errors_per_frame: None,
+        }
+    }
+
     /// Identity of a record for `--resume`: scene, method and the full parameter set.
     pub fn key(&self) -> String {
         record_key(&self.scene, &self.method, &self.params)

@@ -187,19 +187,5 @@ impl<'a> Dispatch<'a> {
 
 /// A failed record with nothing measured.
 pub(crate) fn failed_record(scene: &str, method: &str, params: &Params, reason: String) -> Record {
-    Record {
-        scene: scene.to_string(),
-        method: method.to_string(),
-        params: params.clone(),
-        status: Status::Failed,
-        reason: Some(reason),
-        ignored: Vec::new(),
-        timing: None,
-        memory_bytes: None,
-        passes: None,
-        counters: Default::default(),
-        errors: Default::default(),
-        errors_per_frame: None,
-        images: Default::default(),
-    }
+    Record::unmeasured(scene, method, params, Status::Failed, reason)
 }

@@ -261,7 +261,9 @@ pub fn run_items(
         }
         let support = entry.support(&scene.features(), gpu.features());
         let record = match support {
-            Support::No(why) => skipped(scene, entry.id(), params, why),
+            Support::No(why) => {
+                Record::unmeasured(&scene.name, entry.id(), params, Status::Skipped, why)
+            }
             support => {
                 if reference.as_ref().is_none_or(|r| r.0 != item.scene) {
                     let start = Instant::now();
@@ -312,31 +314,6 @@ pub fn run_items(
     Ok(results)
 }
 
-fn skipped(scene: &Scene, method: &str, params: &Params, why: String) -> Record {
-    Record {
-        scene: scene.name.clone(),
-        method: method.to_string(),
-        params: params.clone(),
-        status: Status::Skipped,
-        reason: Some(why),
-        ignored: Vec::new(),
-        timing: None,
-        memory_bytes: None,
-        passes: None,
-        counters: Default::default(),
-        errors: Default::default(),
-        images: Default::default(),
-        errors_per_frame: None,
-    }
-}
-
-fn failed(scene: &Scene, method: &str, params: &Params, why: String) -> Record {
-    Record {
-        status: Status::Failed,
-        ..skipped(scene, method, params, why)
-    }
-}
-
 /// A filesystem-safe slug of a parameter set: `steps-128_jitter-false`.
 pub fn params_slug(params: &Params) -> String {
     let s: Vec<String> = params.iter().map(|(k, v)| format!("{k}-{v}")).collect();
@@ -352,4 +329,9 @@ pub fn params_slug(params: &Params) -> String {
         })
         .collect();
     if s.is_empty() { "default".into() } else { s }
+}
+
+/// A failed record with nothing measured.
+pub(crate) fn failed(scene: &Scene, method: &str, params: &Params, why: String) -> Record {
+    Record::unmeasured(&scene.name, method, params, Status::Failed, why)
 }

@@ -121,24 +121,6 @@ fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
     }
 }
 
-fn failed_record(scene: &str, method: &str, params: &Params, why: String) -> Record {
-    Record {
-        scene: scene.to_string(),
-        method: method.to_string(),
-        params: params.clone(),
-        status: Status::Failed,
-        reason: Some(why),
-        ignored: Vec::new(),
-        timing: None,
-        memory_bytes: None,
-        passes: None,
-        counters: Default::default(),
-        errors: Default::default(),
-        images: Default::default(),
-        errors_per_frame: None,
-    }
-}
-
 fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
     p.downcast_ref::<String>()
         .cloned()
@@ -228,9 +210,13 @@ pub fn run(
                 Ok(r) => results = r,
                 Err(why) => {
                     results = Results::load(&path)?;
-                    results
-                        .records
-                        .push(failed_record(case.name, entry.id(), &params, why));
+                    results.records.push(Record::unmeasured(
+                        case.name,
+                        entry.id(),
+                        &params,
+                        Status::Failed,
+                        why,
+                    ));
                 }
             }
             if let Some(rec) = results.records.iter_mut().find(|r| r.key() == key) {
