@@ -3,6 +3,7 @@
 //! queries, float32 blending) requested when the adapter has them. Every wgpu error the device
 //! raises is collected, so the runner can record a method that caused one as failed.
 
+mod attachments;
 mod phases;
 mod readback;
 mod stats;
@@ -13,6 +14,7 @@ use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
+pub use attachments::{color_attachment, depth_stencil_attachment};
 pub use phases::PhaseTimer;
 pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use stats::{Counted, FrameWork, PassCounter, StatsQuery, WORK_COUNTERS};

@@ -2,6 +2,7 @@
 //! timed loop under the time budget (`measure`, ARCHITECTURE §4.1–4.2).
 
 use super::*;
+use crate::gpu::color_attachment;
 
 /// Fewest timed frames a record gets under a time budget (a median needs a few samples).
 pub const MIN_TIMED_FRAMES: u32 = 3;
@@ -77,15 +78,10 @@ impl AovTargets {
         for v in &self.views {
             let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("clear aov"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: v,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
+                color_attachments: &[color_attachment(
+                    v,
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                )],
                 ..Default::default()
             });
         }

@@ -6,7 +6,8 @@ use wgpu::{CompareFunction as C, StencilOperation as S};
 
 use super::passes::{Accumulate, Config, Eval};
 use crate::common::gpu_scene::Vertex;
-use crate::common::stencil::{self, PipelineBuilder, Stage};
+use crate::common::pipeline::Stage;
+use crate::common::stencil::{self, PipelineBuilder};
 
 pub(super) struct Pipelines {
     pub depth: wgpu::RenderPipeline,
@@ -48,14 +49,14 @@ impl Builder<'_> {
             blend: Some(b),
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        self.inner.build(Stage {
-            label,
-            vs,
-            vertices,
-            fragment: fs.map(|(fs, _)| (fs, &targets[..])),
-            cull: None,
-            depth,
-        })
+        let mut stage = Stage::new(label, vs).depth(depth);
+        if let Some(layout) = vertices {
+            stage = stage.vertices(layout);
+        }
+        if let Some((fs, _)) = fs {
+            stage = stage.fragment(fs, &targets);
+        }
+        self.inner.build(stage)
     }
 }
 

@@ -31,10 +31,12 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
 use harness::Targets;
+use harness::gpu::color_attachment;
 use harness::method::{AOV_FORMAT, PrepareContext};
 use scenes::Phase;
 
 use super::gamma::{gauss, lambda_of_u};
+use crate::common::pipeline::{self, Stage};
 use crate::common::renderer::{SceneRenderer, surface_source};
 use crate::common::tables::r32_table;
 
@@ -293,50 +295,18 @@ impl IndirectPass {
                 bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
                 immediate_size: 0,
             });
-        let additive = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let pipeline = gpu
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("biri iss"),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(crate::common::gpu_scene::Vertex::LAYOUT)],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: wgpu::TextureFormat::Depth32Float,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_indirect"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: AOV_FORMAT,
-                        blend: Some(wgpu::BlendState {
-                            color: additive,
-                            alpha: additive,
-                        }),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+        let targets = [pipeline::target(AOV_FORMAT, Some(pipeline::ADDITIVE))];
+        let pipeline = Stage::new("biri iss", "vs")
+            .vertices(crate::common::gpu_scene::Vertex::LAYOUT)
+            .fragment("fs_indirect", &targets)
+            .depth(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            })
+            .build(&gpu.device, &pl, &module, &[]);
         Ok(IndirectPass {
             pipeline,
             bind,
@@ -355,15 +325,7 @@ impl IndirectPass {
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some("biri iss"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: targets.surface,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
+                color_attachments: &[color_attachment(targets.surface, wgpu::LoadOp::Load)],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &renderer.depth_view,
                     depth_ops: Some(wgpu::Operations {

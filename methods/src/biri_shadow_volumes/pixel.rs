@@ -7,9 +7,11 @@
 //! (`crossing_overflows`: pixel × light pairs that overflowed, `max_crossings`: the longest list),
 //! read back a frame late through `common::counters`.
 
+use harness::gpu::depth_stencil_attachment;
 use harness::{FrameReport, Gpu};
 
 use crate::common::counters::CounterReadback;
+use crate::common::pipeline::Stage;
 use crate::common::renderer::SceneRenderer;
 
 use super::planes::{DEPTH, LightRange, SLOT};
@@ -98,41 +100,20 @@ impl PixelPass {
                 bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
                 immediate_size: 0,
             });
-        let gather = gpu
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("biri crossing gather"),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs_plane"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(super::planes::PLANE_LAYOUT)],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    // As the stencil passes: entering a shadow rasterises clockwise (planes.rs).
-                    front_face: wgpu::FrontFace::Cw,
-                    ..Default::default()
-                },
-                // Only crossings in front of the visible surface are gathered.
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs_gather"),
-                    compilation_options: Default::default(),
-                    targets: &[],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+        // Only crossings in front of the visible surface are gathered; as in the stencil passes,
+        // entering a shadow rasterises clockwise (planes.rs).
+        let gather = Stage::new("biri crossing gather", "vs_plane")
+            .vertices(super::planes::PLANE_LAYOUT)
+            .front_face(wgpu::FrontFace::Cw)
+            .fragment("fs_gather", &[])
+            .depth(wgpu::DepthStencilState {
+                format: DEPTH,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            })
+            .build(&gpu.device, &pl, module, &[]);
         let walk = gpu
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -238,17 +219,11 @@ impl PixelPass {
                     enc,
                     &wgpu::RenderPassDescriptor {
                         label: Some("biri crossing gather"),
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: depth,
-                            depth_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            }),
-                            stencil_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            }),
-                        }),
+                        depth_stencil_attachment: Some(depth_stencil_attachment(
+                            depth,
+                            wgpu::LoadOp::Load,
+                            wgpu::LoadOp::Load,
+                        )),
                         ..Default::default()
                     },
                 );

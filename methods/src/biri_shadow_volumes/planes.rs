@@ -4,6 +4,7 @@
 //! planes one by one under step 5's rules, in float or the paper's unorm8) or the per-pixel
 //! resolve (`pixel.rs`), into `acc_view`.
 
+use harness::gpu::{PhaseTimer, color_attachment, depth_stencil_attachment};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
 use scenes::FrameState;
@@ -13,8 +14,6 @@ use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::stencil::PipelineBuilder;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::wgsl;
-
-use harness::gpu::PhaseTimer;
 
 use super::pixel::PixelPass;
 use super::stencil_pipes::{StencilPipes, depth_pipe};
@@ -282,17 +281,11 @@ impl Planes {
                     enc,
                     &wgpu::RenderPassDescriptor {
                         label: Some("biri surface-shadow count"),
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &self.depth_view,
-                            depth_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            }),
-                            stencil_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(r.eye_count),
-                                store: wgpu::StoreOp::Store,
-                            }),
-                        }),
+                        depth_stencil_attachment: Some(depth_stencil_attachment(
+                            &self.depth_view,
+                            wgpu::LoadOp::Load,
+                            wgpu::LoadOp::Clear(r.eye_count),
+                        )),
                         ..Default::default()
                     },
                 );
@@ -408,15 +401,7 @@ impl Planes {
             let acc_view = &self.acc_view;
             let depth_view = &self.depth_view;
             let begin = |enc: &mut wgpu::CommandEncoder, label, load| {
-                let color = [Some(wgpu::RenderPassColorAttachment {
-                    view: acc_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })];
+                let color = [color_attachment(acc_view, load)];
                 renderer
                     .passes
                     .render_pass(

@@ -6,7 +6,8 @@ use wgpu::{BlendOperation as B, CompareFunction as C, StencilOperation as S};
 
 use super::planes::Options;
 use crate::common::gpu_scene::Vertex;
-use crate::common::stencil::{self, PLANE_LAYOUT, PipelineBuilder, Stage};
+use crate::common::pipeline::Stage;
+use crate::common::stencil::{self, PLANE_LAYOUT, PipelineBuilder};
 
 /// The plane pipelines of the stencil resolve.
 pub(super) struct StencilPipes {
@@ -44,14 +45,11 @@ fn color(
 /// The scene's depth (stencil kept), before any plane pass.
 pub(super) fn depth_pipe(b: &PipelineBuilder) -> wgpu::RenderPipeline {
     let keep = stencil::face(C::Always, S::Keep, S::Keep);
-    b.build(Stage {
-        label: "biri scene depth",
-        vs: "vs_scene",
-        vertices: Some(Vertex::LAYOUT),
-        fragment: None,
-        cull: None,
-        depth: stencil::depth_stencil(C::Less, true, keep, keep),
-    })
+    b.build(
+        Stage::new("biri scene depth", "vs_scene")
+            .vertices(Vertex::LAYOUT)
+            .depth(stencil::depth_stencil(C::Less, true, keep, keep)),
+    )
 }
 
 /// A plane stage (`vs_plane`) with an optional fragment.
@@ -61,13 +59,13 @@ fn plane<'a>(
     cull: Option<wgpu::Face>,
     depth: wgpu::DepthStencilState,
 ) -> Stage<'a> {
-    Stage {
-        label,
-        vs: "vs_plane",
-        vertices: Some(PLANE_LAYOUT),
-        fragment,
-        cull,
-        depth,
+    let stage = Stage::new(label, "vs_plane")
+        .vertices(PLANE_LAYOUT)
+        .cull(cull)
+        .depth(depth);
+    match fragment {
+        Some((fs, targets)) => stage.fragment(fs, targets),
+        None => stage,
     }
 }
 
@@ -96,14 +94,11 @@ impl StencilPipes {
         } else {
             "fs_surface"
         };
-        let surface = b.build(Stage {
-            label: "biri lit surfaces",
-            vs: "vs_fullscreen",
-            vertices: None,
-            fragment: Some((surface_fs, &add)),
-            cull: None,
-            depth: ds(C::Always, false, equal, equal),
-        });
+        let surface = b.build(
+            Stage::new("biri lit surfaces", "vs_fullscreen")
+                .fragment(surface_fs, &add)
+                .depth(ds(C::Always, false, equal, equal)),
+        );
         // Every crossing, float: one draw, order irrelevant.
         let all = b.build(plane(
             "biri planes",

@@ -191,29 +191,12 @@ pub fn mesh_pipeline_with(
     targets: &[Option<wgpu::ColorTargetState>],
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
-    let options = || crate::common::specialize::compile_options(constants);
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs"),
-            compilation_options: options(),
-            buffers: &[Some(vertices)],
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: depth,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some("fs"),
-            compilation_options: options(),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    let stage = crate::common::pipeline::Stage::new(label, "vs")
+        .vertices(vertices)
+        .fragment("fs", targets);
+    match depth {
+        Some(depth) => stage.depth(depth),
+        None => stage,
+    }
+    .build(device, layout, module, constants)
 }

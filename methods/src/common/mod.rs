@@ -6,6 +6,7 @@ pub mod gpu_scene;
 pub mod knobs;
 pub mod layouts;
 pub mod patterns;
+pub mod pipeline;
 pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;

@@ -6,7 +6,7 @@
 //! Pass-level skipping (DESIGN §2): without shadow casters the shadow-map passes are skipped
 //! (and lights carry no shadow map) unless `no_skip`.
 
-use harness::gpu::PassCounter;
+use harness::gpu::{PassCounter, color_attachment};
 use harness::method::{AOV_FORMAT, PrepareContext};
 use harness::{FrameReport, Gpu, Targets};
 use scenes::{FrameState, Scene};
@@ -299,15 +299,10 @@ impl SceneRenderer {
             &wgpu::RenderPassDescriptor {
                 label: Some("surface"),
                 color_attachments: &[
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: targets.surface,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    }),
+                    color_attachment(
+                        targets.surface,
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    ),
                     Some(wgpu::RenderPassColorAttachment {
                         view: &self.distance_view,
                         depth_slice: None,

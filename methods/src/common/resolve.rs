@@ -299,7 +299,7 @@ impl ResolvePass {
 }
 
 /// A pipeline drawing `vs_fullscreen` (FULLSCREEN) with fragment entry point `fs` of `module`,
-/// no depth, no vertex buffers; `constants` for the fragment stage.
+/// no depth, no vertex buffers; `constants` for both stages.
 pub fn fullscreen_pipeline(
     device: &wgpu::Device,
     label: &str,
@@ -309,27 +309,9 @@ pub fn fullscreen_pipeline(
     constants: &[(&str, f64)],
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_fullscreen"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: Default::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fs),
-            compilation_options: crate::common::specialize::compile_options(constants),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    crate::common::pipeline::Stage::new(label, "vs_fullscreen")
+        .fragment(fs, targets)
+        .build(device, layout, module, constants)
 }
 
 /// The composed WGSL of a resolve pass.

@@ -1,6 +1,8 @@
 //! Pipeline state of stencil shadow-volume passes, shared by the methods that draw shadow planes
 //! into a depth-stencil buffer (both Biri methods, `common::stencil_surfaces`).
 
+use crate::common::pipeline::{self, Stage};
+
 /// The depth-stencil format of every shadow-plane pass.
 pub const DEPTH_STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
 
@@ -47,18 +49,6 @@ pub fn depth_stencil(
     }
 }
 
-/// One stage of a shadow-plane method: its entries, vertex layout, colour targets, culling and
-/// depth-stencil state.
-pub struct Stage<'a> {
-    pub label: &'a str,
-    pub vs: &'a str,
-    pub vertices: Option<wgpu::VertexBufferLayout<'a>>,
-    /// The fragment entry and its targets; None: depth / stencil only.
-    pub fragment: Option<(&'a str, &'a [Option<wgpu::ColorTargetState>])>,
-    pub cull: Option<wgpu::Face>,
-    pub depth: wgpu::DepthStencilState,
-}
-
 /// Builds a shadow-plane method's render pipelines from one module and one layout (the
 /// renderer's group 0 and the method's group 1), with the method's overrides.
 pub struct PipelineBuilder<'a> {
@@ -72,52 +62,26 @@ impl<'a> PipelineBuilder<'a> {
     pub fn new(
         device: &'a wgpu::Device,
         label: &str,
-        [frame_layout, own_layout]: [&wgpu::BindGroupLayout; 2],
+        groups: [&wgpu::BindGroupLayout; 2],
         module: &'a wgpu::ShaderModule,
         constants: &'a [(&'static str, f64)],
     ) -> Self {
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &[Some(frame_layout), Some(own_layout)],
-            immediate_size: 0,
-        });
         PipelineBuilder {
             device,
-            layout,
+            layout: pipeline::layout(device, label, &groups),
             module,
             constants,
         }
     }
 
     pub fn build(&self, stage: Stage) -> wgpu::RenderPipeline {
-        let options = || crate::common::specialize::compile_options(self.constants);
-        self.device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(stage.label),
-                layout: Some(&self.layout),
-                vertex: wgpu::VertexState {
-                    module: self.module,
-                    entry_point: Some(stage.vs),
-                    compilation_options: options(),
-                    buffers: &stage.vertices.into_iter().map(Some).collect::<Vec<_>>(),
-                },
-                // silhouette::extrude winds quads outward in a right-handed sense, which wgpu's
-                // y-up clip space rasterises clockwise: "front" (entering a shadow) is Cw here.
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: stage.cull,
-                    front_face: wgpu::FrontFace::Cw,
-                    ..Default::default()
-                },
-                depth_stencil: Some(stage.depth),
-                multisample: Default::default(),
-                fragment: stage.fragment.map(|(fs, targets)| wgpu::FragmentState {
-                    module: self.module,
-                    entry_point: Some(fs),
-                    compilation_options: options(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+        // silhouette::extrude winds quads outward in a right-handed sense, which wgpu's y-up
+        // clip space rasterises clockwise: "front" (entering a shadow) is Cw here.
+        stage.front_face(wgpu::FrontFace::Cw).build(
+            self.device,
+            &self.layout,
+            self.module,
+            self.constants,
+        )
     }
 }

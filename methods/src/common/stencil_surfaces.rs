@@ -10,11 +10,13 @@
 
 use harness::Gpu;
 use harness::gpu::PassCounter;
+use harness::gpu::{color_attachment, depth_stencil_attachment};
 use harness::method::AOV_FORMAT;
 
 use super::gpu_scene::Vertex;
 use super::renderer::{SceneRenderer, surface_source};
 use super::wgsl;
+use crate::common::pipeline::{self, Stage};
 
 pub struct StencilSurfaceShadows {
     /// One pipeline per light slot (`override SURFACE_LIGHT`).
@@ -32,74 +34,44 @@ impl StencilSurfaceShadows {
         lights: usize,
     ) -> StencilSurfaceShadows {
         let module = wgsl::module(&gpu.device, "stencil surface shadows", &surface_source());
-        let layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("stencil surface shadows"),
-                bind_group_layouts: &[Some(&renderer.frame_layout)],
-                immediate_size: 0,
-            });
+        let layout = pipeline::layout(
+            &gpu.device,
+            "stencil surface shadows",
+            &[&renderer.frame_layout],
+        );
         let keep = wgpu::StencilOperation::Keep;
         let in_shadow = super::stencil::face(wgpu::CompareFunction::NotEqual, keep, keep);
-        let add = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
+        let depth = wgpu::DepthStencilState {
+            format: depth_format,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: wgpu::StencilState {
+                front: in_shadow,
+                back: in_shadow,
+                read_mask: 0xff,
+                write_mask: 0,
+            },
+            // Pulled toward the eye so the visible surface passes LessEqual against the depth
+            // another vertex shader wrote.
+            bias: wgpu::DepthBiasState {
+                constant: -8,
+                slope_scale: -1.0,
+                clamp: 0.0,
+            },
         };
+        let targets = [pipeline::target(AOV_FORMAT, Some(pipeline::ADDITIVE))];
         let pipelines = (0..lights)
             .map(|k| {
-                let constants = [("SURFACE_LIGHT", k as f64)];
-                gpu.device
-                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some("stencil surface shadows"),
-                        layout: Some(&layout),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some("vs"),
-                            compilation_options: Default::default(),
-                            buffers: &[Some(Vertex::LAYOUT)],
-                        },
-                        primitive: wgpu::PrimitiveState {
-                            cull_mode: None,
-                            ..Default::default()
-                        },
-                        depth_stencil: Some(wgpu::DepthStencilState {
-                            format: depth_format,
-                            depth_write_enabled: Some(false),
-                            depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                            stencil: wgpu::StencilState {
-                                front: in_shadow,
-                                back: in_shadow,
-                                read_mask: 0xff,
-                                write_mask: 0,
-                            },
-                            // Pulled toward the eye so the visible surface passes LessEqual
-                            // against the depth another vertex shader wrote.
-                            bias: wgpu::DepthBiasState {
-                                constant: -8,
-                                slope_scale: -1.0,
-                                clamp: 0.0,
-                            },
-                        }),
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs_remove_light"),
-                            compilation_options: crate::common::specialize::compile_options(
-                                &constants,
-                            ),
-                            targets: &[Some(wgpu::ColorTargetState {
-                                format: AOV_FORMAT,
-                                blend: Some(wgpu::BlendState {
-                                    color: add,
-                                    alpha: add,
-                                }),
-                                write_mask: wgpu::ColorWrites::ALL,
-                            })],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    })
+                Stage::new("stencil surface shadows", "vs")
+                    .vertices(Vertex::LAYOUT)
+                    .fragment("fs_remove_light", &targets)
+                    .depth(depth.clone())
+                    .build(
+                        &gpu.device,
+                        &layout,
+                        &module,
+                        &[("SURFACE_LIGHT", k as f64)],
+                    )
             })
             .collect();
         StencilSurfaceShadows {
@@ -125,26 +97,12 @@ impl StencilSurfaceShadows {
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some("stencil surface shadows"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: surface,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: depth_stencil,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                }),
+                color_attachments: &[color_attachment(surface, wgpu::LoadOp::Load)],
+                depth_stencil_attachment: Some(depth_stencil_attachment(
+                    depth_stencil,
+                    wgpu::LoadOp::Load,
+                    wgpu::LoadOp::Load,
+                )),
                 ..Default::default()
             },
         );

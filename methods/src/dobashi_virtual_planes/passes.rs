@@ -2,8 +2,10 @@
 //! the far-extent reduction (compute), the virtual planes (instanced lattices, additive blending
 //! into the accumulation target) and the resolve (accumulation → `inscatter`, `total`).
 
+use harness::gpu::color_attachment;
 use harness::{Gpu, Targets};
 
+use crate::common::pipeline::{self, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::wgsl;
@@ -123,12 +125,7 @@ fn pipeline_layout(
     renderer: &SceneRenderer,
     own: &wgpu::BindGroupLayout,
 ) -> wgpu::PipelineLayout {
-    gpu.device
-        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &[Some(&renderer.frame_layout), Some(own)],
-            immediate_size: 0,
-        })
+    pipeline::layout(&gpu.device, label, &[&renderer.frame_layout, own])
 }
 
 fn compute_pipeline(
@@ -177,7 +174,6 @@ impl Passes {
         let plane_constants = renderer
             .specialization
             .with(&[("XI_PER_FRAGMENT", if xi_per_fragment { 1.0 } else { 0.0 })]);
-        let plane_options = || crate::common::specialize::compile_options(&plane_constants);
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("dobashi planes"),
             size: std::mem::size_of::<PlanesUniform>() as u64,
@@ -228,51 +224,13 @@ impl Passes {
             ],
         );
         let module = wgsl::module(&gpu.device, "dobashi planes", &planes_source());
-        let additive = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let planes_pipeline = gpu
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("dobashi planes"),
-                layout: Some(&pipeline_layout(
-                    gpu,
-                    "dobashi planes",
-                    renderer,
-                    &planes_layout,
-                )),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: plane_options(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                // Planes end at the surfaces by a test against the surface pass's distance in the
-                // fragment shader (it also needs the distance to shorten the last slab).
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs"),
-                    compilation_options: plane_options(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: accum,
-                        blend: Some(wgpu::BlendState {
-                            color: additive,
-                            alpha: additive,
-                        }),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+        let layout = pipeline_layout(gpu, "dobashi planes", renderer, &planes_layout);
+        let targets = [pipeline::target(accum, Some(pipeline::ADDITIVE))];
+        // Planes end at the surfaces by a test against the surface pass's distance in the
+        // fragment shader (it also needs the distance to shorten the last slab): no depth.
+        let planes_pipeline = Stage::new("dobashi planes", "vs")
+            .fragment("fs", &targets)
+            .build(&gpu.device, &layout, &module, &plane_constants);
         let (nu, nv) = lattice;
         let mut idx = Vec::with_capacity(((nu - 1) * (nv - 1) * 6) as usize);
         for j in 0..nv - 1 {
@@ -345,15 +303,10 @@ impl Passes {
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some("dobashi planes"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &self.accum_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
+                color_attachments: &[color_attachment(
+                    &self.accum_view,
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                )],
                 ..Default::default()
             },
         );

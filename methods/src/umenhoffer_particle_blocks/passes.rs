@@ -3,11 +3,12 @@
 //! bind group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
 
 use bytemuck::{Pod, Zeroable};
-use harness::gpu::Counted;
+use harness::gpu::{Counted, color_attachment};
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
 use super::blocks::{ImpParticle, Prim, Tile};
+use crate::common::pipeline::{self, ADD, ADDITIVE, Stage, target};
 use crate::common::renderer::SceneRenderer;
 use crate::common::wgsl;
 
@@ -185,7 +186,7 @@ impl Resources {
 }
 
 /// Builds one stage: its group-1 layout and bind group from a subset of the bindings, its module
-/// (common.wgsl plus its own source) and a render pipeline without vertex buffers or depth.
+/// (common.wgsl plus its own source) and its pipeline (no vertex buffers, no depth).
 struct StageBuilder<'a> {
     device: &'a wgpu::Device,
     renderer: &'a SceneRenderer,
@@ -221,56 +222,16 @@ impl StageBuilder<'_> {
             layout: &bgl,
             entries: &entries,
         });
-        let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &[Some(&self.renderer.frame_layout), Some(&bgl)],
-            immediate_size: 0,
-        });
+        let layout = pipeline::layout(dev, label, &[&self.renderer.frame_layout, &bgl]);
         let module = wgsl::module(dev, label, &source(own));
-        let options = || crate::common::specialize::compile_options(&self.constants);
-        let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some(vs),
-                compilation_options: options(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some(fs),
-                compilation_options: options(),
-                targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = Stage::new(label, vs).fragment(fs, targets).build(
+            dev,
+            &layout,
+            &module,
+            &self.constants,
+        );
         (pipeline, bind)
     }
-}
-
-const ONE: wgpu::BlendComponent = wgpu::BlendComponent {
-    src_factor: wgpu::BlendFactor::One,
-    dst_factor: wgpu::BlendFactor::One,
-    operation: wgpu::BlendOperation::Add,
-};
-
-fn target(
-    format: wgpu::TextureFormat,
-    blend: Option<wgpu::BlendState>,
-) -> Option<wgpu::ColorTargetState> {
-    Some(wgpu::ColorTargetState {
-        format,
-        blend,
-        write_mask: wgpu::ColorWrites::ALL,
-    })
 }
 
 /// The total AOV (in-scatter + surface), a full-screen pass over the harness's targets.
@@ -288,11 +249,7 @@ fn total_pipeline(dev: &wgpu::Device) -> (wgpu::RenderPipeline, wgpu::BindGroupL
     let pipeline = crate::common::resolve::fullscreen_pipeline(
         dev,
         "particle total",
-        &dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("particle total"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        }),
+        &pipeline::layout(dev, "particle total", &[&layout]),
         &module,
         "fs_total",
         &[],
@@ -319,9 +276,9 @@ impl Passes {
         let minmax = wgpu::BlendState {
             color: wgpu::BlendComponent {
                 operation: wgpu::BlendOperation::Min,
-                ..ONE
+                ..ADD
             },
-            alpha: ONE,
+            alpha: ADD,
         };
         let (impostor, bind_impostor) = b.stage(
             "particle impostors",
@@ -330,10 +287,7 @@ impl Passes {
             ("vs_impostor", "fs_impostor"),
             &[target(ATLAS_FORMAT, Some(minmax))],
         );
-        let additive = Some(wgpu::BlendState {
-            color: ONE,
-            alpha: ONE,
-        });
+        let additive = Some(ADDITIVE);
         let eight = sizes.slices > 4;
         let light_targets = [
             target(ACCUM_FORMAT, additive),
@@ -398,17 +352,7 @@ impl Passes {
     ) -> Counted<wgpu::RenderPass<'e>> {
         let attachments: Vec<_> = views
             .iter()
-            .map(|v| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view: v,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(clear),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
+            .map(|v| color_attachment(v, wgpu::LoadOp::Clear(clear)))
             .collect();
         renderer.passes.render_pass(
             enc,

@@ -3,6 +3,7 @@
 
 use std::ops::Range;
 
+use harness::gpu::{color_attachment, depth_stencil_attachment};
 use harness::{FrameReport, Gpu};
 
 use super::{Accumulate, LightDraws, Passes, PolyUniform, SLOT};
@@ -105,30 +106,14 @@ impl Passes {
         depth: wgpu::LoadOp<f32>,
         stencil: wgpu::LoadOp<u32>,
     ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-        let store = wgpu::StoreOp::Store;
-        wgpu::RenderPassDepthStencilAttachment {
-            view: &self.depth_view,
-            depth_ops: Some(wgpu::Operations { load: depth, store }),
-            stencil_ops: Some(wgpu::Operations {
-                load: stencil,
-                store,
-            }),
-        }
+        depth_stencil_attachment(&self.depth_view, depth, stencil)
     }
 
     fn color(
         &self,
         load: wgpu::LoadOp<wgpu::Color>,
     ) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 1] {
-        [Some(wgpu::RenderPassColorAttachment {
-            view: &self.acc_view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load,
-                store: wgpu::StoreOp::Store,
-            },
-        })]
+        [color_attachment(&self.acc_view, load)]
     }
 
     /// The scene (tessellated for vertex evaluation) as the passes draw it.

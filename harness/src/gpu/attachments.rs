@@ -1,0 +1,34 @@
+//! Render-pass attachments as every pass writes them: loaded or cleared, always stored.
+
+/// A colour attachment of `view`: `load` (e.g. `LoadOp::Load`, or a clear), stored.
+pub fn color_attachment(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+/// A depth-stencil attachment of `view`: depth and stencil each loaded or cleared, both stored.
+pub fn depth_stencil_attachment(
+    view: &wgpu::TextureView,
+    depth: wgpu::LoadOp<f32>,
+    stencil: wgpu::LoadOp<u32>,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    let store = wgpu::StoreOp::Store;
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations { load: depth, store }),
+        stencil_ops: Some(wgpu::Operations {
+            load: stencil,
+            store,
+        }),
+    }
+}

@@ -1,0 +1,135 @@
+//! One description of a render pipeline for every pass of every method: a vertex entry, an
+//! optional vertex layout, an optional fragment entry with its targets, the primitive state and
+//! an optional depth-stencil state, compiled with the pass's WGSL overrides
+//! (`specialize::compile_options`) on both stages.
+
+use crate::common::specialize::compile_options;
+
+/// src + dst, for colour and alpha alike.
+pub const ADD: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::One,
+    operation: wgpu::BlendOperation::Add,
+};
+
+/// Additive blending of colour and alpha: what accumulating passes use.
+pub const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
+    color: ADD,
+    alpha: ADD,
+};
+
+/// A colour target writing every channel.
+pub fn target(
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+) -> Option<wgpu::ColorTargetState> {
+    Some(wgpu::ColorTargetState {
+        format,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })
+}
+
+/// A pipeline layout of these bind groups, in order.
+pub fn layout(
+    device: &wgpu::Device,
+    label: &str,
+    groups: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
+    let groups: Vec<_> = groups.iter().map(|g| Some(*g)).collect();
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &groups,
+        immediate_size: 0,
+    })
+}
+
+/// One pass's pipeline, described.
+pub struct Stage<'a> {
+    pub label: &'a str,
+    pub vs: &'a str,
+    pub vertices: Option<wgpu::VertexBufferLayout<'a>>,
+    /// The fragment entry and its targets; None: depth / stencil only.
+    pub fragment: Option<(&'a str, &'a [Option<wgpu::ColorTargetState>])>,
+    pub primitive: wgpu::PrimitiveState,
+    pub depth: Option<wgpu::DepthStencilState>,
+}
+
+impl<'a> Stage<'a> {
+    /// Vertex entry `vs`; no vertex buffer, no fragment, triangle lists without culling, no depth.
+    pub fn new(label: &'a str, vs: &'a str) -> Self {
+        Stage {
+            label,
+            vs,
+            vertices: None,
+            fragment: None,
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth: None,
+        }
+    }
+
+    pub fn vertices(self, layout: wgpu::VertexBufferLayout<'a>) -> Self {
+        Stage {
+            vertices: Some(layout),
+            ..self
+        }
+    }
+
+    pub fn fragment(self, fs: &'a str, targets: &'a [Option<wgpu::ColorTargetState>]) -> Self {
+        Stage {
+            fragment: Some((fs, targets)),
+            ..self
+        }
+    }
+
+    pub fn depth(self, state: wgpu::DepthStencilState) -> Self {
+        Stage {
+            depth: Some(state),
+            ..self
+        }
+    }
+
+    pub fn cull(mut self, face: Option<wgpu::Face>) -> Self {
+        self.primitive.cull_mode = face;
+        self
+    }
+
+    pub fn front_face(mut self, winding: wgpu::FrontFace) -> Self {
+        self.primitive.front_face = winding;
+        self
+    }
+
+    /// The pipeline, from `module` under `layout`, with `constants` on both stages.
+    pub fn build(
+        self,
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        constants: &[(&str, f64)],
+    ) -> wgpu::RenderPipeline {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(self.label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(self.vs),
+                compilation_options: compile_options(constants),
+                buffers: &self.vertices.into_iter().map(Some).collect::<Vec<_>>(),
+            },
+            primitive: self.primitive,
+            depth_stencil: self.depth,
+            multisample: Default::default(),
+            fragment: self.fragment.map(|(fs, targets)| wgpu::FragmentState {
+                module,
+                entry_point: Some(fs),
+                compilation_options: compile_options(constants),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
