@@ -91,7 +91,10 @@ impl Gpu {
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
             | wgpu::Features::FLOAT32_BLENDABLE
             | wgpu::Features::DEPTH32FLOAT_STENCIL8
-            | wgpu::Features::PIPELINE_STATISTICS_QUERY;
+            | wgpu::Features::PIPELINE_STATISTICS_QUERY
+            // Shadow planes between the eye and the near plane are rasterised (depth clamped)
+            // instead of clipped, so z-pass counts from the eye stay exact (Everitt & Kilgard).
+            | wgpu::Features::DEPTH_CLIP_CONTROL;
         let features = adapter.features() & optional;
         let limits = wgpu::Limits::default().using_resolution(adapter.limits());
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

@@ -77,6 +77,11 @@ pub const CASES: &[Case] = &[
         build: grazing_shadow_planes,
     },
     Case {
+        name: "near-plane-cuts-shadow-plane",
+        about: "the eye 1 cm from a post's shadow plane, near plane 10 cm: the plane crosses half the view rays between the eye and the near plane (z-pass counting)",
+        build: near_plane_cuts_shadow_plane,
+    },
+    Case {
         name: "sigma-t-1e-6",
         about: "σ_t = 1e-6 /m: nearly clear air (1 − e^(−σ_t d) cancellation)",
         build: thin_medium,
@@ -209,6 +214,28 @@ fn light_behind_camera(_: &BuildContext) -> Result<Value, String> {
     let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     let l: Vec<f64> = (0..3).map(|i| eye[i] + 0.01 * d[i] / n).collect();
     v["lights"] = json!([point([l[0], l[1], l[2]], 60.0)]);
+    Ok(v)
+}
+
+fn near_plane_cuts_shadow_plane(_: &BuildContext) -> Result<Value, String> {
+    let mut v = base(60.0);
+    v["lights"] = json!([point([0.0, 2.0, 0.0], 60.0)]);
+    // A post whose front vertical edge at (0.1, y, -1.9) is on the light's silhouette: its
+    // shadow plane holds the light and that edge. The eye sits 5 m along the plane from the
+    // light, 1 cm outside it (on the lit side), looking back past the post: the plane is seen
+    // edge-on through the middle of the view.
+    let (ex, ez) = (0.1f64, -1.9f64);
+    let len = (ex * ex + ez * ez).sqrt();
+    let (dx, dz) = (ex / len, ez / len);
+    let (nx, nz) = (-dz, dx);
+    let eye = [5.0 * dx + 0.01 * nx, 1.0, 5.0 * dz + 0.01 * nz];
+    let at = [-0.6, 0.8, -1.0];
+    v["objects"] = json!([
+        floor(14.0),
+        {"name": "post", "shape": {"kind": "box", "size": [0.2, 2.4, 0.2]},
+         "transform": {"translation": [0.0, 1.2, -2.0]}},
+    ]);
+    v["camera"] = json!({"position": eye, "look_at": at, "fov_y_deg": 60, "near": 0.1, "far": 40});
     Ok(v)
 }
 

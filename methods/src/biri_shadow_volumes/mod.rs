@@ -188,6 +188,13 @@ impl Method for BiriShadowVolumes {
         .concat()
     }
 
+    /// The near-plane case: the shadow planes are drawn with depth clamping where the adapter
+    /// has `DEPTH_CLIP_CONTROL` (lavapipe does), so crossings between the eye and the near plane
+    /// are counted; total rel RMSE 0.051 at 64² (without clamping: 0.51). Bound ≈ 2× that.
+    fn stress_bound(&self, case: &str) -> Option<f64> {
+        (case == "near-plane-cuts-shadow-plane").then_some(0.10)
+    }
+
     /// Bounds ≈ 1.5–4× the rel RMSE measured at 48² on lavapipe: sphere-point < 5e-5,
     /// overlap-point with the stencil resolve 0.085, indirect-point (total AOV, §III.C) 0.0024.
     fn conformance(&self) -> Vec<ConformanceCase> {

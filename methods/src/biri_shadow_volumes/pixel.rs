@@ -105,6 +105,7 @@ impl PixelPass {
         let gather = Stage::new("biri crossing gather", "vs_plane")
             .vertices(super::planes::PLANE_LAYOUT)
             .front_face(wgpu::FrontFace::Cw)
+            .unclipped_depth(crate::common::stencil::near_plane_safe(&gpu.device))
             .fragment("fs_gather", &[])
             .depth(wgpu::DepthStencilState {
                 format: DEPTH,

@@ -102,6 +102,13 @@ impl<'a> Stage<'a> {
         self
     }
 
+    /// Depth clamped instead of clipped at the near and far planes (needs
+    /// `Features::DEPTH_CLIP_CONTROL`).
+    pub fn unclipped_depth(mut self, unclipped: bool) -> Self {
+        self.primitive.unclipped_depth = unclipped;
+        self
+    }
+
     /// The pipeline, from `module` under `layout`, with `constants` on both stages.
     pub fn build(
         self,

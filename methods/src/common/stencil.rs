@@ -77,11 +77,19 @@ impl<'a> PipelineBuilder<'a> {
     pub fn build(&self, stage: Stage) -> wgpu::RenderPipeline {
         // silhouette::extrude winds quads outward in a right-handed sense, which wgpu's y-up
         // clip space rasterises clockwise: "front" (entering a shadow) is Cw here.
-        stage.front_face(wgpu::FrontFace::Cw).build(
-            self.device,
-            &self.layout,
-            self.module,
-            self.constants,
-        )
+        stage
+            .front_face(wgpu::FrontFace::Cw)
+            .unclipped_depth(near_plane_safe(self.device))
+            .build(self.device, &self.layout, self.module, self.constants)
     }
+}
+
+/// Whether shadow planes can be drawn with depth clamping instead of near/far clipping
+/// (Everitt & Kilgard 2002): a plane crossing between the eye and the near plane is then still
+/// rasterised (at depth 0) and counted, so z-pass counts seeded with the eye's count stay exact
+/// with the camera anywhere. Without the feature such crossings are lost (ARCHITECTURE §6).
+pub fn near_plane_safe(device: &wgpu::Device) -> bool {
+    device
+        .features()
+        .contains(wgpu::Features::DEPTH_CLIP_CONTROL)
 }
