@@ -256,10 +256,8 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let st = self;
-        let mut report = FrameReport::default();
-        st.renderer.update(gpu, frame);
-        let plans = plan_lights(&st.renderer, frame, st.volumes.samples, &mut report);
+        let mut report = self.renderer.start_frame(gpu, frame);
+        let plans = plan_lights(&self.renderer, frame, self.volumes.samples, &mut report);
         // Directional light's volume is its shadow volume: its unshadowed integral is always
         // added here; a local light's only when it has no volume.
         let direct = frame
@@ -271,38 +269,38 @@ impl Prepared for State {
                 p.is_none() || matches!(l, scenes::LightState::Directional { .. })
             })
             .fold(0u32, |bits, (k, _)| bits | 1 << k);
-        if let Some(u) = &st.resolve.uniform {
+        if let Some(u) = &self.resolve.uniform {
             let c = ConfigUniform {
                 direct: [direct, 0, 0, 0],
             };
             gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&c));
         }
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.mark(enc, "shadow");
         }
-        st.renderer.encode_shadows(enc, &mut report);
-        if let Some(t) = st.timer.as_mut() {
+        self.renderer.encode_shadows(enc, &mut report);
+        if let Some(t) = self.timer.as_mut() {
             t.mark(enc, "surface");
         }
-        st.renderer.encode_surface(enc, targets, &mut report);
-        if let Some(t) = st.timer.as_mut() {
+        self.renderer.encode_surface(enc, targets, &mut report);
+        if let Some(t) = self.timer.as_mut() {
             t.mark(enc, "volume");
         }
-        st.volumes
-            .encode(gpu, enc, &st.renderer, &frame.lights, &plans, &mut report);
+        self.volumes
+            .encode(gpu, enc, &self.renderer, &frame.lights, &plans, &mut report);
         report.ran("light-volumes");
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.mark(enc, "resolve");
         }
-        st.resolve.encode_with(
+        self.resolve.encode_with(
             gpu,
             enc,
-            &st.renderer,
+            &self.renderer,
             targets,
-            &[&st.table_view, &st.volumes.acc_view],
+            &[&self.table_view, &self.volumes.acc_view],
         );
         report.ran("resolve");
-        if let Some(t) = st.timer.as_mut() {
+        if let Some(t) = self.timer.as_mut() {
             t.finish(enc);
         }
         Ok(report)

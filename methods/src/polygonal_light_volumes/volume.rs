@@ -3,9 +3,11 @@
 //! additively into a float accumulation target the resolve reads.
 
 use bytemuck::{Pod, Zeroable};
+use harness::gpu::color_attachment;
 use harness::{FrameReport, Gpu};
 
 use super::faces::{self, LightPlan};
+use crate::common::pipeline::{self, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
@@ -120,62 +122,22 @@ impl VolumePass {
             ],
         });
         let module = wgsl::module(&gpu.device, "light volumes", &super::volume_source());
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("light volumes"),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-                immediate_size: 0,
-            });
-        let additive = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
+        let pl = pipeline::layout(
+            &gpu.device,
+            "light volumes",
+            &[&renderer.frame_layout, &layout],
+        );
+        let targets = [pipeline::target(ACC_FORMAT, Some(pipeline::ADDITIVE))];
         let pipelines = (0..renderer.scene.desc.lights.len().min(MAX_LIGHTS))
             .map(|k| {
                 let own = [&[("LIGHT", k as f64)][..], constants].concat();
                 let all = renderer.specialization.with(&own);
+                // Both facings drawn; the fragment takes its sign from front_facing
+                // (volume.wgsl winds every face outward).
                 let pipeline = |vs: &str| {
-                    gpu.device
-                        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                            label: Some("light volume"),
-                            layout: Some(&pl),
-                            vertex: wgpu::VertexState {
-                                module: &module,
-                                entry_point: Some(vs),
-                                compilation_options: crate::common::specialize::compile_options(
-                                    &all,
-                                ),
-                                buffers: &[],
-                            },
-                            // Both facings drawn; the fragment takes its sign from front_facing
-                            // (volume.wgsl winds every face outward).
-                            primitive: wgpu::PrimitiveState {
-                                cull_mode: None,
-                                front_face: wgpu::FrontFace::Ccw,
-                                ..Default::default()
-                            },
-                            depth_stencil: None,
-                            multisample: Default::default(),
-                            fragment: Some(wgpu::FragmentState {
-                                module: &module,
-                                entry_point: Some("fs_volume"),
-                                compilation_options: crate::common::specialize::compile_options(
-                                    &all,
-                                ),
-                                targets: &[Some(wgpu::ColorTargetState {
-                                    format: ACC_FORMAT,
-                                    blend: Some(wgpu::BlendState {
-                                        color: additive,
-                                        alpha: additive,
-                                    }),
-                                    write_mask: wgpu::ColorWrites::ALL,
-                                })],
-                            }),
-                            multiview_mask: None,
-                            cache: None,
-                        })
+                    Stage::new("light volume", vs)
+                        .fragment("fs_volume", &targets)
+                        .build(&gpu.device, &pl, &module, &all)
                 };
                 (pipeline("vs_grid"), pipeline("vs_walls"))
             })
@@ -234,15 +196,10 @@ impl VolumePass {
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some("light volumes"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &self.acc_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
+                color_attachments: &[color_attachment(
+                    &self.acc_view,
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                )],
                 ..Default::default()
             },
         );
