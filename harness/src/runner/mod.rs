@@ -69,8 +69,8 @@ mod score;
 use frame::measure;
 pub use frame::{AovTargets, FrameTiming, MIN_TIMED_FRAMES, another_frame, render_frame};
 pub use score::error_scale;
-pub(crate) use score::run_one;
 use score::write_aovs;
+pub(crate) use score::{panic_message, run_one};
 
 /// Events the caller may show (progress bars, log lines).
 pub enum Event<'a> {

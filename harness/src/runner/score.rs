@@ -35,36 +35,9 @@ pub(crate) fn run_one(
     }));
     let errors = gpu.take_errors();
     crate::isolate::phase::enter(crate::isolate::Phase::Score);
-    let (mut rec, images) = match outcome {
-        Err(panic) => {
-            let msg = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "unknown panic".into());
-            return failed(scene, entry.id(), params, format!("panicked: {msg}"));
-        }
-        Ok(Err(e)) => {
-            return failed(
-                scene,
-                entry.id(),
-                params,
-                if errors.is_empty() {
-                    e
-                } else {
-                    format!("{e}; wgpu: {}", errors.join("; "))
-                },
-            );
-        }
-        Ok(Ok(_)) if !errors.is_empty() => {
-            return failed(
-                scene,
-                entry.id(),
-                params,
-                format!("wgpu error: {}", errors.join("; ")),
-            );
-        }
-        Ok(Ok(v)) => v,
+    let (mut rec, images) = match settle(outcome, errors) {
+        Ok(measured) => measured,
+        Err(why) => return failed(scene, entry.id(), params, why),
     };
     let [inscatter, surface, total] = &images;
     let dir = format!("{}/{}/{}", scene.name, entry.id(), params_slug(params));
@@ -162,6 +135,29 @@ pub(crate) fn run_one(
         rec.reason = Some(format!("{nonfinite} non-finite pixels in the output"));
     }
     rec
+}
+
+/// A measurement's outcome with the wgpu errors raised meanwhile: the record and its images, or
+/// why the record failed (a panic, the method's error, a wgpu error).
+fn settle<T>(
+    outcome: std::thread::Result<Result<T, String>>,
+    errors: Vec<String>,
+) -> Result<T, String> {
+    match outcome {
+        Err(panic) => Err(format!("panicked: {}", panic_message(panic))),
+        Ok(Err(e)) if errors.is_empty() => Err(e),
+        Ok(Err(e)) => Err(format!("{e}; wgpu: {}", errors.join("; "))),
+        Ok(Ok(_)) if !errors.is_empty() => Err(format!("wgpu error: {}", errors.join("; "))),
+        Ok(Ok(v)) => Ok(v),
+    }
+}
+
+/// A caught panic's message.
+pub(crate) fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
+    p.downcast_ref::<String>()
+        .cloned()
+        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "unknown panic".into())
 }
 
 /// The error that maps to the top of an error map's colour bar: a tenth of the reference's

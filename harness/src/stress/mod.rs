@@ -121,13 +121,6 @@ fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
     }
 }
 
-fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
-    p.downcast_ref::<String>()
-        .cloned()
-        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-        .unwrap_or_else(|| "unknown panic".into())
-}
-
 /// Runs every case × method. `gpu` is replaced by a fresh device when a method loses it.
 /// Returns the results (also in `out_dir/results.json`). Errs only when results cannot be
 /// written or a lost device cannot be reopened.
@@ -161,7 +154,7 @@ pub fn run(
     };
     for case in cases {
         let scene = std::panic::catch_unwind(|| case.scene(&ctx))
-            .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))));
+            .unwrap_or_else(|p| Err(format!("panicked: {}", crate::runner::panic_message(p))));
         for entry in methods {
             let bound = entry.stress_bound(case.name);
             let params =
@@ -202,7 +195,9 @@ pub fn run(
                     std::panic::catch_unwind(AssertUnwindSafe(|| {
                         runner::run(g, std::slice::from_ref(scene), &[*entry], &rc, &mut inner)
                     }))
-                    .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))))
+                    .unwrap_or_else(|p| {
+                        Err(format!("panicked: {}", crate::runner::panic_message(p)))
+                    })
                     .map_err(|e| format!("no record (reference or harness): {e}"))
                 }
             };
