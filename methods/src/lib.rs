@@ -9,6 +9,7 @@ pub mod biri_shadow_volumes;
 pub mod common;
 pub mod conformance;
 pub mod dobashi_virtual_planes;
+pub mod epipolar_minmax;
 pub mod froxel_fog;
 pub mod no_scatter;
 pub mod polygonal_light_volumes;
@@ -22,6 +23,7 @@ use harness::Method;
 pub static REGISTRY: &[&dyn Method] = &[
     &raymarch_brute::RaymarchBrute,
     &froxel_fog::FroxelFog,
+    &epipolar_minmax::EpipolarMinMax,
     &dobashi_virtual_planes::DobashiVirtualPlanes,
     &wyman_hybrid::WymanHybrid,
     &biri_shadow_volumes::BiriShadowVolumes,
