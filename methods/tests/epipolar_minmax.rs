@@ -37,3 +37,26 @@ fn clear_fog_converges_as_slices_and_samples_grow() {
         "error must fall as slices and samples grow: {errors:?}"
     );
 }
+
+/// The min-max traversal only settles runs the leaf-by-leaf march would find wholly lit or
+/// wholly shadowed, so on a scene with a shadowing caster the two images agree (up to the
+/// quadrature of long lit runs), and both are close to the reference.
+#[test]
+fn sphere_point_tree_traversal_matches_the_leaf_march() {
+    let Some(gpu) = gpu() else { return };
+    let scene = library("sphere-point");
+    let render = |min_max: bool| {
+        let knobs = [("min_max", ParamValue::Bool(min_max))];
+        render_method(&gpu, &EpipolarMinMax, &scene, RES, &knobs).unwrap()
+    };
+    let (tree, leaves) = (render(true), render(false));
+    let between = rel_rmse(tree.aov(Aov::Inscatter), leaves.aov(Aov::Inscatter));
+    let reference = reference(&scene, RES);
+    let to_ref = rel_rmse(tree.aov(Aov::Inscatter), &reference.inscatter);
+    eprintln!("tree vs leaves {between}, tree vs reference {to_ref}");
+    assert!(
+        between < 0.01,
+        "tree and leaf march differ: rel RMSE {between}"
+    );
+    assert!(to_ref < 0.1, "tree march vs reference: rel RMSE {to_ref}");
+}
