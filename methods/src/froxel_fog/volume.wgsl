@@ -1,5 +1,5 @@
-// Froxel volume passes (Wronski 2014; Hillaire 2015): `inject` evaluates σ_s Σ_lights p V I e^(−σ_t r)/r²
-// at one (optionally jittered) point per froxel; `integrate` accumulates each froxel column
+// Froxel volume passes (Wronski 2014; Hillaire 2015): `inject` adds σ_s p V I e^(−σ_t r)/r² of one
+// light at one (optionally jittered) point per froxel; `integrate` accumulates each froxel column
 // front to back with Hillaire's per-slice integral (S − S e^(−σ_t d)) / σ_t. Needs PRELUDE and grid.wgsl.
 
 @group(1) @binding(0) var<uniform> froxel: Froxel;
@@ -27,21 +27,24 @@ fn slice_distance(far_t: f32, u: f32) -> f32 {
     return far_t * pow(u, froxel.depth_exponent);
 }
 
-fn inscatter_source(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < light_count(); k++) {
-        if (light_kind(k) == LIGHT_DIRECTIONAL) {
-            let dir_l = lights.lights[k].direction.xyz;
-            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * shadow_visibility(k, x);
-        } else {
-            let w = x - lights.lights[k].position.xyz;
-            let r2 = max(dot(w, w), 1e-12);
-            let r = sqrt(r2);
-            let i = light_intensity(k, w);
-            sum += i * phase(medium, dot(w / r, -dir)) * shadow_visibility(k, x) * transmittance(medium, r) / r2;
-        }
+// The light this pipeline injects (one dispatch per light that reaches the frustum, so a light
+// that cannot costs nothing), and whether it is the first one this frame: the first stores its
+// source, the others add theirs. Both fold away as pipeline constants.
+override LIGHT: u32 = 0u;
+override FIRST: bool = true;
+
+// Light k's in-scatter source at x for a camera ray along dir, per unit σ_s:
+// p(θ) V I(ω) e^(−σ_t r)/r² (local lights) or p(θ) V E (directional light, not attenuated).
+fn light_source(k: u32, x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    if (light_kind(k) == LIGHT_DIRECTIONAL) {
+        let dir_l = lights.lights[k].direction.xyz;
+        return lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * shadow_visibility(k, x);
     }
-    return medium.sigma_s.rgb * sum;
+    let w = x - lights.lights[k].position.xyz;
+    let r2 = max(dot(w, w), 1e-12);
+    let r = sqrt(r2);
+    let i = light_intensity(k, w);
+    return i * phase(medium, dot(w / r, -dir)) * shadow_visibility(k, x) * transmittance(medium, r) / r2;
 }
 
 @compute @workgroup_size(4, 4, 4)
@@ -56,8 +59,12 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     let t0 = slice_distance(far_t, f32(id.z) / n);
     let t1 = slice_distance(far_t, f32(id.z + 1u) / n);
     let t = mix(t0, t1, offset);
-    let s = inscatter_source(camera.position.xyz + dir * t, dir);
-    source[(id.z * froxel.grid_y + id.y) * froxel.grid_x + id.x] = vec4<f32>(s, 0.0);
+    let i = (id.z * froxel.grid_y + id.y) * froxel.grid_x + id.x;
+    var s = medium.sigma_s.rgb * light_source(LIGHT, camera.position.xyz + dir * t, dir);
+    if (!FIRST) {
+        s += source[i].rgb;
+    }
+    source[i] = vec4<f32>(s, 0.0);
 }
 
 @compute @workgroup_size(8, 8, 1)
