@@ -6,6 +6,7 @@
 //! adapter is a failure.
 
 use harness::Aov;
+use harness::image::headline::headline;
 use harness::method::ParamValue;
 use harness::testing::{
     gpu_or_skip as gpu, library, max_rel_diff, prepare, reference, rel_rmse, render_method,
@@ -98,4 +99,70 @@ fn a_spot_facing_away_from_the_view_is_not_injected() {
         peak(&forced.inscatter) == 0.0,
         "the forced injection lit the view"
     );
+}
+
+/// Headline in-scatter error (ARCHITECTURE §4.4) of frame 0 of `scene` after rendering the
+/// frames `order` (the last must be 0) with `knobs` on one prepared instance.
+fn headline_after(
+    gpu: &harness::Gpu,
+    scene: &scenes::Scene,
+    res: u32,
+    knobs: &[(&str, ParamValue)],
+    order: &[u32],
+) -> f64 {
+    assert_eq!(order.last(), Some(&0));
+    let mut p = prepare(gpu, &FroxelFog, scene, res, knobs, false).unwrap();
+    let mut last = None;
+    for &f in order {
+        last = Some(render_prepared(gpu, p.as_mut(), scene, res, f, 1).unwrap());
+    }
+    let reference = reference(scene, res);
+    headline(last.unwrap().aov(Aov::Inscatter), &reference.inscatter)
+}
+
+/// On a static scene, ten jittered frames blended (`temporal` 10, the default `jitter` = depth)
+/// score a lower headline error than one sample at each froxel's centre on the same grid.
+/// fence-spot: the spot's apex in view is what a centred sample resolves worst (README).
+#[test]
+fn temporal_accumulation_lowers_the_error_of_a_static_scene() {
+    let Some(gpu) = gpu() else { return };
+    let scene = library("fence-spot");
+    let off = headline_after(&gpu, &scene, 128, &[], &[0]);
+    let on = headline_after(
+        &gpu,
+        &scene,
+        128,
+        &[("temporal", ParamValue::Int(10))],
+        &[0; 10],
+    );
+    eprintln!("fence-spot 128² headline: temporal off {off:.4}, on {on:.4}");
+    assert!(on < off, "temporal 10: {on} is not below {off}");
+}
+
+/// clear-fog with the camera panning 0.86 m a frame (7 frames, rendered last to first so frame
+/// 0 is the last): the history reprojected through the previous camera keeps the error of the
+/// accumulated frame within 2× that of a single centred sample. A history read at the same
+/// froxel instead (no reprojection) measured 9× (0.40 against 0.044 at 128²).
+#[test]
+fn temporal_reprojection_follows_a_moving_camera() {
+    let Some(gpu) = gpu() else { return };
+    let mut scene = library("clear-fog");
+    let key = |frame: f32, x: f32| scenes::desc::CameraKey {
+        frame,
+        position: glam::Vec3::new(x, 1.8, 7.0),
+        look_at: glam::Vec3::new(x / 3.0, 1.2, 0.0),
+    };
+    scene.desc.camera.keyframes = vec![key(0.0, -3.0), key(7.0, 3.0)];
+    scene.desc.frames = 8;
+    let order: Vec<u32> = (0..8).rev().collect();
+    let off = headline_after(&gpu, &scene, 128, &[], &order);
+    let on = headline_after(
+        &gpu,
+        &scene,
+        128,
+        &[("temporal", ParamValue::Int(4))],
+        &order,
+    );
+    eprintln!("panning clear-fog 128² headline: temporal off {off:.4}, on {on:.4}");
+    assert!(on < 2.0 * off, "reprojected history: {on} against {off}");
 }

@@ -37,7 +37,7 @@ mod state;
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
-use harness::{Aov, ConformanceCase, Knob, Method, MethodInfo, Prepared, Support};
+use harness::{Aov, ConformanceCase, Knob, KnobRead, Method, MethodInfo, Prepared, Support};
 use scenes::SceneFeatures;
 
 use crate::common::knobs;
@@ -48,11 +48,15 @@ pub use state::State;
 
 pub const GRID_WGSL: &str = include_str!("grid.wgsl");
 pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
+pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
 pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
 
 /// The volume passes' composed WGSL (inject and integrate entry points).
 pub fn volume_source() -> String {
-    wgsl::compose(&[wgsl::PRELUDE, &[GRID_WGSL]].concat(), VOLUME_WGSL)
+    wgsl::compose(
+        &[wgsl::PRELUDE, &[GRID_WGSL, TEMPORAL_WGSL]].concat(),
+        VOLUME_WGSL,
+    )
 }
 
 /// The apply pass's composed WGSL.
@@ -88,11 +92,23 @@ impl Method for FroxelFog {
             Knob::float("depth_exponent", 2.0, 1.0..=4.0)
                 .sweep([1.0, 3.0])
                 .meaning("slice boundary k at depth far·(k/slices)^exponent: 1 linear, larger packs slices near the eye"),
-            Knob::boolean("jitter", false)
-                .meaning("per-frame hashed sample point within each froxel instead of its centre"),
+            Knob::choice("falloff", "slice", &["slice", "point"])
+                .sweep(["point"])
+                .meaning("a point or spot light's 1/r² per froxel: its mean over the slice along the sample ray in closed form (slice), or its value at the sample point (point, Wronski)"),
+            Knob::int("temporal", 0, 0..=64)
+                .sweep([10])
+                .unit("frames")
+                .meaning("temporal accumulation: 0 off (one sample at each froxel's centre), N > 0 blends N frames of jittered injection, reprojected (history weight 1 − 1/N after a progressive start; Godot's 0.9 ≈ 10)"),
+            Knob::choice("jitter", "depth", &["depth", "cell"])
+                .sweep(["cell"])
+                .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
             knobs::shadow_map(1024),
             knobs::pattern_res(512),
         ]
+    }
+
+    fn converge_frames(&self, params: &harness::Params) -> u32 {
+        params.knob::<u32>("temporal").unwrap_or(0)
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
@@ -108,7 +124,12 @@ impl Method for FroxelFog {
             ShaderCheck::combinations(
                 "froxel-fog/volume",
                 &volume_source(),
-                &[("LIGHT", &[0.0, 1.0, 2.0, 3.0]), ("FIRST", &[0.0, 1.0])],
+                &[
+                    ("LIGHT", &[0.0, 1.0, 2.0, 3.0]),
+                    ("FIRST", &[0.0, 1.0]),
+                    ("TEMPORAL", &[0.0, 1.0]),
+                    ("SLICE_FALLOFF", &[0.0, 1.0]),
+                ],
             ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
         ]
