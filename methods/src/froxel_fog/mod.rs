@@ -31,27 +31,32 @@
 //! under- or over-estimated); homogeneous media only (particle media are refused); no temporal
 //! reprojection yet.
 
-use anyhow::{Result, bail};
-use bytemuck::{Pod, Zeroable};
+mod passes;
+mod reach;
+mod state;
+
+use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
-use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
-};
-use scenes::{FrameState, SceneFeatures};
+use harness::{Aov, ConformanceCase, Knob, KnobRead, Method, MethodInfo, Prepared, Support};
+use scenes::SceneFeatures;
 
 use crate::common::knobs;
-use crate::common::renderer::{SceneRenderer, homogeneous_support};
-use crate::common::resolve::{self, ResolvePass};
+use crate::common::renderer::homogeneous_support;
+use crate::common::resolve;
 use crate::common::wgsl;
+pub use state::State;
 
 pub const GRID_WGSL: &str = include_str!("grid.wgsl");
 pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
+pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
 pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
 
 /// The volume passes' composed WGSL (inject and integrate entry points).
 pub fn volume_source() -> String {
-    wgsl::compose(&[wgsl::PRELUDE, &[GRID_WGSL]].concat(), VOLUME_WGSL)
+    wgsl::compose(
+        &[wgsl::PRELUDE, &[GRID_WGSL, TEMPORAL_WGSL]].concat(),
+        VOLUME_WGSL,
+    )
 }
 
 /// The apply pass's composed WGSL.
@@ -59,233 +64,8 @@ pub fn apply_source() -> String {
     resolve::source(&wgsl::compose(&[GRID_WGSL], APPLY_WGSL))
 }
 
-/// `Froxel` in grid.wgsl, field for field.
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct FroxelUniform {
-    grid_x: u32,
-    grid_y: u32,
-    slices: u32,
-    pixel_size: u32,
-    frame: u32,
-    jitter: u32,
-    depth_exponent: f32,
-    tiles_x: u32,
-}
-
 /// The method (a description; [`State`] is the prepared instance).
 pub struct FroxelFog;
-
-/// The prepared method: the shared renderer, the volume passes and the apply pass.
-pub struct State {
-    pub renderer: SceneRenderer,
-    grid: FroxelUniform,
-    uniform: wgpu::Buffer,
-    volume_bind: wgpu::BindGroup,
-    inject: wgpu::ComputePipeline,
-    integrate: wgpu::ComputePipeline,
-    volume_view: wgpu::TextureView,
-    apply: ResolvePass,
-}
-
-impl State {
-    pub fn new(ctx: &PrepareContext) -> Result<State> {
-        let p = ctx.params;
-        let gpu = ctx.gpu;
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
-        let pixel_size: u32 = p.knob("pixel_size")?;
-        let slices: u32 = p.knob("slices")?;
-        let grid_x = renderer.width.div_ceil(pixel_size);
-        let grid_y = renderer.height.div_ceil(pixel_size);
-        let tiles_x = (slices as f64).sqrt().ceil() as u32;
-        let tiles_y = slices.div_ceil(tiles_x);
-        let max = gpu.device.limits().max_texture_dimension_2d;
-        if grid_x * tiles_x > max || grid_y * tiles_y > max {
-            bail!(
-                "froxel-fog: a {grid_x}×{grid_y}×{slices} grid needs a {}×{} volume texture; this adapter allows {max}² (raise pixel_size or lower slices)",
-                grid_x * tiles_x,
-                grid_y * tiles_y
-            );
-        }
-        let grid = FroxelUniform {
-            grid_x,
-            grid_y,
-            slices,
-            pixel_size,
-            frame: 0,
-            jitter: p.knob::<bool>("jitter")? as u32,
-            depth_exponent: p.knob("depth_exponent")?,
-            tiles_x,
-        };
-        let volume = gpu.texture_2d(
-            "froxel volume",
-            grid_x * tiles_x,
-            grid_y * tiles_y,
-            wgpu::TextureFormat::Rgba32Float,
-            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
-        let volume_view = volume.create_view(&Default::default());
-        let source = gpu.buffer(&wgpu::BufferDescriptor {
-            label: Some("froxel source"),
-            size: 16 * grid_x as u64 * grid_y as u64 * slices as u64,
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let uniform = gpu.buffer(&wgpu::BufferDescriptor {
-            label: Some("froxel grid"),
-            size: std::mem::size_of::<FroxelUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let (layout, volume_bind) = volume_bindings(gpu, &uniform, &source, &volume_view);
-        let module = wgsl::module(&gpu.device, "froxel volume", &volume_source());
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("froxel volume"),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-                immediate_size: 0,
-            });
-        let pipeline = |entry: &str| {
-            gpu.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pl),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: renderer.specialization.options(),
-                    cache: None,
-                })
-        };
-        let inject = pipeline("inject");
-        let integrate = pipeline("integrate");
-        let apply = ResolvePass::with_textures(
-            gpu,
-            &renderer,
-            "froxel apply",
-            &wgsl::compose(&[GRID_WGSL], APPLY_WGSL),
-            Some(std::mem::size_of::<FroxelUniform>() as u64),
-            1,
-        );
-        Ok(State {
-            renderer,
-            grid,
-            uniform,
-            volume_bind,
-            inject,
-            integrate,
-            volume_view,
-            apply,
-        })
-    }
-}
-
-/// Group 1 of the volume passes: the grid uniform, the source buffer, the volume texture.
-fn volume_bindings(
-    gpu: &Gpu,
-    uniform: &wgpu::Buffer,
-    source: &wgpu::Buffer,
-    volume: &wgpu::TextureView,
-) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
-    let cs = wgpu::ShaderStages::COMPUTE;
-    let layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("froxel volume"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: cs,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                crate::common::layouts::storage_buffer(1, cs, false),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: cs,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: wgpu::TextureFormat::Rgba32Float,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                    count: None,
-                },
-            ],
-        });
-    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("froxel volume"),
-        layout: &layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: source.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(volume),
-            },
-        ],
-    });
-    (layout, bind)
-}
-
-impl Prepared for State {
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        enc: &mut wgpu::CommandEncoder,
-    ) -> Result<FrameReport> {
-        let mut report = self.renderer.begin_frame(gpu, frame, enc, targets);
-        self.grid.frame = frame.index;
-        let bytes = bytemuck::bytes_of(&self.grid);
-        gpu.queue.write_buffer(&self.uniform, 0, bytes);
-        if let Some(u) = &self.apply.uniform {
-            gpu.queue.write_buffer(u, 0, bytes);
-        }
-        let g = self.grid;
-        {
-            let mut pass = gpu.compute_pass(
-                enc,
-                &wgpu::ComputePassDescriptor {
-                    label: Some("froxel inject + integrate"),
-                    timestamp_writes: None,
-                },
-            );
-            pass.set_bind_group(0, &self.renderer.frame_bind, &[]);
-            pass.set_bind_group(1, &self.volume_bind, &[]);
-            pass.set_pipeline(&self.inject);
-            pass.dispatch_workgroups(
-                g.grid_x.div_ceil(4),
-                g.grid_y.div_ceil(4),
-                g.slices.div_ceil(4),
-            );
-            pass.set_pipeline(&self.integrate);
-            pass.dispatch_workgroups(g.grid_x.div_ceil(8), g.grid_y.div_ceil(8), 1);
-        }
-        report.ran("inject");
-        report.ran("integrate");
-        self.apply
-            .encode_with(gpu, enc, &self.renderer, targets, &[&self.volume_view]);
-        report.ran("apply");
-        let froxels = g.grid_x as f64 * g.grid_y as f64 * g.slices as f64;
-        report.count("froxels", froxels);
-        report.count(
-            "lights_injected",
-            self.renderer.scene.desc.lights.len() as f64,
-        );
-        Ok(report)
-    }
-}
 
 impl Method for FroxelFog {
     fn info(&self) -> MethodInfo {
@@ -312,11 +92,23 @@ impl Method for FroxelFog {
             Knob::float("depth_exponent", 2.0, 1.0..=4.0)
                 .sweep([1.0, 3.0])
                 .meaning("slice boundary k at depth far·(k/slices)^exponent: 1 linear, larger packs slices near the eye"),
-            Knob::boolean("jitter", false)
-                .meaning("per-frame hashed sample point within each froxel instead of its centre"),
+            Knob::choice("falloff", "slice", &["slice", "point"])
+                .sweep(["point"])
+                .meaning("a point or spot light's 1/r² per froxel: its mean over the slice along the sample ray in closed form (slice), or its value at the sample point (point, Wronski)"),
+            Knob::int("temporal", 0, 0..=64)
+                .sweep([10])
+                .unit("frames")
+                .meaning("temporal accumulation: 0 off (one sample at each froxel's centre), N > 0 blends N frames of jittered injection, reprojected (history weight 1 − 1/N after a progressive start; Godot's 0.9 ≈ 10)"),
+            Knob::choice("jitter", "depth", &["depth", "cell"])
+                .sweep(["cell"])
+                .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
             knobs::shadow_map(1024),
             knobs::pattern_res(512),
         ]
+    }
+
+    fn converge_frames(&self, params: &harness::Params) -> u32 {
+        params.knob::<u32>("temporal").unwrap_or(0)
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
@@ -329,7 +121,16 @@ impl Method for FroxelFog {
 
     fn shaders(&self) -> Vec<ShaderCheck> {
         [
-            ShaderCheck::combinations("froxel-fog/volume", &volume_source(), &[]),
+            ShaderCheck::combinations(
+                "froxel-fog/volume",
+                &volume_source(),
+                &[
+                    ("LIGHT", &[0.0, 1.0, 2.0, 3.0]),
+                    ("FIRST", &[0.0, 1.0]),
+                    ("TEMPORAL", &[0.0, 1.0]),
+                    ("SLICE_FALLOFF", &[0.0, 1.0]),
+                ],
+            ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
         ]
         .concat()

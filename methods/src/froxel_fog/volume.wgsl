@@ -1,6 +1,7 @@
-// Froxel volume passes (Wronski 2014; Hillaire 2015): `inject` evaluates σ_s Σ_lights p V I e^(−σ_t r)/r²
-// at one (optionally jittered) point per froxel; `integrate` accumulates each froxel column
-// front to back with Hillaire's per-slice integral (S − S e^(−σ_t d)) / σ_t. Needs PRELUDE and grid.wgsl.
+// Froxel volume passes (Wronski 2014; Hillaire 2015): `inject` adds σ_s p V I e^(−σ_t r)/r² of one
+// light at one (optionally jittered) point per froxel; `integrate` accumulates each froxel column
+// front to back with Hillaire's per-slice integral (S − S e^(−σ_t d)) / σ_t. Needs PRELUDE, grid.wgsl and
+// temporal.wgsl (the history bindings).
 
 @group(1) @binding(0) var<uniform> froxel: Froxel;
 // In-scatter source S (rgb, W m⁻³ sr⁻¹ per unit radiance) per froxel, x fastest then y then slice.
@@ -8,18 +9,43 @@
 // Integrated in-scatter at each slice's far boundary, slice k in tile (k % tiles_x, k / tiles_x).
 @group(1) @binding(2) var volume: texture_storage_2d<rgba32float, write>;
 
-fn hash01(p: vec3<u32>, f: u32) -> f32 {
-    var h = p.x * 1973u + p.y * 9277u + p.z * 5867u + f * 26699u;
-    h = (h ^ (h >> 13u)) * 0x5bd1e995u;
-    h = h ^ (h >> 15u);
-    return f32(h & 0xffffffu) / 16777216.0;
+// Index of froxel (x, y, slice k) in the source and history buffers.
+fn froxel_index(x: u32, y: u32, k: u32) -> u32 {
+    return (k * froxel.grid_y + y) * froxel.grid_x + x;
 }
 
-// The ray through the centre of froxel column (x, y), clamped to the viewport.
-fn column_dir(x: u32, y: u32) -> vec3<f32> {
+// A fixed per-froxel rotation in [0, 1)³ of the jitter sequence (Cranley–Patterson), so that
+// neighbouring froxels do not sample the same sub-position in the same frame.
+fn froxel_rotation(p: vec3<u32>) -> vec3<f32> {
+    var h = p.x * 1973u + p.y * 9277u + p.z * 5867u + 26699u;
+    var out = vec3<f32>(0.0);
+    for (var c = 0u; c < 3u; c++) {
+        h = (h ^ (h >> 13u)) * 0x5bd1e995u;
+        h = h ^ (h >> 15u);
+        out[c] = f32(h & 0xffffffu) / 16777216.0;
+    }
+    return out;
+}
+
+// This frame's sample position within froxel id, in cell units: its centre without temporal
+// accumulation; else a Halton point over the cell (jitter 2) or along the centre ray (jitter 1).
+fn sample_offset(id: vec3<u32>) -> vec3<f32> {
+    let o = fract(froxel.offset.xyz + froxel_rotation(id));
+    let centre = vec3<f32>(0.5);
+    return select(select(centre, vec3<f32>(0.5, 0.5, o.z), froxel.jitter == 1u), o, froxel.jitter == 2u);
+}
+
+// The ray through screen position (x + o.x, y + o.y) · pixel_size of the grid, clamped to the
+// viewport (o = ½: the froxel column's centre).
+fn grid_ray(x: u32, y: u32, o: vec2<f32>) -> vec3<f32> {
     let ps = f32(froxel.pixel_size);
-    let frag = min(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5) * ps, camera.viewport.xy);
+    let frag = min((vec2<f32>(f32(x), f32(y)) + o) * ps, camera.viewport.xy);
     return camera_ray_dir(camera, frag);
+}
+
+// The ray through the centre of froxel column (x, y).
+fn column_dir(x: u32, y: u32) -> vec3<f32> {
+    return grid_ray(x, y, vec2<f32>(0.5));
 }
 
 // Distance along a ray of far distance `far_t` to depth fraction u ∈ [0, 1] of the grid.
@@ -27,21 +53,73 @@ fn slice_distance(far_t: f32, u: f32) -> f32 {
     return far_t * pow(u, froxel.depth_exponent);
 }
 
-fn inscatter_source(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < light_count(); k++) {
-        if (light_kind(k) == LIGHT_DIRECTIONAL) {
-            let dir_l = lights.lights[k].direction.xyz;
-            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * shadow_visibility(k, x);
-        } else {
-            let w = x - lights.lights[k].position.xyz;
-            let r2 = max(dot(w, w), 1e-12);
-            let r = sqrt(r2);
-            let i = light_intensity(k, w);
-            sum += i * phase(medium, dot(w / r, -dir)) * shadow_visibility(k, x) * transmittance(medium, r) / r2;
-        }
+// The light this pipeline injects (one dispatch per light that reaches the frustum, so a light
+// that cannot costs nothing), and whether it is the first one this frame: the first stores its
+// source, the others add theirs. Both fold away as pipeline constants.
+override LIGHT: u32 = 0u;
+override FIRST: bool = true;
+// Knob `falloff`: a local light's 1/r² averaged over the froxel in closed form (true) or taken
+// at the sample point (false, Wronski's point sample).
+override SLICE_FALLOFF: bool = true;
+
+// The mean of 1/r² (r the distance to a light at c) over the slice [t0, t1] of the ray e + dir t
+// and over the froxel column's footprint around it, a disc of radius a = spread · t_c at the
+// ray's closest approach t_c (spread 0: the ray alone). Along the ray
+// ∫ dt / (h² + (t − t_c)²) = (atan((t1 − t_c)/h) − atan((t0 − t_c)/h)) / h; the footprint
+// replaces h² by h² + a²/4, which keeps the far field (h ≫ a) and gives the disc's exact mean of
+// the whole line's integral π/h on the axis (π · 2/a): a ray through the light reads what the
+// pixels around it average, not the 1/h peak of the one ray.
+fn mean_inverse_square(e: vec3<f32>, dir: vec3<f32>, c: vec3<f32>, t0: f32, t1: f32, spread: f32) -> f32 {
+    let w0 = e - c;
+    let tc = -dot(w0, dir);
+    let a = spread * max(tc, 0.0);
+    let h2 = max(dot(w0, w0) - tc * tc, 0.0) + 0.25 * a * a;
+    let h = max(sqrt(h2), 1e-4 * length(w0) + 1e-9);
+    let angle = atan((t1 - tc) / h) - atan((t0 - tc) / h);
+    return angle / (h * max(t1 - t0, 1e-9));
+}
+
+// Light k's in-scatter source per unit σ_s on the slice [t0, t1] of the camera ray along dir,
+// evaluated at t (the sample point): p(θ) V I(ω) e^(−σ_t r) / r² for local lights (1/r² the
+// froxel mean with SLICE_FALLOFF, `spread` as in mean_inverse_square), p(θ) V E for directional
+// light (not attenuated).
+fn light_source(k: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32) -> vec3<f32> {
+    let e = camera.position.xyz;
+    let x = e + dir * t;
+    if (light_kind(k) == LIGHT_DIRECTIONAL) {
+        let dir_l = lights.lights[k].direction.xyz;
+        return lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * shadow_visibility(k, x);
     }
-    return medium.sigma_s.rgb * sum;
+    let c = lights.lights[k].position.xyz;
+    let w = x - c;
+    let r2 = max(dot(w, w), 1e-12);
+    let r = sqrt(r2);
+    var falloff = 1.0 / r2;
+    if (SLICE_FALLOFF) {
+        falloff = mean_inverse_square(e, dir, c, t0, t1, spread);
+    }
+    let i = light_intensity(k, w);
+    return i * phase(medium, dot(w / r, -dir)) * shadow_visibility(k, x) * transmittance(medium, r) * falloff;
+}
+
+// The angular radius of a disc with a froxel column's cross-section near screen position frag
+// (rad): √(area / π) of the column's spacing² — 0 when the jitter already spreads the sample
+// over the column (jitter 2, temporal accumulation).
+fn footprint_spread(frag: vec2<f32>) -> f32 {
+    let ps = f32(froxel.pixel_size);
+    let d0 = camera_ray_dir(camera, frag);
+    let dx = length(camera_ray_dir(camera, frag + vec2<f32>(ps, 0.0)) - d0);
+    let dy = length(camera_ray_dir(camera, frag + vec2<f32>(0.0, ps)) - d0);
+    return select(sqrt(dx * dy / PI), 0.0, froxel.jitter == 2u);
+}
+
+// World position of point o (cell units) of froxel id.
+fn froxel_point(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
+    let dir = grid_ray(id.x, id.y, o.xy);
+    let far_t = camera_far_distance(camera, dir);
+    let n = f32(froxel.slices);
+    let t = slice_distance(far_t, (f32(id.z) + o.z) / n);
+    return camera.position.xyz + dir * t;
 }
 
 @compute @workgroup_size(4, 4, 4)
@@ -49,15 +127,31 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
         return;
     }
-    let dir = column_dir(id.x, id.y);
+    let o = sample_offset(id);
+    let dir = grid_ray(id.x, id.y, o.xy);
     let far_t = camera_far_distance(camera, dir);
-    let offset = select(0.5, hash01(id, froxel.frame), froxel.jitter != 0u);
     let n = f32(froxel.slices);
+    // The point moves within the slice's depth interval (linearly in depth, as before).
     let t0 = slice_distance(far_t, f32(id.z) / n);
     let t1 = slice_distance(far_t, f32(id.z + 1u) / n);
-    let t = mix(t0, t1, offset);
-    let s = inscatter_source(camera.position.xyz + dir * t, dir);
-    source[(id.z * froxel.grid_y + id.y) * froxel.grid_x + id.x] = vec4<f32>(s, 0.0);
+    let t = mix(t0, t1, o.z);
+    let i = froxel_index(id.x, id.y, id.z);
+    let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * f32(froxel.pixel_size));
+    var s = medium.sigma_s.rgb * light_source(LIGHT, dir, t0, t1, t, spread);
+    if (!FIRST) {
+        s += source[i].rgb;
+    }
+    source[i] = vec4<f32>(s, 0.0);
+}
+
+// Whether `integrate` reads the temporally accumulated source (temporal.wgsl) or this frame's.
+override TEMPORAL: bool = false;
+
+fn injected(i: u32) -> vec3<f32> {
+    if (TEMPORAL) {
+        return accumulated[i].rgb;
+    }
+    return source[i].rgb;
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -74,7 +168,7 @@ fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var k = 0u; k < froxel.slices; k++) {
         let t1 = slice_distance(far_t, f32(k + 1u) / n);
         let d = t1 - t0;
-        let s = source[(k * froxel.grid_y + id.y) * froxel.grid_x + id.x].rgb;
+        let s = injected(froxel_index(id.x, id.y, k));
         let slice_tr = exp(-sigma_t * d);
         // Hillaire 2015: ∫_0^d S e^(−σt x) dx = (S − S e^(−σt d)) / σt; → S d as σt → 0.
         let safe = max(sigma_t, vec3<f32>(1e-12));

@@ -1,0 +1,235 @@
+//! The volume passes' GPU objects: group 1 (grid uniform, source buffer, volume texture, the
+//! two history buffers), one `inject` pipeline per (light, first-or-not), the `temporal` and
+//! `integrate` pipelines, and their dispatch.
+
+use harness::Gpu;
+
+use super::volume_source;
+use crate::common::layouts::storage_buffer;
+use crate::common::renderer::SceneRenderer;
+use crate::common::specialize::flag;
+use crate::common::uniforms::MAX_LIGHTS;
+use crate::common::wgsl;
+
+/// Grid dimensions a dispatch needs.
+#[derive(Clone, Copy)]
+pub struct Dims {
+    pub grid_x: u32,
+    pub grid_y: u32,
+    pub slices: u32,
+}
+
+/// The buffers group 1 binds.
+pub struct Buffers<'a> {
+    pub uniform: &'a wgpu::Buffer,
+    pub source: wgpu::Buffer,
+    /// The accumulated source of alternate frames (temporal accumulation; else 16-byte stubs).
+    pub history: [wgpu::Buffer; 2],
+    pub volume: &'a wgpu::TextureView,
+}
+
+pub struct VolumePasses {
+    /// Group 1 for frames of parity p: history[1 − p] read, history[p] written.
+    binds: [wgpu::BindGroup; 2],
+    /// `inject[k][first]`: light k's injection, storing (first = 1) or adding (first = 0).
+    inject: Vec<[wgpu::ComputePipeline; 2]>,
+    /// Reprojects and blends the history (temporal accumulation on).
+    temporal: Option<wgpu::ComputePipeline>,
+    integrate: wgpu::ComputePipeline,
+    /// The source buffer (cleared when no light is injected).
+    source: wgpu::Buffer,
+}
+
+impl VolumePasses {
+    /// `temporal`: whether the history is accumulated (and integrated instead of the source).
+    pub fn new(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        buffers: Buffers,
+        temporal: bool,
+        slice_falloff: bool,
+    ) -> VolumePasses {
+        let (layout, binds) = bindings(gpu, &buffers);
+        let module = wgsl::module(&gpu.device, "froxel volume", &volume_source());
+        let pl = crate::common::pipeline::layout(
+            &gpu.device,
+            "froxel volume",
+            &[&renderer.frame_layout, &layout],
+        );
+        let pipeline = |entry: &str, own: &[(&'static str, f64)]| {
+            let constants = renderer.specialization.with(own);
+            gpu.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&pl),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: crate::common::specialize::compile_options(&constants),
+                    cache: None,
+                })
+        };
+        let lights = renderer.scene.desc.lights.len().min(MAX_LIGHTS);
+        let inject = (0..lights)
+            .map(|k| {
+                [0.0, 1.0].map(|first| {
+                    let own = [
+                        ("LIGHT", k as f64),
+                        ("FIRST", first),
+                        ("SLICE_FALLOFF", flag(slice_falloff)),
+                    ];
+                    pipeline("inject", &own)
+                })
+            })
+            .collect();
+        VolumePasses {
+            binds,
+            inject,
+            temporal: temporal.then(|| pipeline("temporal", &[])),
+            integrate: pipeline("integrate", &[("TEMPORAL", flag(temporal))]),
+            source: buffers.source,
+        }
+    }
+
+    fn pass<'e>(
+        &self,
+        gpu: &Gpu,
+        enc: &'e mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        label: &str,
+        parity: usize,
+    ) -> harness::gpu::Counted<wgpu::ComputePass<'e>> {
+        let mut pass = gpu.compute_pass(
+            enc,
+            &wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: None,
+            },
+        );
+        pass.set_bind_group(0, &renderer.frame_bind, &[]);
+        pass.set_bind_group(1, &self.binds[parity], &[]);
+        pass
+    }
+
+    /// Injects the lights `active` (indices into the scene's lights) into the source buffer, or
+    /// clears it when there is none.
+    pub fn encode_inject(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        dims: Dims,
+        active: &[usize],
+    ) {
+        if active.is_empty() {
+            enc.clear_buffer(&self.source, 0, None);
+            return;
+        }
+        let mut pass = self.pass(gpu, enc, renderer, "froxel inject", 0);
+        for (i, &k) in active.iter().enumerate() {
+            pass.set_pipeline(&self.inject[k][(i == 0) as usize]);
+            pass.dispatch_workgroups(
+                dims.grid_x.div_ceil(4),
+                dims.grid_y.div_ceil(4),
+                dims.slices.div_ceil(4),
+            );
+        }
+    }
+
+    /// Blends this frame's source into the reprojected history of parity 1 − `parity`, into
+    /// history[`parity`]. False (nothing encoded) without temporal accumulation.
+    pub fn encode_temporal(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        dims: Dims,
+        parity: usize,
+    ) -> bool {
+        let Some(p) = &self.temporal else {
+            return false;
+        };
+        let mut pass = self.pass(gpu, enc, renderer, "froxel temporal", parity);
+        pass.set_pipeline(p);
+        pass.dispatch_workgroups(
+            dims.grid_x.div_ceil(4),
+            dims.grid_y.div_ceil(4),
+            dims.slices.div_ceil(4),
+        );
+        true
+    }
+
+    /// Integrates every froxel column front to back into the volume texture (the accumulated
+    /// source of `parity` with temporal accumulation).
+    pub fn encode_integrate(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        dims: Dims,
+        parity: usize,
+    ) {
+        let mut pass = self.pass(gpu, enc, renderer, "froxel integrate", parity);
+        pass.set_pipeline(&self.integrate);
+        pass.dispatch_workgroups(dims.grid_x.div_ceil(8), dims.grid_y.div_ceil(8), 1);
+    }
+}
+
+/// Group 1 of the volume passes: the grid uniform, the source buffer, the volume texture, the
+/// history read and the history written (one group per frame parity).
+fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup; 2]) {
+    let cs = wgpu::ShaderStages::COMPUTE;
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("froxel volume"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: cs,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                storage_buffer(1, cs, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: cs,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: wgpu::TextureFormat::Rgba32Float,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+                storage_buffer(3, cs, true),
+                storage_buffer(4, cs, false),
+            ],
+        });
+    let group = |parity: usize| {
+        fn buffer(binding: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry {
+                binding,
+                resource: buf.as_entire_binding(),
+            }
+        }
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("froxel volume"),
+            layout: &layout,
+            entries: &[
+                buffer(0, b.uniform),
+                buffer(1, &b.source),
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(b.volume),
+                },
+                buffer(3, &b.history[1 - parity]),
+                buffer(4, &b.history[parity]),
+            ],
+        })
+    };
+    let binds = [group(0), group(1)];
+    (layout, binds)
+}
