@@ -155,6 +155,13 @@ fn depth_break(a: f32, b: f32) -> bool {
 // the light's peak along the slices.
 fn interpolation_scale(k: u32, dir: vec3<f32>) -> f32 {
     if (light_kind(k) == LIGHT_DIRECTIONAL) { return 1.0; }
-    let to_l = lights.lights[k].position.xyz - camera.position.xyz;
+    let to_l = eye_to_light(k);
     return max(length(cross(dir, to_l)), 1e-6 * length(to_l));
+}
+
+// From the eye to local light k; a light at the eye (closer than 0.1 mm) is taken 0.1 mm ahead
+// of it, where the epipolar frame is defined (the in-scatter there is unbounded anyway).
+fn eye_to_light(k: u32) -> vec3<f32> {
+    let v = lights.lights[k].position.xyz - camera.position.xyz;
+    return select(v, camera.forward.xyz * 1e-4, dot(v, v) < 1e-8);
 }

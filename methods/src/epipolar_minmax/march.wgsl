@@ -44,7 +44,7 @@ fn make_ray(dir: vec3<f32>, len: f32) -> Ray {
         let sb = length(dir - e1 * cb);
         return Ray(dir, len, sb, cb, dot(eye, e1), len * sb);
     }
-    let to_l = lights.lights[LIGHT].position.xyz - eye;
+    let to_l = eye_to_light(LIGHT);
     let d = max(length(to_l), 1e-6);
     let sa = interpolation_scale(LIGHT, dir) / d;
     let alpha = atan2(sa, dot(dir, to_l) / d);

@@ -28,7 +28,7 @@ fn slice_ends(@builtin(global_invocation_id) id: vec3<u32>) {
     let directional = light_kind(k) == LIGHT_DIRECTIONAL;
     let eye = camera.position.xyz;
     var o = lights.lights[k].position.xyz;
-    var e1 = normalize(eye - o);
+    var e1 = -normalize(eye_to_light(k));
     if (directional) {
         o = eye;
         e1 = lights.lights[k].direction.xyz;
