@@ -20,6 +20,7 @@ const RES: u32 = 64;
 /// `pixel_size` and `slices`.
 fn errors(gpu: &harness::Gpu, scene: &scenes::Scene, pixel_size: i64, slices: i64) -> [f64; 2] {
     let knobs = [
+        ("columns", ParamValue::Int(0)),
         ("pixel_size", ParamValue::Int(pixel_size)),
         ("slices", ParamValue::Int(slices)),
     ];
@@ -130,18 +131,20 @@ fn headline_after(
 }
 
 /// On a static scene, ten jittered frames blended (`temporal` 10, the default `jitter` = depth)
-/// score a lower headline error than one sample at each froxel's centre on the same grid.
+/// score a lower headline error than one sample at each froxel's centre on the same grid (16
+/// columns: 8 px froxels at 128²).
 /// fence-spot: the spot's apex in view is what a centred sample resolves worst (README).
 #[test]
 fn temporal_accumulation_lowers_the_error_of_a_static_scene() {
     let Some(gpu) = gpu() else { return };
     let scene = library("fence-spot");
-    let off = headline_after(&gpu, &scene, 128, &[], &[0]);
+    let grid = ("columns", ParamValue::Int(16));
+    let off = headline_after(&gpu, &scene, 128, &[grid.clone()], &[0]);
     let on = headline_after(
         &gpu,
         &scene,
         128,
-        &[("temporal", ParamValue::Int(10))],
+        &[grid, ("temporal", ParamValue::Int(10))],
         &[0; 10],
     );
     eprintln!("fence-spot 128² headline: temporal off {off:.4}, on {on:.4}");
@@ -164,12 +167,13 @@ fn temporal_reprojection_follows_a_moving_camera() {
     scene.desc.camera.keyframes = vec![key(0.0, -3.0), key(7.0, 3.0)];
     scene.desc.frames = 8;
     let order: Vec<u32> = (0..8).rev().collect();
-    let off = headline_after(&gpu, &scene, 128, &[], &order);
+    let grid = ("columns", ParamValue::Int(16));
+    let off = headline_after(&gpu, &scene, 128, &[grid.clone()], &order);
     let on = headline_after(
         &gpu,
         &scene,
         128,
-        &[("temporal", ParamValue::Int(4))],
+        &[grid, ("temporal", ParamValue::Int(4))],
         &order,
     );
     eprintln!("panning clear-fog 128² headline: temporal off {off:.4}, on {on:.4}");

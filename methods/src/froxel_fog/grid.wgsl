@@ -6,8 +6,8 @@ struct Froxel {
     grid_x: u32,
     grid_y: u32,
     slices: u32,
-    // screen pixels per froxel in x and y
-    pixel_size: u32,
+    // screen pixels per froxel in x and y (fractional for a fixed number of columns)
+    pixel_size: f32,
     // frames rendered since prepare (the jitter sequence's index)
     frame: u32,
     // where the sample point moves from frame to frame: 0 nowhere (no temporal accumulation),

@@ -31,6 +31,9 @@
 //! under- or over-estimated); homogeneous media only (particle media are refused); no temporal
 //! reprojection yet.
 
+mod grid;
+mod particle_passes;
+mod particles;
 mod passes;
 mod reach;
 mod state;
@@ -41,7 +44,7 @@ use harness::{Aov, ConformanceCase, Knob, KnobRead, Method, MethodInfo, Prepared
 use scenes::SceneFeatures;
 
 use crate::common::knobs;
-use crate::common::renderer::homogeneous_support;
+use crate::common::renderer::{homogeneous_support, renderer_limits};
 use crate::common::resolve;
 use crate::common::wgsl;
 pub use state::State;
@@ -50,18 +53,32 @@ pub const GRID_WGSL: &str = include_str!("grid.wgsl");
 pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
 pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
 pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
+pub const LOOKUP_WGSL: &str = include_str!("lookup.wgsl");
+pub const EXTINCTION_WGSL: &str = include_str!("extinction.wgsl");
+pub const PARTICLES_WGSL: &str = include_str!("particles.wgsl");
+pub const PARTICLE_SURFACE_WGSL: &str = include_str!("particle_surface.wgsl");
 
-/// The volume passes' composed WGSL (inject and integrate entry points).
+/// The volume passes' composed WGSL (inject, temporal and integrate entry points).
 pub fn volume_source() -> String {
-    wgsl::compose(
-        &[wgsl::PRELUDE, &[GRID_WGSL, TEMPORAL_WGSL]].concat(),
-        VOLUME_WGSL,
-    )
+    let shared = [GRID_WGSL, EXTINCTION_WGSL, TEMPORAL_WGSL];
+    wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), VOLUME_WGSL)
 }
 
 /// The apply pass's composed WGSL.
 pub fn apply_source() -> String {
-    resolve::source(&wgsl::compose(&[GRID_WGSL], APPLY_WGSL))
+    resolve::source(&wgsl::compose(&[GRID_WGSL, LOOKUP_WGSL], APPLY_WGSL))
+}
+
+/// The particle passes' composed WGSL (voxelise and extinction entry points).
+pub fn particles_source() -> String {
+    let shared = [GRID_WGSL, EXTINCTION_WGSL];
+    wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), PARTICLES_WGSL)
+}
+
+/// The particle surface pass's composed WGSL.
+pub fn particle_surface_source() -> String {
+    let shared = [GRID_WGSL, LOOKUP_WGSL, EXTINCTION_WGSL];
+    resolve::source(&wgsl::compose(&shared, PARTICLE_SURFACE_WGSL))
 }
 
 /// The method (a description; [`State`] is the prepared instance).
@@ -80,10 +97,14 @@ impl Method for FroxelFog {
 
     fn knobs(&self) -> Vec<Knob> {
         vec![
+            Knob::int("columns", 64, 0..=1024)
+                .sweep([32, 128])
+                .unit("froxels")
+                .meaning("froxel columns across the image, rows by its aspect: a grid fixed whatever the resolution (Godot's volume_size 64, AC4's 160); 0: columns of pixel_size pixels instead"),
             Knob::int("pixel_size", 8, 2..=64)
                 .sweep([4, 16])
                 .unit("pixels")
-                .meaning("screen pixels per froxel in x and y (Unreal's GridPixelSize)"),
+                .meaning("with columns = 0: screen pixels per froxel in x and y (Unreal's GridPixelSize; 8 at 512² is the default grid)"),
             // 1024 slices already make a 1024² volume texture tile at pixel_size 8 and 512².
             Knob::int("slices", 64, 4..=1024)
                 .sweep([32, 128, 256])
@@ -102,6 +123,10 @@ impl Method for FroxelFog {
             Knob::choice("jitter", "depth", &["depth", "cell"])
                 .sweep(["cell"])
                 .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
+            Knob::int("extinction_grid", 64, 4..=256)
+                .sweep([32, 128])
+                .unit("texels")
+                .meaning("particle media: columns per side and slabs of each light's extinction grid (the cloud's self-shadowing and its shadow on surfaces)"),
             knobs::shadow_map(1024),
             knobs::pattern_res(512),
         ]
@@ -112,7 +137,22 @@ impl Method for FroxelFog {
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
-        homogeneous_support(scene, device, None)
+        if scene.medium != "particles" {
+            return homogeneous_support(scene, device, None);
+        }
+        if let Some(why) = renderer_limits(scene) {
+            return Support::No(why);
+        }
+        if scene.lights > 1 {
+            return Support::No(format!(
+                "particle media with {} lights: the cloud's shadow on surfaces multiplies the shared surface pass, which sums the lights (one light only)",
+                scene.lights
+            ));
+        }
+        if scene.indirect_single_scattering {
+            return Support::Partial(vec!["indirect_single_scattering".into()]);
+        }
+        Support::Full
     }
 
     fn prepare(&self, ctx: &PrepareContext) -> Result<Box<dyn Prepared>> {
@@ -129,18 +169,25 @@ impl Method for FroxelFog {
                     ("FIRST", &[0.0, 1.0]),
                     ("TEMPORAL", &[0.0, 1.0]),
                     ("SLICE_FALLOFF", &[0.0, 1.0]),
+                    ("PARTICLES", &[0.0, 1.0]),
                 ],
             ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
+            ShaderCheck::combinations("froxel-fog/particles", &particles_source(), &[]),
+            ShaderCheck::combinations(
+                "froxel-fog/particle-surface",
+                &particle_surface_source(),
+                &[],
+            ),
         ]
         .concat()
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {
-        // A fine grid (2 px froxels, 256 slices): at the defaults a 48² image is 6×6 froxels.
+        // A fine grid (2 px froxels, 256 slices): at 8 px a 48² image is 6×6 froxels.
         vec![
             ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.3)
-                .knob("pixel_size", 2i64)
+                .knob("columns", 24i64)
                 .knob("slices", 256i64),
         ]
     }

@@ -4,6 +4,7 @@
 
 use harness::Gpu;
 
+use super::particle_passes::MediumBuffers;
 use super::volume_source;
 use crate::common::layouts::storage_buffer;
 use crate::common::renderer::SceneRenderer;
@@ -26,6 +27,15 @@ pub struct Buffers<'a> {
     /// The accumulated source of alternate frames (temporal accumulation; else 16-byte stubs).
     pub history: [wgpu::Buffer; 2],
     pub volume: &'a wgpu::TextureView,
+    pub medium: &'a MediumBuffers,
+}
+
+/// The volume pipelines' modes (pipeline constants).
+#[derive(Clone, Copy)]
+pub struct Modes {
+    pub temporal: bool,
+    pub slice_falloff: bool,
+    pub particles: bool,
 }
 
 pub struct VolumePasses {
@@ -46,8 +56,7 @@ impl VolumePasses {
         gpu: &Gpu,
         renderer: &SceneRenderer,
         buffers: Buffers,
-        temporal: bool,
-        slice_falloff: bool,
+        modes: Modes,
     ) -> VolumePasses {
         let (layout, binds) = bindings(gpu, &buffers);
         let module = wgsl::module(&gpu.device, "froxel volume", &volume_source());
@@ -56,8 +65,9 @@ impl VolumePasses {
             "froxel volume",
             &[&renderer.frame_layout, &layout],
         );
+        let particles = ("PARTICLES", flag(modes.particles));
         let pipeline = |entry: &str, own: &[(&'static str, f64)]| {
-            let constants = renderer.specialization.with(own);
+            let constants = renderer.specialization.with(&[own, &[particles]].concat());
             gpu.device
                 .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some(entry),
@@ -75,7 +85,7 @@ impl VolumePasses {
                     let own = [
                         ("LIGHT", k as f64),
                         ("FIRST", first),
-                        ("SLICE_FALLOFF", flag(slice_falloff)),
+                        ("SLICE_FALLOFF", flag(modes.slice_falloff)),
                     ];
                     pipeline("inject", &own)
                 })
@@ -84,8 +94,8 @@ impl VolumePasses {
         VolumePasses {
             binds,
             inject,
-            temporal: temporal.then(|| pipeline("temporal", &[])),
-            integrate: pipeline("integrate", &[("TEMPORAL", flag(temporal))]),
+            temporal: modes.temporal.then(|| pipeline("temporal", &[])),
+            integrate: pipeline("integrate", &[("TEMPORAL", flag(modes.temporal))]),
             source: buffers.source,
         }
     }
@@ -206,6 +216,18 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
                 },
                 storage_buffer(3, cs, true),
                 storage_buffer(4, cs, false),
+                storage_buffer(5, cs, true),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: cs,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                storage_buffer(7, cs, true),
             ],
         });
     let group = |parity: usize| {
@@ -227,6 +249,9 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
                 },
                 buffer(3, &b.history[1 - parity]),
                 buffer(4, &b.history[parity]),
+                buffer(5, &b.medium.density),
+                buffer(6, &b.medium.uniform),
+                buffer(7, &b.medium.optical_depth),
             ],
         })
     };

@@ -18,7 +18,7 @@ fn previous_grid_coord(p: vec3<f32>) -> vec3<f32> {
     let t = length(w);
     let far_t = froxel.prev_position.w / dot(w / t, froxel.prev_forward.xyz);
     let s = f32(froxel.slices) * pow(clamp(t / far_t, 0.0, 1.0), 1.0 / froxel.depth_exponent);
-    return vec3<f32>(px / f32(froxel.pixel_size), select(-1.0, s, c.w > 0.0 && t <= far_t));
+    return vec3<f32>(px / froxel.pixel_size, select(-1.0, s, c.w > 0.0 && t <= far_t));
 }
 
 // The history trilinearly at grid coordinates g (cell centres at i + 0.5), clamped to the grid.

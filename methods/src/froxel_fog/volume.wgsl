@@ -1,13 +1,21 @@
 // Froxel volume passes (Wronski 2014; Hillaire 2015): `inject` adds σ_s p V I e^(−σ_t r)/r² of one
 // light at one (optionally jittered) point per froxel; `integrate` accumulates each froxel column
-// front to back with Hillaire's per-slice integral (S − S e^(−σ_t d)) / σ_t. Needs PRELUDE, grid.wgsl and
-// temporal.wgsl (the history bindings).
+// front to back with Hillaire's per-slice integral (S − S e^(−σ_t d)) / σ_t. Needs PRELUDE,
+// grid.wgsl, extinction.wgsl and temporal.wgsl (the history bindings).
 
 @group(1) @binding(0) var<uniform> froxel: Froxel;
 // In-scatter source S (rgb, W m⁻³ sr⁻¹ per unit radiance) per froxel, x fastest then y then slice.
 @group(1) @binding(1) var<storage, read_write> source: array<vec4<f32>>;
 // Integrated in-scatter at each slice's far boundary, slice k in tile (k % tiles_x, k / tiles_x).
 @group(1) @binding(2) var volume: texture_storage_2d<rgba32float, write>;
+// Particle media (PARTICLES): per froxel the particles' mean σ_s (rgb) and τ (a), the light grids
+// and their optical depths (extinction.wgsl, filled by particles.wgsl).
+@group(1) @binding(5) var<storage, read> density: array<vec4<f32>>;
+@group(1) @binding(6) var<uniform> particle_medium: ParticleMedium;
+@group(1) @binding(7) var<storage, read> optical_depth: array<f32>;
+
+// Whether the scene's medium has particles (voxelised into `density`); false: homogeneous.
+override PARTICLES: bool = false;
 
 // Index of froxel (x, y, slice k) in the source and history buffers.
 fn froxel_index(x: u32, y: u32, k: u32) -> u32 {
@@ -38,7 +46,7 @@ fn sample_offset(id: vec3<u32>) -> vec3<f32> {
 // The ray through screen position (x + o.x, y + o.y) · pixel_size of the grid, clamped to the
 // viewport (o = ½: the froxel column's centre).
 fn grid_ray(x: u32, y: u32, o: vec2<f32>) -> vec3<f32> {
-    let ps = f32(froxel.pixel_size);
+    let ps = froxel.pixel_size;
     let frag = min((vec2<f32>(f32(x), f32(y)) + o) * ps, camera.viewport.xy);
     return camera_ray_dir(camera, frag);
 }
@@ -102,11 +110,35 @@ fn light_source(k: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32) -
     return i * phase(medium, dot(w / r, -dir)) * shadow_visibility(k, x) * transmittance(medium, r) * falloff;
 }
 
+// The particles' transmittance between light k and x (their self-shadowing); 1 without particles.
+fn particle_transmittance(k: u32, x: vec3<f32>) -> f32 {
+    if (!PARTICLES) {
+        return 1.0;
+    }
+    return exp(-particle_depth_to_light(k, x));
+}
+
+// σ_s of froxel i: the background medium's plus the particles' mean.
+fn froxel_sigma_s(i: u32) -> vec3<f32> {
+    if (!PARTICLES) {
+        return medium.sigma_s.rgb;
+    }
+    return medium.sigma_s.rgb + density[i].rgb;
+}
+
+// Extinction of froxel i contributed by particles (grey; the background's is medium.sigma_t).
+fn froxel_particle_tau(i: u32) -> f32 {
+    if (!PARTICLES) {
+        return 0.0;
+    }
+    return density[i].a;
+}
+
 // The angular radius of a disc with a froxel column's cross-section near screen position frag
 // (rad): √(area / π) of the column's spacing² — 0 when the jitter already spreads the sample
 // over the column (jitter 2, temporal accumulation).
 fn footprint_spread(frag: vec2<f32>) -> f32 {
-    let ps = f32(froxel.pixel_size);
+    let ps = froxel.pixel_size;
     let d0 = camera_ray_dir(camera, frag);
     let dx = length(camera_ray_dir(camera, frag + vec2<f32>(ps, 0.0)) - d0);
     let dy = length(camera_ray_dir(camera, frag + vec2<f32>(0.0, ps)) - d0);
@@ -136,8 +168,14 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     let t1 = slice_distance(far_t, f32(id.z + 1u) / n);
     let t = mix(t0, t1, o.z);
     let i = froxel_index(id.x, id.y, id.z);
-    let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * f32(froxel.pixel_size));
-    var s = medium.sigma_s.rgb * light_source(LIGHT, dir, t0, t1, t, spread);
+    let sigma_s = froxel_sigma_s(i);
+    var s = vec3<f32>(0.0);
+    // Empty froxels (particle media without a background) skip the light's evaluation.
+    if (any(sigma_s > vec3<f32>(0.0))) {
+        let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * froxel.pixel_size);
+        let x = camera.position.xyz + dir * t;
+        s = sigma_s * light_source(LIGHT, dir, t0, t1, t, spread) * particle_transmittance(LIGHT, x);
+    }
     if (!FIRST) {
         s += source[i].rgb;
     }
@@ -161,21 +199,27 @@ fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let far_t = camera_far_distance(camera, column_dir(id.x, id.y));
     let n = f32(froxel.slices);
-    let sigma_t = medium.sigma_t.rgb;
     var l = vec3<f32>(0.0);
     var tr = vec3<f32>(1.0);
+    // The particles' transmittance alone (grey), for the surfaces behind (particle_surface.wgsl).
+    var tr_particles = 1.0;
     var t0 = 0.0;
     for (var k = 0u; k < froxel.slices; k++) {
         let t1 = slice_distance(far_t, f32(k + 1u) / n);
         let d = t1 - t0;
-        let s = injected(froxel_index(id.x, id.y, k));
+        let i = froxel_index(id.x, id.y, k);
+        let s = injected(i);
+        let tau = froxel_particle_tau(i);
+        let sigma_t = medium.sigma_t.rgb + tau;
         let slice_tr = exp(-sigma_t * d);
         // Hillaire 2015: ∫_0^d S e^(−σt x) dx = (S − S e^(−σt d)) / σt; → S d as σt → 0.
         let safe = max(sigma_t, vec3<f32>(1e-12));
         let integral = select(s * (vec3<f32>(1.0) - slice_tr) / safe, s * d, sigma_t * d < vec3<f32>(1e-5));
         l += tr * integral;
         tr *= slice_tr;
+        tr_particles *= exp(-tau * d);
         t0 = t1;
-        textureStore(volume, tile_texel(froxel, id.x, id.y, k), vec4<f32>(l, 1.0));
+        // rgb: in-scatter from the eye to the slice's far end; a: the particles' transmittance.
+        textureStore(volume, tile_texel(froxel, id.x, id.y, k), vec4<f32>(l, tr_particles));
     }
 }
