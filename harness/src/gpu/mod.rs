@@ -4,7 +4,7 @@
 //! raises is collected, so the runner can record a method that caused one as failed.
 
 mod attachments;
-mod phases;
+pub mod phases;
 mod readback;
 mod stats;
 mod timer;

@@ -110,3 +110,17 @@ impl PhaseTimer {
         Ok(out)
     }
 }
+
+/// [`PhaseTimer::mark`] on a method's optional timer (None without timestamp queries).
+pub fn mark(timer: &mut Option<PhaseTimer>, enc: &mut wgpu::CommandEncoder, name: &'static str) {
+    if let Some(t) = timer.as_mut() {
+        t.mark(enc, name);
+    }
+}
+
+/// [`PhaseTimer::finish`] on a method's optional timer.
+pub fn finish(timer: &mut Option<PhaseTimer>, enc: &mut wgpu::CommandEncoder) {
+    if let Some(t) = timer.as_mut() {
+        t.finish(enc);
+    }
+}

@@ -3,9 +3,14 @@
 /// An unfilterable float 2-D texture read by the fragment stage (`textureLoad`): AOVs, distances,
 /// accumulation targets.
 pub fn fragment_texture(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    float_texture(binding, wgpu::ShaderStages::FRAGMENT)
+}
+
+/// An unfilterable float 2-D texture read with `textureLoad` by `visibility`.
+pub fn float_texture(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
+        visibility,
         ty: wgpu::BindingType::Texture {
             sample_type: wgpu::TextureSampleType::Float { filterable: false },
             view_dimension: wgpu::TextureViewDimension::D2,
@@ -28,6 +33,38 @@ pub fn storage_buffer(
             ty: wgpu::BufferBindingType::Storage { read_only },
             has_dynamic_offset: false,
             min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A uniform buffer binding of any size.
+pub fn uniform_buffer(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A write-only Rgba32Float 2-D storage texture (a compute pass's output that a later pass reads
+/// as a texture).
+pub fn rgba32f_storage_write(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format: wgpu::TextureFormat::Rgba32Float,
+            view_dimension: wgpu::TextureViewDimension::D2,
         },
         count: None,
     }

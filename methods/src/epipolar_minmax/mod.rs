@@ -48,6 +48,7 @@
 mod passes;
 
 use anyhow::{Result, bail};
+use harness::gpu::phases;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
@@ -154,9 +155,7 @@ impl Prepared for State {
         let mut report = self.renderer.start_frame(gpu, frame);
         self.readback.begin_frame(gpu, &self.passes.counters);
         self.passes.write_uniforms(gpu, self.base);
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "surfaces");
-        }
+        phases::mark(&mut self.timer, enc, "surfaces");
         self.renderer.encode_shadows(enc, &mut report);
         self.renderer.encode_surface(enc, targets, &mut report);
         self.passes
@@ -165,9 +164,7 @@ impl Prepared for State {
         if !self.renderer.shadows_on {
             report.skip("min-max-trees", "no object casts a volumetric shadow");
         }
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "resolve");
-        }
+        phases::mark(&mut self.timer, enc, "resolve");
         self.resolve.encode_with(
             gpu,
             enc,
@@ -176,9 +173,7 @@ impl Prepared for State {
             &[&self.passes.published_view],
         );
         report.ran("resolve");
-        if let Some(t) = self.timer.as_mut() {
-            t.finish(enc);
-        }
+        phases::finish(&mut self.timer, enc);
         self.readback.end_frame(enc, &self.passes.counters);
         let s = self.passes.sizes;
         report.count("slices", s.slices as f64);

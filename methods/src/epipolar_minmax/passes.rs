@@ -2,9 +2,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use harness::Gpu;
-use harness::gpu::PhaseTimer;
+use harness::gpu::{PhaseTimer, phases};
 
-use crate::common::layouts::storage_buffer;
+use crate::common::layouts::{
+    float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer,
+};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::{compile_options, flag};
 use crate::common::wgsl;
@@ -106,38 +108,11 @@ fn buffer(gpu: &Gpu, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu:
 /// Group 1 of every compute pass (epipolar.wgsl's bindings).
 fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     let cs = wgpu::ShaderStages::COMPUTE;
-    let mut entries = vec![wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility: cs,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }];
+    let mut entries = vec![uniform_buffer(0, cs)];
     entries.extend((1..=6).map(|b| storage_buffer(b, cs, false)));
-    entries.push(wgpu::BindGroupLayoutEntry {
-        binding: 7,
-        visibility: cs,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    });
+    entries.push(float_texture(7, cs));
     entries.push(storage_buffer(8, cs, false));
-    entries.push(wgpu::BindGroupLayoutEntry {
-        binding: 9,
-        visibility: cs,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format: wgpu::TextureFormat::Rgba32Float,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        count: None,
-    });
+    entries.push(rgba32f_storage_write(9, cs));
     gpu.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("epipolar"),
@@ -311,11 +286,7 @@ impl Passes {
         let per_sample = (s.samples.div_ceil(64), s.slices, 1);
         let per_pixel = (s.width.div_ceil(8), s.height.div_ceil(8), 1);
         for slot in &self.lights {
-            let mut mark = |enc: &mut wgpu::CommandEncoder, name| {
-                if let Some(t) = timer.as_mut() {
-                    t.mark(enc, name);
-                }
-            };
+            let mut mark = |enc: &mut wgpu::CommandEncoder, name| phases::mark(timer, enc, name);
             let run = |enc: &mut wgpu::CommandEncoder,
                        steps: &[(&wgpu::ComputePipeline, Dispatch)]| {
                 let mut pass = gpu.compute_pass(
