@@ -189,6 +189,8 @@ impl Method for FroxelFog {
             ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.3)
                 .knob("columns", 24i64)
                 .knob("slices", 256i64),
+            // Particle media: the sunlit cloud's total (sky and floor behind it); 0.0545 measured.
+            ConformanceCase::new("cloud-8000", 48, Aov::Total, 0.1).knob("columns", 24i64),
         ]
     }
 }
