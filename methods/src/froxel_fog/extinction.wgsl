@@ -28,6 +28,14 @@ struct LightGrid {
     _pad2: u32,
 };
 
+// A froxel's particles (particles.wgsl's voxelise): medium rgb their mean σ_s, a their mean τ
+// (1/m) over the froxel; moment.x Σ τ · length · t over their chords in it, so moment.x / (τ d)
+// is the extinction-weighted mean distance t of the particles in the slice (length d).
+struct Voxel {
+    medium: vec4<f32>,
+    moment: vec4<f32>,
+};
+
 struct ParticleMedium {
     // rgb: sky radiance behind the cloud
     sky: vec4<f32>,

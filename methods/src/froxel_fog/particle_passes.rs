@@ -40,7 +40,7 @@ impl MediumBuffers {
         let storage = |label, size: u64| {
             gpu.buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: size.max(16),
+                size: size.max(32),
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
             })
@@ -52,7 +52,7 @@ impl MediumBuffers {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            density: storage("froxel density", 16 * froxels),
+            density: storage("froxel density", 32 * froxels),
             optical_depth: storage("froxel light extinction", 4 * grid_values),
         }
     }
@@ -62,7 +62,6 @@ impl MediumBuffers {
 #[derive(Clone, Copy)]
 pub struct Grid {
     pub columns: (u32, u32),
-    pub slices: u32,
     pub pixel_size: f32,
     pub image: (u32, u32),
 }
@@ -406,11 +405,10 @@ impl ParticlePasses {
 
     /// Every froxel's mean particle σ_s and τ.
     pub fn encode_voxelise(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, r: &SceneRenderer) {
-        let slices = self.grid.slices;
         let mut pass = self.pass(gpu, enc, r, "froxel voxelise");
         pass.set_pipeline(&self.voxelise);
         let (gx, gy) = self.grid.columns;
-        pass.dispatch_workgroups(gx.div_ceil(4), gy.div_ceil(4), slices.div_ceil(4));
+        pass.dispatch_workgroups(gx.div_ceil(8), gy.div_ceil(8), 1);
     }
 
     /// Every light's extinction grid.

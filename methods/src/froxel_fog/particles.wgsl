@@ -1,7 +1,7 @@
-// Particle media into froxels (Hillaire 2015's unified volumes). `voxelise`: each froxel sums,
-// over the particles binned to its column and along 2 × 2 sub-rays spread over the column's
-// pixels, the exact chord of every sphere within its slice's depth interval: the froxel's mean
-// σ_s and τ along those rays (exact in depth, supersampled across). `extinction`: each column of a light's
+// Particle media into froxels (Hillaire 2015's unified volumes). `voxelise`: each froxel column
+// spreads, for every particle binned to it and along 2 × 2 sub-rays over the column's pixels,
+// the sphere's exact chord over the slices it crosses: each froxel's mean σ_s and τ along those
+// rays (exact in depth, supersampled across). `extinction`: each column of a light's
 // extinction grid sums the chords of its ray through the particles per slab and prefix-sums
 // them: the optical depth from the grid's start to every slab end (the cloud's self-shadowing).
 // Needs PRELUDE, grid.wgsl and extinction.wgsl.
@@ -19,8 +19,7 @@ struct Particle {
 // Camera bins (offsets per froxel column, then particle indices) from 0, each light grid's from
 // its `bins_at`; offsets are absolute positions in this array.
 @group(1) @binding(3) var<storage, read> bins: array<u32>;
-// Per froxel: rgb the particles' mean σ_s, a their mean τ (1/m).
-@group(1) @binding(4) var<storage, read_write> density: array<vec4<f32>>;
+@group(1) @binding(4) var<storage, read_write> density: array<Voxel>;
 @group(1) @binding(5) var<storage, read_write> optical_depth: array<f32>;
 
 // The chord (t_in, t_out) of the ray o + t d (d unit) through particle p; t_out ≤ t_in if none.
@@ -34,6 +33,12 @@ fn chord(p: Particle, o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
     return select(vec2<f32>(1.0, 0.0), vec2<f32>(tc - h, tc + h), h2 > 0.0);
 }
 
+// Slice coordinate of view distance t on a ray of far distance far_t.
+fn slice_of(t: f32, far_t: f32) -> f32 {
+    return f32(froxel.slices) * pow(clamp(t / far_t, 0.0, 1.0), 1.0 / froxel.depth_exponent);
+}
+
+// Distance of slice k's near boundary on a ray of far distance far_t.
 fn slice_start(far_t: f32, k: u32) -> f32 {
     return far_t * pow(f32(k) / f32(froxel.slices), froxel.depth_exponent);
 }
@@ -42,35 +47,58 @@ fn column_index(x: u32, y: u32, k: u32) -> u32 {
     return (k * froxel.grid_y + y) * froxel.grid_x + x;
 }
 
-// One thread per froxel: its slice's overlap with every binned particle's chord, on each sub-ray.
-@compute @workgroup_size(4, 4, 4)
+// Adds particle p's chord along the sub-ray (eye, dir, far distance far_t) to the slices of
+// column xy it overlaps, each weighted by a quarter of the slice's length.
+fn add_chord(xy: vec2<u32>, p: Particle, dir: vec3<f32>, far_t: f32) {
+    let c = chord(p, camera.position.xyz, dir);
+    let a = max(c.x, 0.0);
+    let b = min(c.y, far_t);
+    let k0 = min(u32(slice_of(a, far_t)), froxel.slices - 1u);
+    // No slice when the chord misses the ray's span (k1 = 0 ends the loop at once).
+    let k1 = select(0u, min(u32(slice_of(b, far_t)), froxel.slices - 1u) + 1u, b > a);
+    for (var k = k0; k < k1; k++) {
+        let t0 = slice_start(far_t, k);
+        let t1 = slice_start(far_t, k + 1u);
+        let lo = max(a, t0);
+        let hi = min(b, t1);
+        let w = 0.25 * max(hi - lo, 0.0) / max(t1 - t0, 1e-12);
+        let i = column_index(xy.x, xy.y, k);
+        density[i].medium += vec4<f32>(p.sigma_s, p.tau) * w;
+        density[i].moment += vec4<f32>(p.tau * w * 0.5 * (lo + hi), 0.0, 0.0, 0.0);
+    }
+}
+
+// The ray through pixel position (x + o.x, y + o.y) · pixel_size of the grid (clamped to the
+// viewport) and its far distance.
+fn sub_ray(xy: vec2<u32>, o: vec2<f32>) -> vec4<f32> {
+    let frag = min((vec2<f32>(xy) + o) * froxel.pixel_size, camera.viewport.xy);
+    let dir = camera_ray_dir(camera, frag);
+    return vec4<f32>(dir, camera_far_distance(camera, dir));
+}
+
+// One thread per froxel column: each binned particle's chords along the column's four sub-rays,
+// spread over the slices they cross. (No early return inside the loops: lavapipe crashed on the
+// inlined function's return inside a loop.)
+@compute @workgroup_size(8, 8, 1)
 fn voxelise(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
+    if (id.x >= froxel.grid_x || id.y >= froxel.grid_y) {
         return;
     }
-    let col = id.y * froxel.grid_x + id.x;
-    let first = bins[col];
-    let last = bins[col + 1u];
-    let ps = froxel.pixel_size;
-    let eye = camera.position.xyz;
-    var sum = vec4<f32>(0.0);
-    for (var sub = 0u; sub < 4u; sub++) {
-        let o = vec2<f32>(0.25 + 0.5 * f32(sub & 1u), 0.25 + 0.5 * f32(sub >> 1u));
-        let frag = min((vec2<f32>(f32(id.x), f32(id.y)) + o) * ps, camera.viewport.xy);
-        let dir = camera_ray_dir(camera, frag);
-        let far_t = camera_far_distance(camera, dir);
-        let t0 = slice_start(far_t, id.z);
-        let t1 = slice_start(far_t, id.z + 1u);
-        var acc = vec4<f32>(0.0);
-        for (var j = first; j < last; j++) {
-            let p = particles[bins[j]];
-            let c = chord(p, eye, dir);
-            let overlap = max(min(c.y, t1) - max(c.x, t0), 0.0);
-            acc += vec4<f32>(p.sigma_s, p.tau) * overlap;
-        }
-        sum += acc / max(t1 - t0, 1e-12);
+    for (var k = 0u; k < froxel.slices; k++) {
+        density[column_index(id.x, id.y, k)] = Voxel(vec4<f32>(0.0), vec4<f32>(0.0));
     }
-    density[column_index(id.x, id.y, id.z)] = 0.25 * sum;
+    let col = id.y * froxel.grid_x + id.x;
+    let r0 = sub_ray(id.xy, vec2<f32>(0.25, 0.25));
+    let r1 = sub_ray(id.xy, vec2<f32>(0.75, 0.25));
+    let r2 = sub_ray(id.xy, vec2<f32>(0.25, 0.75));
+    let r3 = sub_ray(id.xy, vec2<f32>(0.75, 0.75));
+    for (var j = bins[col]; j < bins[col + 1u]; j++) {
+        let p = particles[bins[j]];
+        add_chord(id.xy, p, r0.xyz, r0.w);
+        add_chord(id.xy, p, r1.xyz, r1.w);
+        add_chord(id.xy, p, r2.xyz, r2.w);
+        add_chord(id.xy, p, r3.xyz, r3.w);
+    }
 }
 
 // The ray of column (i, j) of grid g: origin and unit direction; depth along it is t.

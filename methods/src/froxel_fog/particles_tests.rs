@@ -89,7 +89,7 @@ fn check_camera_bins(
                         checked += 1;
                         let col = (cy * grid.0 + cx) as usize;
                         assert!(
-                            listed(&bins, col, i),
+                            listed(bins, col, i),
                             "column ({cx}, {cy}) misses particle {i}"
                         );
                     }

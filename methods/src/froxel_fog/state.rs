@@ -124,7 +124,6 @@ impl State {
             };
             let g = Grid {
                 columns: (grid.grid_x, grid.grid_y),
-                slices: grid.slices,
                 pixel_size: grid.pixel_size,
                 image: (ctx.width, ctx.height),
             };
@@ -225,11 +224,9 @@ impl State {
         report.count("voxelised_particles", voxelised);
         report.count("particle_column_pairs", pairs);
         self.timer.mark(enc, "voxelise");
-        let parts = self.particles.as_ref().expect("particle media");
         parts.encode_voxelise(gpu, enc, &self.renderer);
         report.ran("voxelise");
         self.timer.mark(enc, "extinction");
-        let parts = self.particles.as_ref().expect("particle media");
         parts.encode_extinction(gpu, enc, &self.renderer);
         report.ran("extinction");
         Ok(report)
@@ -272,13 +269,12 @@ impl Prepared for State {
             .encode_integrate(gpu, enc, &self.renderer, dims, parity);
         report.ran("integrate");
         self.temporal.advance(&frame.camera);
-        if self.particles.is_some() {
+        if let Some(parts) = &self.particles {
             self.timer.mark(enc, "particle-surface");
             let shared = Shared {
                 froxel: &self.uniform,
                 medium: &self.medium,
             };
-            let parts = self.particles.as_ref().expect("particle media");
             parts.encode_surface(
                 gpu,
                 enc,

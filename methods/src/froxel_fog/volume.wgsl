@@ -10,7 +10,7 @@
 @group(1) @binding(2) var volume: texture_storage_2d<rgba32float, write>;
 // Particle media (PARTICLES): per froxel the particles' mean σ_s (rgb) and τ (a), the light grids
 // and their optical depths (extinction.wgsl, filled by particles.wgsl).
-@group(1) @binding(5) var<storage, read> density: array<vec4<f32>>;
+@group(1) @binding(5) var<storage, read> density: array<Voxel>;
 @group(1) @binding(6) var<uniform> particle_medium: ParticleMedium;
 @group(1) @binding(7) var<storage, read> optical_depth: array<f32>;
 
@@ -123,7 +123,19 @@ fn froxel_sigma_s(i: u32) -> vec3<f32> {
     if (!PARTICLES) {
         return medium.sigma_s.rgb;
     }
-    return medium.sigma_s.rgb + density[i].rgb;
+    return medium.sigma_s.rgb + density[i].medium.rgb;
+}
+
+// Where the slice [t0, t1] of froxel i is sampled: at fraction o of it, or, where it holds
+// particles, at their extinction-weighted mean distance (a slice thicker than a smoke column
+// would otherwise light all of it as its middle is lit).
+fn sample_distance(i: u32, t0: f32, t1: f32, o: f32) -> f32 {
+    let t = mix(t0, t1, o);
+    if (!PARTICLES) {
+        return t;
+    }
+    let v = density[i];
+    return select(t, clamp(v.moment.x / max(v.medium.a, 1e-30), t0, t1), v.medium.a > 0.0);
 }
 
 // Extinction of froxel i contributed by particles (grey; the background's is medium.sigma_t).
@@ -131,7 +143,7 @@ fn froxel_particle_tau(i: u32) -> f32 {
     if (!PARTICLES) {
         return 0.0;
     }
-    return density[i].a;
+    return density[i].medium.a;
 }
 
 // The angular radius of a disc with a froxel column's cross-section near screen position frag
@@ -166,8 +178,8 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     // The point moves within the slice's depth interval (linearly in depth, as before).
     let t0 = slice_distance(far_t, f32(id.z) / n);
     let t1 = slice_distance(far_t, f32(id.z + 1u) / n);
-    let t = mix(t0, t1, o.z);
     let i = froxel_index(id.x, id.y, id.z);
+    let t = sample_distance(i, t0, t1, o.z);
     let sigma_s = froxel_sigma_s(i);
     var s = vec3<f32>(0.0);
     // Empty froxels (particle media without a background) skip the light's evaluation.
