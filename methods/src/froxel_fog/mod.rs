@@ -136,6 +136,9 @@ impl Method for FroxelFog {
             Knob::choice("falloff", "slice", &["slice", "point"])
                 .sweep(["point"])
                 .meaning("a point or spot light's 1/r² per froxel: its mean over the slice along the sample ray in closed form (slice), or its value at the sample point (point, Wronski)"),
+            Knob::choice("shadow_filter", "none", &["none", "pcf"])
+                .sweep(["pcf"])
+                .meaning("shadow-map visibility per injected sample: one texel (none), or the lit fraction of the 3 × 3 texels around it (pcf); Wronski's blurred exponential shadow map is not built"),
             Knob::int("temporal", 0, 0..=64)
                 .sweep([10])
                 .unit("frames")
@@ -189,6 +192,7 @@ impl Method for FroxelFog {
                     ("FIRST", &[0.0, 1.0]),
                     ("TEMPORAL", &[0.0, 1.0]),
                     ("SLICE_FALLOFF", &[0.0, 1.0]),
+                    ("SHADOW_PCF", &[0.0, 1.0]),
                     ("PARTICLES", &[0.0, 1.0]),
                 ],
             ),

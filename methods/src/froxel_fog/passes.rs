@@ -36,6 +36,8 @@ pub struct Modes {
     pub temporal: bool,
     pub slice_falloff: bool,
     pub particles: bool,
+    /// `shadow_filter` = pcf: 3 × 3 percentage-closer filtering of the shadow map.
+    pub shadow_pcf: bool,
 }
 
 pub struct VolumePasses {
@@ -86,6 +88,7 @@ impl VolumePasses {
                         ("LIGHT", k as f64),
                         ("FIRST", first),
                         ("SLICE_FALLOFF", flag(modes.slice_falloff)),
+                        ("SHADOW_PCF", flag(modes.shadow_pcf)),
                     ];
                     pipeline("inject", &own)
                 })

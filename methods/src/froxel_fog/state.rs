@@ -115,6 +115,7 @@ impl State {
             temporal: temporal > 0,
             slice_falloff: p.knob::<String>("falloff")? == "slice",
             particles: is_particles,
+            shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
         };
         let volume_passes = VolumePasses::new(gpu, &renderer, buffers, modes);
         let particles = if is_particles {

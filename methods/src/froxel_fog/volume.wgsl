@@ -87,6 +87,14 @@ fn mean_inverse_square(e: vec3<f32>, dir: vec3<f32>, c: vec3<f32>, t0: f32, t1: 
     return angle / (h * max(t1 - t0, 1e-9));
 }
 
+// Shadow-map visibility with the `shadow_filter` knob: one texel (none) or 3 × 3 PCF.
+override SHADOW_PCF: bool = false;
+
+fn froxel_visibility(k: u32, x: vec3<f32>) -> f32 {
+    if (SHADOW_PCF) { return shadow_visibility_pcf(k, x); }
+    return shadow_visibility(k, x);
+}
+
 // Light k's in-scatter source per unit σ_s on the slice [t0, t1] of the camera ray along dir,
 // evaluated at t (the sample point): p(θ) V I(ω) e^(−σ_t r) / r² for local lights (1/r² the
 // froxel mean with SLICE_FALLOFF, `spread` as in mean_inverse_square), p(θ) V E for directional
@@ -96,7 +104,7 @@ fn light_source(k: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32) -
     let x = e + dir * t;
     if (light_kind(k) == LIGHT_DIRECTIONAL) {
         let dir_l = lights.lights[k].direction.xyz;
-        return lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * shadow_visibility(k, x);
+        return lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * froxel_visibility(k, x);
     }
     let c = lights.lights[k].position.xyz;
     let w = x - c;
@@ -107,7 +115,7 @@ fn light_source(k: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32) -
         falloff = mean_inverse_square(e, dir, c, t0, t1, spread);
     }
     let i = light_intensity(k, w);
-    return i * phase(medium, dot(w / r, -dir)) * shadow_visibility(k, x) * transmittance(medium, r) * falloff;
+    return i * phase(medium, dot(w / r, -dir)) * froxel_visibility(k, x) * transmittance(medium, r) * falloff;
 }
 
 // The particles' transmittance between light k and x (their self-shadowing); 1 without particles.

@@ -5,12 +5,12 @@
 // What a shadow map holds where nothing is stored (no map, or outside every face): "no caster".
 const SHADOW_NONE: f32 = 3.0e38;
 
-// The stored caster distance (local lights) or depth (directional) of light k in the texel that
-// world point x projects to; SHADOW_NONE without a map or outside its faces.
-fn shadow_stored(k: u32, x: vec3<f32>) -> f32 {
+// Where world point x falls in light k's shadow map: (texel x, texel y, layer, 1) as floats, or
+// w = 0 without a map or outside its faces.
+fn shadow_texel(k: u32, x: vec3<f32>) -> vec4<f32> {
     let sh = lights.lights[k].shadow;
     let base = sh.x;
-    if (base < 0.0) { return SHADOW_NONE; }
+    if (base < 0.0) { return vec4<f32>(0.0); }
     let size = sh.z;
     var face = 0u;
     if (light_kind(k) != LIGHT_DIRECTIONAL) {
@@ -22,10 +22,18 @@ fn shadow_stored(k: u32, x: vec3<f32>) -> f32 {
     }
     let c = lights.lights[k].faces[face] * vec4<f32>(x, 1.0);
     let ndc = c.xy / c.w;
-    if (any(abs(ndc) > vec2<f32>(1.0))) { return SHADOW_NONE; }
+    if (any(abs(ndc) > vec2<f32>(1.0))) { return vec4<f32>(0.0); }
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    let texel = min(vec2<i32>(uv * size), vec2<i32>(i32(size) - 1));
-    return textureLoad(shadow_maps, texel, i32(base + 0.5) + i32(face), 0).r;
+    let texel = min(floor(uv * size), vec2<f32>(size - 1.0));
+    return vec4<f32>(texel, floor(base + 0.5) + f32(face), 1.0);
+}
+
+// The stored caster distance (local lights) or depth (directional) of light k in the texel that
+// world point x projects to; SHADOW_NONE without a map or outside its faces.
+fn shadow_stored(k: u32, x: vec3<f32>) -> f32 {
+    let t = shadow_texel(k, x);
+    if (t.w == 0.0) { return SHADOW_NONE; }
+    return textureLoad(shadow_maps, vec2<i32>(t.xy), i32(t.z), 0).r;
 }
 
 // The depth test as an affine bound: x is lit iff dist · b.x ≤ stored + b.y, where dist is the
@@ -48,4 +56,22 @@ fn shadow_distance(k: u32, x: vec3<f32>) -> f32 {
 fn shadow_visibility(k: u32, x: vec3<f32>) -> f32 {
     let b = shadow_bound(k);
     return select(0.0, 1.0, shadow_distance(k, x) * b.x <= shadow_stored(k, x) + b.y);
+}
+
+// Percentage-closer filtering (Reeves et al. 1987): the fraction of the 3 × 3 texels around x's
+// texel (clamped to its face) whose stored depth x passes, with shadow_visibility's bias.
+fn shadow_visibility_pcf(k: u32, x: vec3<f32>) -> f32 {
+    let t = shadow_texel(k, x);
+    if (t.w == 0.0) { return 1.0; }
+    let b = shadow_bound(k);
+    let d = shadow_distance(k, x) * b.x - b.y;
+    let last = i32(lights.lights[k].shadow.z) - 1;
+    var lit = 0.0;
+    for (var j = -1; j <= 1; j++) {
+        for (var i = -1; i <= 1; i++) {
+            let texel = clamp(vec2<i32>(t.xy) + vec2<i32>(i, j), vec2<i32>(0), vec2<i32>(last));
+            lit += select(0.0, 1.0, d <= textureLoad(shadow_maps, texel, i32(t.z), 0).r);
+        }
+    }
+    return lit / 9.0;
 }
