@@ -5,7 +5,7 @@ use harness::Gpu;
 use harness::gpu::{PhaseTimer, phases};
 
 use crate::common::layouts::{
-    float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer,
+    buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::{compile_options, flag};
@@ -210,23 +210,11 @@ impl Passes {
                 let mut entries: Vec<wgpu::BindGroupEntry> = resources
                     .iter()
                     .enumerate()
-                    .map(|(b, buf)| wgpu::BindGroupEntry {
-                        binding: b as u32,
-                        resource: buf.as_entire_binding(),
-                    })
+                    .map(|(b, buf)| buffer_entry(b as u32, buf))
                     .collect();
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 7,
-                    resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
-                });
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 8,
-                    resource: accum.as_entire_binding(),
-                });
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 9,
-                    resource: wgpu::BindingResource::TextureView(&published_view),
-                });
+                entries.push(view_entry(7, &renderer.distance_view));
+                entries.push(buffer_entry(8, &accum));
+                entries.push(view_entry(9, &published_view));
                 let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("epipolar"),
                     layout: &layout,

@@ -12,7 +12,9 @@ use scenes::{CameraPose, FrameState, LightState};
 
 use super::particles::{Bins, GpuParticle, LightGrid, camera_bins, light_grid};
 use super::{particle_surface_source, particles_source};
-use crate::common::layouts::storage_buffer;
+use crate::common::layouts::{
+    buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
+};
 use crate::common::renderer::SceneRenderer;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
@@ -116,50 +118,7 @@ fn pack(sets: &[&Bins]) -> (Vec<u32>, Vec<u32>) {
     (data, starts)
 }
 
-fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty,
-        count: None,
-    }
-}
-
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-    )
-}
-
-fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-    )
-}
-
-fn buffer_entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: b.as_entire_binding(),
-    }
-}
-
-fn view_entry(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: wgpu::BindingResource::TextureView(v),
-    }
-}
+const CS: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 
 fn compute_pipeline(
     gpu: &Gpu,
@@ -212,8 +171,8 @@ impl ParticlePasses {
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("froxel particles"),
                 entries: &[
-                    uniform_entry(0),
-                    uniform_entry(1),
+                    uniform_buffer(0, CS),
+                    uniform_buffer(1, CS),
                     storage(2, true),
                     storage(3, true),
                     storage(4, false),
@@ -294,20 +253,14 @@ fn surface_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("froxel particle surface"),
             entries: &[
-                texture_entry(0),
-                texture_entry(1),
-                uniform_entry(2),
-                texture_entry(3),
-                uniform_entry(4),
+                float_texture(0, CS),
+                float_texture(1, CS),
+                uniform_buffer(2, CS),
+                float_texture(3, CS),
+                uniform_buffer(4, CS),
                 storage_buffer(5, wgpu::ShaderStages::COMPUTE, true),
-                entry(
-                    6,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: AOV_FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                ),
+                // AOV_FORMAT is Rgba32Float.
+                rgba32f_storage_write(6, CS),
             ],
         })
 }

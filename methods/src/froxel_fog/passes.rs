@@ -6,7 +6,9 @@ use harness::Gpu;
 
 use super::particle_passes::MediumBuffers;
 use super::volume_source;
-use crate::common::layouts::storage_buffer;
+use crate::common::layouts::{
+    buffer_entry, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
+};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::uniforms::MAX_LIGHTS;
@@ -196,65 +198,29 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("froxel volume"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: cs,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                uniform_buffer(0, cs),
                 storage_buffer(1, cs, false),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: cs,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: wgpu::TextureFormat::Rgba32Float,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                    count: None,
-                },
+                rgba32f_storage_write(2, cs),
                 storage_buffer(3, cs, true),
                 storage_buffer(4, cs, false),
                 storage_buffer(5, cs, true),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 6,
-                    visibility: cs,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                uniform_buffer(6, cs),
                 storage_buffer(7, cs, true),
             ],
         });
     let group = |parity: usize| {
-        fn buffer(binding: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: buf.as_entire_binding(),
-            }
-        }
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("froxel volume"),
             layout: &layout,
             entries: &[
-                buffer(0, b.uniform),
-                buffer(1, &b.source),
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(b.volume),
-                },
-                buffer(3, &b.history[1 - parity]),
-                buffer(4, &b.history[parity]),
-                buffer(5, &b.medium.density),
-                buffer(6, &b.medium.uniform),
-                buffer(7, &b.medium.optical_depth),
+                buffer_entry(0, b.uniform),
+                buffer_entry(1, &b.source),
+                view_entry(2, b.volume),
+                buffer_entry(3, &b.history[1 - parity]),
+                buffer_entry(4, &b.history[parity]),
+                buffer_entry(5, &b.medium.density),
+                buffer_entry(6, &b.medium.uniform),
+                buffer_entry(7, &b.medium.optical_depth),
             ],
         })
     };
