@@ -265,6 +265,27 @@ impl SceneRenderer {
         report
     }
 
+    /// A counted compute pass with the frame group (0) and a method's `group1` bound: how every
+    /// compute stage of a method built on this renderer starts.
+    pub fn compute_pass<'e>(
+        &self,
+        gpu: &Gpu,
+        enc: &'e mut wgpu::CommandEncoder,
+        label: &str,
+        group1: &wgpu::BindGroup,
+    ) -> harness::gpu::Counted<wgpu::ComputePass<'e>> {
+        let mut pass = gpu.compute_pass(
+            enc,
+            &wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: None,
+            },
+        );
+        pass.set_bind_group(0, &self.frame_bind, &[]);
+        pass.set_bind_group(1, group1, &[]);
+        pass
+    }
+
     /// How a method that encodes passes between the renderer's starts its frame: this frame's
     /// uniforms written, an empty report.
     pub fn start_frame(&mut self, gpu: &Gpu, frame: &FrameState) -> FrameReport {

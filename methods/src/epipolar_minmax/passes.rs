@@ -277,15 +277,7 @@ impl Passes {
             let mut mark = |enc: &mut wgpu::CommandEncoder, name| phases::mark(timer, enc, name);
             let run = |enc: &mut wgpu::CommandEncoder,
                        steps: &[(&wgpu::ComputePipeline, Dispatch)]| {
-                let mut pass = gpu.compute_pass(
-                    enc,
-                    &wgpu::ComputePassDescriptor {
-                        label: Some("epipolar"),
-                        timestamp_writes: None,
-                    },
-                );
-                pass.set_bind_group(0, &renderer.frame_bind, &[]);
-                pass.set_bind_group(1, &slot.bind, &[]);
+                let mut pass = renderer.compute_pass(gpu, enc, "epipolar", &slot.bind);
                 for (p, d) in steps {
                     pass.set_pipeline(p);
                     match *d {
@@ -334,15 +326,7 @@ impl Passes {
             run(enc, &[(&slot.fixup, Dispatch::Indirect(12))]);
         }
         if let Some(slot) = self.lights.first() {
-            let mut pass = gpu.compute_pass(
-                enc,
-                &wgpu::ComputePassDescriptor {
-                    label: Some("epipolar publish"),
-                    timestamp_writes: None,
-                },
-            );
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
-            pass.set_bind_group(1, &slot.bind, &[]);
+            let mut pass = renderer.compute_pass(gpu, enc, "epipolar publish", &slot.bind);
             pass.set_pipeline(&sh.publish);
             pass.dispatch_workgroups(per_pixel.0, per_pixel.1, 1);
         }

@@ -344,16 +344,7 @@ impl ParticlePasses {
         renderer: &SceneRenderer,
         label: &str,
     ) -> harness::gpu::Counted<wgpu::ComputePass<'e>> {
-        let mut pass = gpu.compute_pass(
-            enc,
-            &wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: None,
-            },
-        );
-        pass.set_bind_group(0, &renderer.frame_bind, &[]);
-        pass.set_bind_group(1, &self.bind, &[]);
-        pass
+        renderer.compute_pass(gpu, enc, label, &self.bind)
     }
 
     /// Every froxel's mean particle σ_s and τ.

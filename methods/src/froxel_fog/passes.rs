@@ -113,16 +113,7 @@ impl VolumePasses {
         label: &str,
         parity: usize,
     ) -> harness::gpu::Counted<wgpu::ComputePass<'e>> {
-        let mut pass = gpu.compute_pass(
-            enc,
-            &wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: None,
-            },
-        );
-        pass.set_bind_group(0, &renderer.frame_bind, &[]);
-        pass.set_bind_group(1, &self.binds[parity], &[]);
-        pass
+        renderer.compute_pass(gpu, enc, label, &self.binds[parity])
     }
 
     /// Injects the lights `active` (indices into the scene's lights) into the source buffer, or
