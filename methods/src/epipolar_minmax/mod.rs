@@ -260,11 +260,12 @@ impl Method for EpipolarMinMax {
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {
+        // Measured 0.052 in-scatter rel RMSE (48 slices × 24 samples at 48²); bound with 2× margin.
         vec![ConformanceCase::new(
             "sphere-point",
             48,
             Aov::Inscatter,
-            0.3,
+            0.1,
         )]
     }
 }
