@@ -79,19 +79,20 @@ pub struct State {
     timer: Option<harness::gpu::PhaseTimer>,
 }
 
-/// Slice and sample counts: the knob, or Yusov's "best quality" rule when it is 0.
+/// Slice and sample counts: the knob, or Yusov's "best quality" rule when it is 0 (at least 1
+/// slice and the 2 samples a slice needs, for tiny images). A knob value is used as given.
 fn counts(slices: u32, samples: u32, width: u32, height: u32) -> (u32, u32) {
     let n = if slices == 0 {
-        (width + height) / 2
+        ((width + height) / 2).max(1)
     } else {
         slices
     };
     let m = if samples == 0 {
-        width.max(height) / 2
+        (width.max(height) / 2).max(2)
     } else {
         samples
     };
-    (n.max(4), m.max(2))
+    (n, m)
 }
 
 impl State {
@@ -99,15 +100,16 @@ impl State {
         let p = ctx.params;
         let gpu = ctx.gpu;
         let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
+        let samples_knob: u32 = p.knob("samples")?;
+        if samples_knob == 1 {
+            bail!("epipolar-minmax: samples = 1; a slice needs at least 2 samples (or 0 = auto)");
+        }
         let (slices, samples) = counts(
             p.knob("slices")?,
-            p.knob("samples")?,
+            samples_knob,
             renderer.width,
             renderer.height,
         );
-        if samples == 1 {
-            bail!("epipolar-minmax: samples = 1; a slice needs at least 2 samples (or 0 = auto)");
-        }
         let leaves: u32 = p.knob("steps")?;
         let sizes = Sizes {
             slices,
