@@ -23,11 +23,11 @@
 //! moved; open or non-manifold casters fall back to per-triangle planes, counted in
 //! `nonmanifold_casters` and recorded as a skipped "silhouette of <name>"), extruded past the far
 //! plane. Two resolves (knob `resolve`):
-//! - `per-pixel` (default, modern): per light, a pass appends every plane fragment in front of
-//!   the visible surface to its pixel's crossing list (signed distance; capacity knob
-//!   `crossings`, overflow counted in `crossing_overflows`), and a compute pass sorts each list
-//!   and sums L_dss over the lit intervals only, walking from the eye's count (`pixel.rs`). Exact
-//!   shadow in shadow and eye in shadow, no CPU sort.
+//! - `per-pixel` (default, modern): per light, every plane fragment in front of the visible
+//!   surface goes into its pixel's crossing list (signed distance; `common::crossing_lists`: a
+//!   counting pass and a prefix sum size one pool exactly, so lists cannot overflow), and a
+//!   compute pass sorts each list and sums L_dss over the lit intervals only, walking from the
+//!   eye's count (`pixel.rs`). Exact shadow in shadow and eye in shadow, no CPU sort.
 //! - `stencil` (the paper's steps 4–5): quads sorted back to front by edge-midpoint distance, the
 //!   visible point's count by a z-pass stencil count seeded with the eye's count, the lit
 //!   surfaces' term where it is 0, then the planes one by one with step 5's rules
@@ -41,7 +41,7 @@
 //! Status and limits: the stencil rules are exact only where the CPU's order of whole planes is
 //! every pixel's order along the ray; long extruded planes of different casters interleave (e.g.
 //! `overlap-point`, with the eye in a shadow), so there the per-pixel resolve is the exact one.
-//! Not implemented: planes clipped by the near plane (a camera within `near` of a plane). Point
+//! Point
 //! lights only (the method assumes isotropic point sources); spot and directional lights are
 //! declined. GPU time per phase (Table 1) via `harness::gpu::PhaseTimer`: counters
 //! `gpu_ms_first_pass`, `gpu_ms_second_pass_surfaces`, `gpu_ms_second_pass_volumes`,
@@ -143,10 +143,6 @@ impl Method for BiriShadowVolumes {
             Knob::choice("accumulate", "float", &["float", "unorm8"])
                 .sweep(["unorm8"])
                 .meaning("resolve=stencil: crossing accumulation target; unorm8 is the paper's 8-bit target with reverse-subtract blending (clamps and quantises; needs resolve=stencil)"),
-            Knob::int("crossings", 16, 1..=256)
-                .sweep([8, 32])
-                .unit("crossings per pixel")
-                .meaning("resolve=per-pixel: crossing-list capacity per pixel (4 bytes each; overflow counted in crossing_overflows)"),
             Knob::boolean("indirect", true)
                 .meaning("scenes with indirect_single_scattering: add §III.C's term (Γ_L, Γ_P tables, the Fig. 8 pass); false skips it"),
             Knob::int("indirect_table", 64, 4..=1024)
@@ -247,7 +243,6 @@ impl State {
             resolve: mode,
             rules: p.knob("stencil_rules")?,
             unorm8,
-            crossings: p.knob("crossings")?,
         };
         let planes = planes::Planes::new(ctx, &renderer, options);
         let want_iss: bool = p.knob("indirect")?;
@@ -318,7 +313,7 @@ impl Prepared for State {
                 &self.table_view,
                 &mut report,
                 &mut self.timer,
-            );
+            )?;
             report.ran("shadow-planes");
             if let Some(shadows) = &self.surface_shadows {
                 if let Some(t) = self.timer.as_mut() {

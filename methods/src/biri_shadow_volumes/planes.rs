@@ -9,13 +9,14 @@ use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
 use scenes::FrameState;
 
+use crate::common::crossing_lists;
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::stencil::PipelineBuilder;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::wgsl;
 
-use super::pixel::PixelPass;
+use super::pixel::{Draw, PixelPass};
 use super::stencil_pipes::{StencilPipes, depth_pipe};
 
 /// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
@@ -33,7 +34,12 @@ pub(super) const SLOT: u64 = 256;
 pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
-        &format!("{}\n{PLANES_WGSL}\n{PIXEL_WGSL}", super::LDSS_WGSL),
+        &format!(
+            "{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
+            super::LDSS_WGSL,
+            crossing_lists::WGSL,
+            crossing_lists::WALK_WGSL
+        ),
     )
 }
 
@@ -46,7 +52,7 @@ pub enum Resolve {
     PerPixel,
 }
 
-/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`, `crossings`).
+/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`).
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
     pub resolve: Resolve,
@@ -54,8 +60,6 @@ pub struct Options {
     pub rules: bool,
     /// The paper's 8-bit target with reverse-subtract blending (stencil resolve only).
     pub unorm8: bool,
-    /// Per-pixel list capacity.
-    pub crossings: u32,
 }
 
 /// One light's planes in the vertex buffer and the eye's shadow count.
@@ -147,9 +151,8 @@ impl Planes {
                 gpu,
                 renderer,
                 &module,
-                ctx.width,
-                ctx.height,
-                opts.crossings,
+                (ctx.width, ctx.height),
+                ctx.scene.features().lights as u32,
             )
         });
         Planes {
@@ -201,7 +204,7 @@ impl Planes {
                 eye_count: light.eye_count,
             });
             if k < crate::common::uniforms::MAX_LIGHTS {
-                let cfg = [k as u32, light.eye_count, self.opts.crossings, 0];
+                let cfg = [k as u32, light.eye_count, 0, 0];
                 slots[k * SLOT as usize..][..16].copy_from_slice(bytemuck::cast_slice(&cfg));
             }
         }
@@ -309,7 +312,7 @@ impl Planes {
         table: &wgpu::TextureView,
         report: &mut FrameReport,
         timer: &mut Option<PhaseTimer>,
-    ) {
+    ) -> anyhow::Result<()> {
         let mut mark = |enc: &mut wgpu::CommandEncoder, phase| {
             if let Some(t) = timer.as_mut() {
                 t.mark(enc, phase);
@@ -330,40 +333,35 @@ impl Planes {
                 }),
             }
         };
-        {
-            let mut pass = gpu.render_pass(
-                enc,
-                &wgpu::RenderPassDescriptor {
-                    label: Some("biri scene depth"),
-                    depth_stencil_attachment: Some(ds(
-                        &self.depth_view,
-                        wgpu::LoadOp::Clear(1.0),
-                        wgpu::LoadOp::Clear(0),
-                    )),
-                    ..Default::default()
-                },
-            );
-            pass.set_pipeline(&self.depth_pipe);
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
-            pass.set_bind_group(1, &bind, &[0]);
-            renderer.gpu_scene.draw(&mut pass);
-        }
-        if let Some(pixel) = &mut self.pixel {
-            mark(enc, VOLUMES);
-            pixel.encode(
+        if let Some(pixel) = self.pixel.as_mut() {
+            // The lists are sized before the frame goes on: depth and counts in their own
+            // submission (`common::crossing_lists`).
+            let mut pre = pixel.begin(gpu, report);
+            encode_depth(
+                &self.depth_pipe,
                 gpu,
-                enc,
+                &mut pre,
                 renderer,
-                self.vertices.as_ref(),
-                &self.ranges,
-                table,
-                &self.uniform,
                 &self.depth_view,
-                &self.acc_view,
-                report,
+                &bind,
             );
-            return;
+            mark(enc, VOLUMES);
+            let pixel_bind = pixel.bind_group(gpu, renderer, table, &self.uniform, &self.acc_view);
+            let draw = Draw {
+                vertices: self.vertices.as_ref(),
+                bind: &pixel_bind,
+                depth: &self.depth_view,
+            };
+            return pixel.encode(gpu, pre, enc, renderer, draw, &self.ranges, report);
         }
+        encode_depth(
+            &self.depth_pipe,
+            gpu,
+            enc,
+            renderer,
+            &self.depth_view,
+            &bind,
+        );
         let st = &self.stencil;
         let per_plane = self.opts.rules || self.opts.unorm8;
         let mut first_color = true;
@@ -454,5 +452,33 @@ impl Planes {
                 }
             }
         }
+        Ok(())
     }
+}
+
+/// The scene depth the planes are tested against (stencil cleared).
+fn encode_depth(
+    pipe: &wgpu::RenderPipeline,
+    gpu: &Gpu,
+    enc: &mut wgpu::CommandEncoder,
+    renderer: &SceneRenderer,
+    depth: &wgpu::TextureView,
+    bind: &wgpu::BindGroup,
+) {
+    let mut pass = gpu.render_pass(
+        enc,
+        &wgpu::RenderPassDescriptor {
+            label: Some("biri scene depth"),
+            depth_stencil_attachment: Some(depth_stencil_attachment(
+                depth,
+                wgpu::LoadOp::Clear(1.0),
+                wgpu::LoadOp::Clear(0),
+            )),
+            ..Default::default()
+        },
+    );
+    pass.set_pipeline(pipe);
+    pass.set_bind_group(0, &renderer.frame_bind, &[]);
+    pass.set_bind_group(1, bind, &[0]);
+    renderer.gpu_scene.draw(&mut pass);
 }

@@ -2,6 +2,7 @@
 //! scene's GPU buffers, shadow maps, light-pattern textures and the forward surface pass.
 
 pub mod counters;
+pub mod crossing_lists;
 pub mod gpu_scene;
 pub mod knobs;
 pub mod layouts;

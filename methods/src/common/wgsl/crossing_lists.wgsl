@@ -1,0 +1,113 @@
+// Per-pixel crossing lists that cannot overflow (`common::crossing_lists`), group 2 of the
+// passes that use them. A list holds signed distances along a pixel's view ray: + where the ray
+// enters a shadow volume (front-facing plane), − where it leaves one. Lists live back to back in
+// one pool; list i occupies pool[offset[i] .. offset[i + 1]], sized by a counting pass:
+//   1. count:  every plane fragment calls `crossing_count_fragment` (one atomic per fragment);
+//   2. scan:   `cs_crossing_scan` turns the counts into offsets (exclusive prefix sum) and
+//              records the total and the longest list; the CPU reads them and sizes the pool;
+//   3. gather: the same fragments call `crossing_append` (the counts, cleared, are the cursors);
+//   4. walk:   `crossing_sorted` sorts the pixel's list; `crossing_walk` (crossing_walk.wgsl)
+//              walks it.
+// One list per pixel and per light (`crossing_cfg.list`); needs nothing else (the scan pipeline
+// is this module alone).
+
+// Mirrors `CrossingUniform` in crossing_lists.rs (one dynamic-offset slot per light).
+struct CrossingCfg {
+    list: u32,   // which light's lists (0 for the scan)
+    width: u32,
+    height: u32,
+    lists: u32,  // lights with lists this frame (the scan covers lists × width × height)
+};
+
+@group(2) @binding(0) var<uniform> crossing_cfg: CrossingCfg;
+// Crossings per list: the count pass's result, then (cleared) the gather's cursors.
+@group(2) @binding(1) var<storage, read_write> crossing_count: array<atomic<u32>>;
+// Exclusive prefix sum of the counts, one more entry than lists (the total).
+@group(2) @binding(2) var<storage, read_write> crossing_offset: array<u32>;
+@group(2) @binding(3) var<storage, read_write> crossing_pool: array<f32>;
+// [0]: total crossings, [1]: the longest list (scan); [2]: lists whose gather did not match their
+// count (walk; 0 unless the two passes rasterised different fragments), [3]: unused.
+@group(2) @binding(4) var<storage, read_write> crossing_stats: array<atomic<u32>, 4>;
+
+fn crossing_index(px: vec2<u32>) -> u32 {
+    return (crossing_cfg.list * crossing_cfg.height + px.y) * crossing_cfg.width + px.x;
+}
+
+// Pass 1, per plane fragment at pixel px.
+fn crossing_count_fragment(px: vec2<u32>) {
+    atomicAdd(&crossing_count[crossing_index(px)], 1u);
+}
+
+// Pass 3, per plane fragment: its signed distance into the pixel's next free slot.
+fn crossing_append(px: vec2<u32>, signed_distance: f32) {
+    let i = crossing_index(px);
+    let at = crossing_offset[i] + atomicAdd(&crossing_count[i], 1u);
+    if (at < crossing_offset[i + 1u]) {
+        crossing_pool[at] = signed_distance;
+    }
+}
+
+const CROSSING_SCAN_THREADS: u32 = 256u;
+var<workgroup> crossing_partial: array<u32, 256>;
+
+// Pass 2, one workgroup: each thread sums a contiguous chunk of counts (the same trip count in
+// every lane: lavapipe crashes on lane-varying loops in compute), the chunk sums are scanned in
+// shared memory (Hillis–Steele), then each thread writes its chunk's offsets.
+@compute @workgroup_size(256)
+fn cs_crossing_scan(@builtin(local_invocation_index) t: u32) {
+    let n = crossing_cfg.lists * crossing_cfg.width * crossing_cfg.height;
+    let chunk = (n + CROSSING_SCAN_THREADS - 1u) / CROSSING_SCAN_THREADS;
+    let last = max(n, 1u) - 1u;
+    var sum = 0u;
+    var longest = 0u;
+    for (var j = 0u; j < chunk; j++) {
+        let i = t * chunk + j;
+        let c = select(0u, atomicLoad(&crossing_count[min(i, last)]), i < n);
+        sum += c;
+        longest = max(longest, c);
+    }
+    crossing_partial[t] = sum;
+    workgroupBarrier();
+    for (var s = 1u; s < CROSSING_SCAN_THREADS; s *= 2u) {
+        let add = select(0u, crossing_partial[max(t, s) - s], t >= s);
+        workgroupBarrier();
+        crossing_partial[t] += add;
+        workgroupBarrier();
+    }
+    var run = crossing_partial[t] - sum;
+    for (var j = 0u; j < chunk; j++) {
+        let i = t * chunk + j;
+        if (i < n) {
+            crossing_offset[i] = run;
+            run += atomicLoad(&crossing_count[i]);
+        }
+    }
+    atomicMax(&crossing_stats[1], longest);
+    if (t == CROSSING_SCAN_THREADS - 1u) {
+        crossing_offset[n] = crossing_partial[t];
+        atomicStore(&crossing_stats[0], crossing_partial[t]);
+    }
+}
+
+// Pass 4: sorts list px by distance in place and returns (first pool index, length). Bubble
+// sort flattened to one loop of n² steps (lavapipe's compiler crashes on nested dynamic loops):
+// fine for the tens of crossings a pixel sees; a list of n costs n² steps.
+fn crossing_sorted(px: vec2<u32>) -> vec2<u32> {
+    let i = crossing_index(px);
+    let base = crossing_offset[i];
+    let n = crossing_offset[i + 1u] - base;
+    // Unconditional: lavapipe crashes on an atomicAdd under a branch in compute.
+    atomicAdd(&crossing_stats[2], select(0u, 1u, atomicLoad(&crossing_count[i]) != n));
+    for (var it = 0u; it < n * n; it++) {
+        let j = it % n;
+        if (j + 1u < n) {
+            let x = crossing_pool[base + j];
+            let y = crossing_pool[base + j + 1u];
+            if (abs(x) > abs(y)) {
+                crossing_pool[base + j] = y;
+                crossing_pool[base + j + 1u] = x;
+            }
+        }
+    }
+    return vec2<u32>(base, n);
+}
