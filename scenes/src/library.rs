@@ -26,6 +26,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ),
     ("cloud-8000", include_str!("../library/cloud-8000.json")),
     ("cloud-plane", include_str!("../library/cloud-plane.json")),
+    ("cloud-blocks", include_str!("../library/cloud-blocks.json")),
     ("smoke-point", include_str!("../library/smoke-point.json")),
     (
         "indirect-point",

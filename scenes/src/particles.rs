@@ -1,11 +1,13 @@
 //! Particle media in integrator form: the spheres of a `particles` medium, explicit ones
 //! followed by each generator's, in file order. Generators are seeded and reproducible: their
 //! own SplitMix64 stream, f64 arithmetic rounded once to f32, so the same file gives
-//! bit-identical particles on every platform.
+//! bit-identical particles on every platform. A `blocks` generator expands to every instance's
+//! copy of its block (instance after instance) and records where they went ([`BlockInstancing`]),
+//! so a method can use the declared structure while everyone renders the same spheres.
 
 use glam::{DVec3, Vec3};
 
-use crate::desc::{GeneratorDesc, ParticleDesc};
+use crate::desc::{BlockDesc, GeneratorDesc, InstanceDesc, ParticleDesc, PlacementDesc};
 
 /// One sphere of constant extinction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,18 +22,84 @@ pub struct Particle {
     pub albedo: Vec3,
 }
 
-/// How many particles a generator makes (without making them).
+/// Where a `blocks` generator's particles are: its block and its instances.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlockInstancing {
+    /// The block's particles in block-local metres (about the block's origin).
+    pub block: Vec<Particle>,
+    /// Every instance, in expansion order.
+    pub instances: Vec<BlockInstance>,
+}
+
+/// One instance of a block, and the range of the medium's particles it expanded to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlockInstance {
+    /// Where the block's origin went, m.
+    pub center: Vec3,
+    /// Uniform scale of positions and radii.
+    pub scale: f32,
+    /// Multiplier of τ.
+    pub density_scale: f32,
+    /// Index of this instance's first particle in the medium's particle list; its particles are
+    /// `first .. first + block.len()`, in the block's order.
+    pub first: usize,
+}
+
+impl BlockInstance {
+    /// Block-local particle `p` placed by this instance (f64, rounded once).
+    pub fn place(&self, p: &Particle) -> Particle {
+        let s = self.scale as f64;
+        Particle {
+            center: (self.center.as_dvec3() + p.center.as_dvec3() * s).as_vec3(),
+            radius: (p.radius as f64 * s) as f32,
+            density: (p.density as f64 * self.density_scale as f64) as f32,
+            albedo: p.albedo,
+        }
+    }
+}
+
+/// How many particles a generator makes (without making them). Saturates (validation refuses
+/// anything near the limit).
 pub fn generated_count(g: &GeneratorDesc) -> u64 {
     match g {
         GeneratorDesc::Cloud { count, .. } | GeneratorDesc::SmokeColumn { count, .. } => {
             *count as u64
         }
+        GeneratorDesc::Blocks {
+            block,
+            instances,
+            placement,
+        } => block_count(block).saturating_mul(instance_count(instances, placement)),
     }
+}
+
+/// Particles in one copy of a block.
+pub fn block_count(b: &BlockDesc) -> u64 {
+    b.generators
+        .iter()
+        .map(generated_count)
+        .fold(b.particles.len() as u64, u64::saturating_add)
+}
+
+/// Instances a `blocks` generator declares (explicit + placed).
+pub fn instance_count(instances: &[InstanceDesc], placement: &Option<PlacementDesc>) -> u64 {
+    instances.len() as u64 + placement.as_ref().map_or(0, |p| p.count as u64)
 }
 
 /// Every particle: the explicit ones, then each generator's.
 pub fn expand(explicit: &[ParticleDesc], generators: &[GeneratorDesc]) -> Vec<Particle> {
-    let total = explicit.len() as u64 + generators.iter().map(generated_count).sum::<u64>();
+    expand_with_blocks(explicit, generators).0
+}
+
+/// [`expand`], plus one [`BlockInstancing`] per `blocks` generator, in file order.
+pub fn expand_with_blocks(
+    explicit: &[ParticleDesc],
+    generators: &[GeneratorDesc],
+) -> (Vec<Particle>, Vec<BlockInstancing>) {
+    let total = generators
+        .iter()
+        .map(generated_count)
+        .fold(explicit.len() as u64, u64::saturating_add);
     let mut out = Vec::with_capacity(total.min(1 << 24) as usize);
     out.extend(explicit.iter().map(|p| Particle {
         center: p.center,
@@ -39,8 +107,41 @@ pub fn expand(explicit: &[ParticleDesc], generators: &[GeneratorDesc]) -> Vec<Pa
         density: p.density,
         albedo: p.albedo,
     }));
+    let mut blocks = Vec::new();
     for g in generators {
-        generate(g, &mut out);
+        if let Some(b) = generate(g, &mut out) {
+            blocks.push(b);
+        }
+    }
+    (out, blocks)
+}
+
+/// The instances of a `blocks` generator: the explicit ones, then the placed ones (centres
+/// uniform in the ellipsoid, scales uniform in the range). `first` is left 0.
+pub fn instances(
+    explicit: &[InstanceDesc],
+    placement: &Option<PlacementDesc>,
+) -> Vec<BlockInstance> {
+    let mut out: Vec<BlockInstance> = explicit
+        .iter()
+        .map(|i| BlockInstance {
+            center: i.center,
+            scale: i.scale,
+            density_scale: i.density_scale,
+            first: 0,
+        })
+        .collect();
+    if let Some(p) = placement {
+        let mut rng = SplitMix64(p.seed);
+        for _ in 0..p.count {
+            let c = p.center.as_dvec3() + rng.in_ball() * p.radii.as_dvec3();
+            out.push(BlockInstance {
+                center: c.as_vec3(),
+                scale: lerp(p.scale[0], p.scale[1], rng.unit()) as f32,
+                density_scale: 1.0,
+                first: 0,
+            });
+        }
     }
     out
 }
@@ -84,8 +185,25 @@ fn lerp(a: f32, b: f32, t: f64) -> f64 {
     a as f64 + (b as f64 - a as f64) * t
 }
 
-fn generate(g: &GeneratorDesc, out: &mut Vec<Particle>) {
+/// Appends `g`'s particles; a `blocks` generator also returns where its instances went.
+fn generate(g: &GeneratorDesc, out: &mut Vec<Particle>) -> Option<BlockInstancing> {
     match g {
+        GeneratorDesc::Blocks {
+            block,
+            instances: explicit,
+            placement,
+        } => {
+            let block = expand(&block.particles, &block.generators);
+            let mut inst = instances(explicit, placement);
+            for i in inst.iter_mut() {
+                i.first = out.len();
+                out.extend(block.iter().map(|p| i.place(p)));
+            }
+            return Some(BlockInstancing {
+                block,
+                instances: inst,
+            });
+        }
         GeneratorDesc::Cloud {
             count,
             seed,
@@ -139,6 +257,7 @@ fn generate(g: &GeneratorDesc, out: &mut Vec<Particle>) {
             }
         }
     }
+    None
 }
 
 #[cfg(test)]
@@ -179,6 +298,125 @@ mod tests {
         // mean ≤ 2/√5/√500 ≈ 0.04).
         let mean = mean / ps.len() as f64;
         assert!((mean - DVec3::new(1.0, 2.0, 3.0)).length() < 0.2, "{mean}");
+    }
+
+    fn blocks(
+        block: BlockDesc,
+        instances: Vec<InstanceDesc>,
+        placement: Option<PlacementDesc>,
+    ) -> GeneratorDesc {
+        GeneratorDesc::Blocks {
+            block,
+            instances,
+            placement,
+        }
+    }
+
+    #[test]
+    fn blocks_expand_to_every_instance_of_the_block_moved_scaled_and_recorded() {
+        let block = BlockDesc {
+            particles: vec![ParticleDesc {
+                center: Vec3::new(0.5, 0.0, -0.25),
+                radius: 0.2,
+                density: 2.0,
+                albedo: Vec3::new(0.9, 0.8, 0.7),
+            }],
+            generators: vec![cloud(5)],
+        };
+        let inst = vec![
+            InstanceDesc {
+                center: Vec3::new(10.0, 0.0, 0.0),
+                scale: 1.0,
+                density_scale: 1.0,
+            },
+            InstanceDesc {
+                center: Vec3::new(-4.0, 2.0, 1.0),
+                scale: 0.5,
+                density_scale: 3.0,
+            },
+        ];
+        let place = PlacementDesc {
+            count: 3,
+            seed: 9,
+            center: Vec3::new(0.0, 5.0, 0.0),
+            radii: Vec3::new(2.0, 1.0, 1.0),
+            scale: [0.5, 2.0],
+        };
+        let explicit = [ParticleDesc {
+            center: Vec3::ZERO,
+            radius: 1.0,
+            density: 1.0,
+            albedo: Vec3::ONE,
+        }];
+        let g = blocks(block.clone(), inst, Some(place));
+        assert_eq!(generated_count(&g), 501 * 5);
+        let (ps, bl) = expand_with_blocks(&explicit, &[g]);
+        assert_eq!(ps.len(), 1 + 501 * 5);
+        assert_eq!(bl.len(), 1);
+        let b = &bl[0];
+        // The block is exactly the block's own expansion (explicit particle, then the cloud).
+        let local = expand(&block.particles, &block.generators);
+        assert_eq!(b.block, local);
+        assert_eq!(b.instances.len(), 5);
+        // Explicit instances come first, unchanged; each instance's range is contiguous and
+        // follows the previous one, after the medium's explicit particle.
+        assert_eq!(b.instances[1].center, Vec3::new(-4.0, 2.0, 1.0));
+        assert_eq!(
+            (b.instances[1].scale, b.instances[1].density_scale),
+            (0.5, 3.0)
+        );
+        for (k, i) in b.instances.iter().enumerate() {
+            assert_eq!(i.first, 1 + 501 * k);
+            for (j, q) in local.iter().enumerate() {
+                let p = ps[i.first + j];
+                let want = i.center + q.center * i.scale;
+                assert!(
+                    (p.center - want).length() < 1e-5,
+                    "{k} {j}: {} vs {want}",
+                    p.center
+                );
+                assert!((p.radius - q.radius * i.scale).abs() < 1e-6);
+                assert!((p.density - q.density * i.density_scale).abs() < 1e-5);
+                assert_eq!(p.albedo, q.albedo);
+            }
+        }
+        // Placed instances: centres in the ellipsoid, scales in range, τ unscaled.
+        for i in &b.instances[2..] {
+            let q = (i.center - Vec3::new(0.0, 5.0, 0.0)) / Vec3::new(2.0, 1.0, 1.0);
+            assert!(q.length() <= 1.0 + 1e-5, "{q}");
+            assert!((0.5..=2.0).contains(&i.scale) && i.density_scale == 1.0);
+        }
+        // Reproducible and seed-dependent like every generator.
+        let again = expand_with_blocks(
+            &explicit,
+            &[blocks(
+                block.clone(),
+                vec![],
+                Some(PlacementDesc {
+                    count: 3,
+                    seed: 9,
+                    center: Vec3::new(0.0, 5.0, 0.0),
+                    radii: Vec3::new(2.0, 1.0, 1.0),
+                    scale: [0.5, 2.0],
+                }),
+            )],
+        );
+        assert_eq!(again.1[0].instances[0].center, b.instances[2].center);
+        let other = expand_with_blocks(
+            &explicit,
+            &[blocks(
+                block,
+                vec![],
+                Some(PlacementDesc {
+                    count: 3,
+                    seed: 10,
+                    center: Vec3::new(0.0, 5.0, 0.0),
+                    radii: Vec3::new(2.0, 1.0, 1.0),
+                    scale: [0.5, 2.0],
+                }),
+            )],
+        );
+        assert_ne!(other.1[0].instances[0].center, b.instances[2].center);
     }
 
     #[test]

@@ -10,7 +10,7 @@ use crate::camera::CameraPose;
 use crate::desc::{GeneratorDesc, LightDesc, MediumDesc, SceneDesc, Transform};
 use crate::light::LightState;
 use crate::mesh::TriMesh;
-use crate::particles::{Particle, expand, generated_count};
+use crate::particles::{BlockInstancing, Particle, expand_with_blocks, generated_count};
 use crate::phase::Phase;
 
 /// A validated scene ready to render. Build it with [`crate::load_scene`] or
@@ -47,6 +47,9 @@ pub struct Particles {
     pub background: Homogeneous,
     /// Sky radiance behind the cloud, W/(m² sr), RGB.
     pub sky: Vec3,
+    /// One per `blocks` generator, in file order: its block and where each instance's
+    /// particles are in `particles` (the declared structure; empty without such generators).
+    pub blocks: Vec<BlockInstancing>,
 }
 
 /// The scene's medium, whichever kind it is. Methods that handle only homogeneous media use
@@ -119,8 +122,10 @@ impl Scene {
                 let (sigma_a, sigma_s) = background
                     .as_ref()
                     .map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.sigma_a, b.sigma_s));
+                let (particles, blocks) = expand_with_blocks(particles, generators);
                 Medium::Particles(Particles {
-                    particles: expand(particles, generators),
+                    particles,
+                    blocks,
                     phase: *phase,
                     background: Homogeneous {
                         sigma_a,
@@ -215,27 +220,14 @@ impl Scene {
                 background,
                 ..
             } => {
-                let scatters = |albedo: Vec3, density: f32| albedo.max_element() * density > 0.0;
-                let scattering = particles.iter().any(|p| scatters(p.albedo, p.density))
-                    || generators.iter().any(|g| match g {
-                        GeneratorDesc::Cloud {
-                            count,
-                            density,
-                            albedo,
-                            ..
-                        }
-                        | GeneratorDesc::SmokeColumn {
-                            count,
-                            density,
-                            albedo,
-                            ..
-                        } => *count > 0 && scatters(*albedo, *density),
-                    })
+                let scattering = any_scatters(particles, generators)
                     || background
                         .as_ref()
                         .is_some_and(|b| b.sigma_s.max_element() > 0.0);
-                let n =
-                    particles.len() as u64 + generators.iter().map(generated_count).sum::<u64>();
+                let n = generators
+                    .iter()
+                    .map(generated_count)
+                    .fold(particles.len() as u64, u64::saturating_add);
                 ("particles", *phase, scattering, false, n as usize)
             }
         };
@@ -289,6 +281,36 @@ impl Scene {
             triangles: self.triangle_count(),
         }
     }
+}
+
+/// Whether some particle of these (explicit or generated) scatters: albedo · τ > 0.
+fn any_scatters(particles: &[crate::desc::ParticleDesc], generators: &[GeneratorDesc]) -> bool {
+    let scatters = |albedo: Vec3, density: f32| albedo.max_element() * density > 0.0;
+    particles.iter().any(|p| scatters(p.albedo, p.density))
+        || generators.iter().any(|g| match g {
+            GeneratorDesc::Cloud {
+                count,
+                density,
+                albedo,
+                ..
+            }
+            | GeneratorDesc::SmokeColumn {
+                count,
+                density,
+                albedo,
+                ..
+            } => *count > 0 && scatters(*albedo, *density),
+            GeneratorDesc::Blocks {
+                block,
+                instances,
+                placement,
+            } => {
+                // Placed instances have density_scale 1.
+                (placement.as_ref().is_some_and(|p| p.count > 0)
+                    || instances.iter().any(|i| i.density_scale > 0.0))
+                    && any_scatters(&block.particles, &block.generators)
+            }
+        })
 }
 
 /// What a scene needs from a method. Methods decide their support from this alone.

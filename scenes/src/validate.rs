@@ -6,9 +6,10 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::desc::{
-    GeneratorDesc, LightDesc, LightKey, MediumDesc, Pattern, SceneDesc, Shape, Transform,
+    BlockDesc, GeneratorDesc, InstanceDesc, LightDesc, LightKey, MediumDesc, ParticleDesc, Pattern,
+    PlacementDesc, SceneDesc, Shape, Transform,
 };
-use crate::particles::generated_count;
+use crate::particles::{block_count, generated_count, instance_count};
 use crate::phase::Phase;
 
 /// One thing wrong with a scene: the field path (`objects[2].shape.radius`) and what is wrong.
@@ -238,18 +239,11 @@ fn medium(c: &mut Checker, m: &MediumDesc) {
                 c.non_negative3("medium.background.sigma_a", b.sigma_a);
                 c.non_negative3("medium.background.sigma_s", b.sigma_s);
             }
-            for (i, p) in particles.iter().enumerate() {
-                let at = format!("medium.particles[{i}]");
-                c.finite3(&format!("{at}.center"), p.center);
-                c.positive(&format!("{at}.radius"), p.radius);
-                non_negative(c, &format!("{at}.density"), p.density);
-                c.unit_interval3(&format!("{at}.albedo"), p.albedo);
-            }
-            for (i, g) in generators.iter().enumerate() {
-                generator(c, &format!("medium.generators[{i}]"), g);
-            }
-            let total =
-                particles.len() as u64 + generators.iter().map(generated_count).sum::<u64>();
+            particle_list(c, "medium", particles, generators, true);
+            let total = generators
+                .iter()
+                .map(generated_count)
+                .fold(particles.len() as u64, u64::saturating_add);
             if total == 0 {
                 c.push(
                     "medium",
@@ -262,6 +256,77 @@ fn medium(c: &mut Checker, m: &MediumDesc) {
                 );
             }
         }
+    }
+}
+
+/// Explicit particles and generators under `at` (the medium, or a block: `nested_ok` false).
+fn particle_list(
+    c: &mut Checker,
+    at: &str,
+    particles: &[ParticleDesc],
+    generators: &[GeneratorDesc],
+    blocks_ok: bool,
+) {
+    for (i, p) in particles.iter().enumerate() {
+        let at = format!("{at}.particles[{i}]");
+        c.finite3(&format!("{at}.center"), p.center);
+        c.positive(&format!("{at}.radius"), p.radius);
+        non_negative(c, &format!("{at}.density"), p.density);
+        c.unit_interval3(&format!("{at}.albedo"), p.albedo);
+    }
+    for (i, g) in generators.iter().enumerate() {
+        let at = format!("{at}.generators[{i}]");
+        if !blocks_ok && matches!(g, GeneratorDesc::Blocks { .. }) {
+            c.push(
+                &format!("{at}.shape"),
+                "a block cannot contain a `blocks` generator (one level of instancing)",
+            );
+            continue;
+        }
+        generator(c, &at, g);
+    }
+}
+
+/// A `blocks` generator: its block (≥ 1 particle, no nested blocks), its instances (≥ 1).
+fn blocks_generator(
+    c: &mut Checker,
+    at: &str,
+    block: &BlockDesc,
+    instances: &[InstanceDesc],
+    placement: &Option<PlacementDesc>,
+) {
+    let b = format!("{at}.block");
+    particle_list(c, &b, &block.particles, &block.generators, false);
+    if block_count(block) == 0 {
+        c.push(
+            &b,
+            "a block needs at least one particle (`particles` or `generators`)",
+        );
+    }
+    for (i, inst) in instances.iter().enumerate() {
+        let p = format!("{at}.instances[{i}]");
+        c.finite3(&format!("{p}.center"), inst.center);
+        c.positive(&format!("{p}.scale"), inst.scale);
+        non_negative(c, &format!("{p}.density_scale"), inst.density_scale);
+    }
+    if let Some(pl) = placement {
+        let p = format!("{at}.placement");
+        c.count(&format!("{p}.count"), pl.count, 1, MAX_PARTICLES as u32);
+        c.finite3(&format!("{p}.center"), pl.center);
+        positive3(c, &format!("{p}.radii"), pl.radii);
+        radius_range(c, &format!("{p}.scale"), pl.scale, true);
+    }
+    if instance_count(instances, placement) == 0 {
+        c.push(
+            at,
+            "a `blocks` generator needs at least one instance (`instances` or `placement`)",
+        );
+    }
+}
+
+fn positive3(c: &mut Checker, path: &str, v: Vec3) {
+    if c.finite3(path, v) && v.min_element() <= 0.0 {
+        c.push(path, format!("must be > 0 in every axis, got {v}"));
     }
 }
 
@@ -281,6 +346,11 @@ fn radius_range(c: &mut Checker, path: &str, r: [f32; 2], ordered: bool) {
 
 fn generator(c: &mut Checker, at: &str, g: &GeneratorDesc) {
     match g {
+        GeneratorDesc::Blocks {
+            block,
+            instances,
+            placement,
+        } => blocks_generator(c, at, block, instances, placement),
         GeneratorDesc::Cloud {
             count,
             center,
@@ -292,12 +362,7 @@ fn generator(c: &mut Checker, at: &str, g: &GeneratorDesc) {
         } => {
             c.count(&format!("{at}.count"), *count, 1, MAX_PARTICLES as u32);
             c.finite3(&format!("{at}.center"), *center);
-            if c.finite3(&format!("{at}.radii"), *radii) && radii.min_element() <= 0.0 {
-                c.push(
-                    &format!("{at}.radii"),
-                    format!("must be > 0 in every axis, got {radii}"),
-                );
-            }
+            positive3(c, &format!("{at}.radii"), *radii);
             radius_range(c, &format!("{at}.particle_radius"), *particle_radius, true);
             non_negative(c, &format!("{at}.density"), *density);
             c.unit_interval3(&format!("{at}.albedo"), *albedo);
