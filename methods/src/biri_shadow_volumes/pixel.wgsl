@@ -3,7 +3,7 @@
 // shadow planes, depth-tested against the scene, are drawn twice: `fs_count` sizes each pixel's
 // list, `fs_gather` stores each fragment's crossing (distance along the view ray, signed: +
 // front-facing = entering a volume, − leaving). `cs_walk` sorts each list, walks it from the
-// eye's count (cfg.light.y) and sums L_dss (eq. 7 between two distances) over the lit intervals
+// eye's count and sums L_dss (eq. 7 between two distances) over the lit intervals
 // up to the visible surface; the light's sum is added to the running total of earlier lights.
 // Composed after planes.wgsl (group 1 bindings 0–2: Γ table, cfg, ray distance).
 
@@ -37,7 +37,7 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dir = camera_ray_dir(camera, vec2<f32>(gid.xy) + 0.5);
     let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(gid.xy), 0).r);
     let k = cfg.light.x;
-    var acc = vec4<f32>(crossing_walk(gid.xy, cfg.light.y, end), 0.0);
+    var acc = vec4<f32>(crossing_walk(gid.xy, end), 0.0);
     if (k > 0u) {
         acc += inscatter_sum[i];
     }

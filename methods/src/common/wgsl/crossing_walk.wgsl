@@ -5,11 +5,11 @@
 
 // Pass 4: the sum of `crossing_lit(px, a, b)` over the lit intervals of the ray through pixel px
 // from the eye to distance `end` (the visible surface), walking its sorted crossings from the
-// eye's shadow count. Count ≤ 0 is lit (a negative count only comes from a plane the rasteriser
+// eye's shadow count (crossing_cfg.eye_count). Count ≤ 0 is lit (a negative count only comes from a plane the rasteriser
 // lost, and is treated as lit rather than trusted).
-fn crossing_walk(px: vec2<u32>, eye_count: u32, end: f32) -> vec3<f32> {
+fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
     let list = crossing_sorted(px);
-    var count = i32(eye_count);
+    var count = i32(crossing_cfg.eye_count);
     var start = 0.0;
     var sum = vec3<f32>(0.0);
     for (var a = 0u; a < list.y; a++) {
