@@ -39,7 +39,7 @@ pub fn source() -> String {
             include_str!("spot.wgsl"),
             include_str!("spot_rays.wgsl"),
             crossing_lists::WGSL,
-            crossing_lists::WALK_WGSL,
+            crossing_lists::PASSES_WGSL,
             include_str!("pixel.wgsl")
         ),
     )

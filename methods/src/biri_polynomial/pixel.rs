@@ -80,8 +80,8 @@ impl PixelPass {
                 )),
         );
         PixelPass {
-            count: planes("biri-poly crossing count", "fs_count"),
-            gather: planes("biri-poly crossing gather", "fs_gather"),
+            count: planes("biri-poly crossing count", "fs_crossing_count"),
+            gather: planes("biri-poly crossing gather", "fs_crossing_gather"),
             walk,
             lists,
         }

@@ -1,23 +1,12 @@
 // `resolve: per-pixel` (modernised; the paper's whole-plane order is `resolve: planes`): the
 // shadow planes of light poly.light go into the pixels' crossing lists (common/wgsl/
-// crossing_lists.wgsl, crossing_walk.wgsl; group 2) — `fs_count` sizes them, `fs_gather` stores
-// each fragment's signed distance (+ entering a shadow, − leaving) — and a full-screen pass sorts
-// each list and walks it from the eye's count, adding eq. 12's terms over the lit intervals only:
-// Γ(b) − Γ(a) for each lit [a, b] up to the visible point, with the very Γ the plane and surface
-// fragments evaluate (`biri_gamma_frag`: eq. 6's kernel segment integral from the eye, or eq. 7
-// for spots). Per fragment whatever `eval` says (a per-pixel resolve has no vertices).
-// Composed after passes.wgsl, spot.wgsl and spot_rays.wgsl.
-
-@fragment
-fn fs_count(v: PlaneFrag) {
-    crossing_count_fragment(vec2<u32>(v.clip.xy));
-}
-
-@fragment
-fn fs_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
-    let d = length(v.world - camera.position.xyz);
-    crossing_append(vec2<u32>(v.clip.xy), select(-d, d, front));
-}
+// crossing_lists.wgsl, crossing_passes.wgsl; group 2) — `fs_crossing_count` sizes them,
+// `fs_crossing_gather` stores each fragment's signed distance (+ entering a shadow, − leaving) —
+// and a full-screen pass sorts each list and walks it from the eye's count, adding eq. 12's terms
+// over the lit intervals only: Γ(b) − Γ(a) for each lit [a, b] up to the visible point, with the
+// very Γ the plane and surface fragments evaluate (`biri_gamma_frag`: eq. 6's kernel segment
+// integral from the eye, or eq. 7 for spots). Per fragment whatever `eval` says (a per-pixel
+// resolve has no vertices). Composed after passes.wgsl, spot.wgsl and spot_rays.wgsl.
 
 // The lit interval [a, b] of pixel px's ray: eq. 12's +Γ(b) − Γ(a).
 fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32> {

@@ -113,8 +113,8 @@ impl PixelPass {
             });
         PixelPass {
             layout,
-            count: planes("biri crossing count", "fs_count"),
-            gather: planes("biri crossing gather", "fs_gather"),
+            count: planes("biri crossing count", "fs_crossing_count"),
+            gather: planes("biri crossing gather", "fs_crossing_gather"),
             walk,
             lists,
             sum: gpu.buffer(&wgpu::BufferDescriptor {

@@ -38,7 +38,7 @@ pub fn source() -> String {
             "{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
             super::LDSS_WGSL,
             crossing_lists::WGSL,
-            crossing_lists::WALK_WGSL
+            crossing_lists::PASSES_WGSL
         ),
     )
 }

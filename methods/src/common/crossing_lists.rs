@@ -13,7 +13,7 @@
 //! 4. gather: the method draws the same planes with the same pipeline state calling
 //!    `crossing_append` into the harness's encoder;
 //! 5. walk: `crossing_sorted` sorts one list by distance, `crossing_walk`
-//!    (`wgsl/crossing_walk.wgsl`) walks it from the eye's shadow count and sums the method's
+//!    (`wgsl/crossing_passes.wgsl`) walks it from the eye's shadow count and sums the method's
 //!    `crossing_lit(px, a, b)` over the lit intervals.
 //!
 //! Why a sync rather than "grow and redraw" from the last frame's size: a frame is then never
@@ -34,8 +34,9 @@ use super::layouts::storage_buffer;
 
 /// The shared WGSL: bindings, count, append, scan, sort.
 pub const WGSL: &str = include_str!("wgsl/crossing_lists.wgsl");
-/// The walk; the including module supplies `crossing_lit(px, a, b) -> vec3<f32>`.
-pub const WALK_WGSL: &str = include_str!("wgsl/crossing_walk.wgsl");
+/// The count and gather fragment entries and the walk (after PRELUDE and [`WGSL`]); the
+/// including module supplies `crossing_lit(px, a, b) -> vec3<f32>`.
+pub const PASSES_WGSL: &str = include_str!("wgsl/crossing_passes.wgsl");
 /// The bind group index the WGSL uses.
 pub const GROUP: u32 = 2;
 /// Uniform slot stride (wgpu's guaranteed minimum dynamic-offset alignment).

@@ -3,7 +3,7 @@
 
 use std::ops::Range;
 
-use harness::gpu::{color_attachment, depth_stencil_attachment};
+use harness::gpu::{Counted, color_attachment, depth_stencil_attachment};
 use harness::{FrameReport, Gpu};
 
 use super::{Accumulate, LightDraws, Passes, PixelPass, PolyUniform, SLOT};
@@ -241,14 +241,16 @@ impl Passes {
         pass.dispatch_workgroups(rays.width.div_ceil(8), rays.height.div_ceil(8), 1);
     }
 
-    /// Stage 1 of §4.3.2: +Γ(P) where P is lit (stencil 0); `first` clears the target.
-    fn encode_lit_surfaces(
+    /// A pass into the accumulation target over the loaded depth-stencil, groups 0 and 1 bound
+    /// for light k; `first` clears the target.
+    fn accumulate_pass<'e>(
         &self,
         f: &Encoding,
-        enc: &mut wgpu::CommandEncoder,
+        enc: &'e mut wgpu::CommandEncoder,
+        label: &str,
         k: usize,
         first: bool,
-    ) {
+    ) -> Counted<wgpu::RenderPass<'e>> {
         let load = if first {
             wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
         } else {
@@ -258,7 +260,7 @@ impl Passes {
         let mut pass = f.gpu.render_pass(
             enc,
             &wgpu::RenderPassDescriptor {
-                label: Some("biri-poly surfaces"),
+                label: Some(label),
                 color_attachments: &attachments,
                 depth_stencil_attachment: Some(
                     self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Load),
@@ -268,6 +270,18 @@ impl Passes {
         );
         pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
         pass.set_bind_group(1, f.bind, &slot(k));
+        pass
+    }
+
+    /// Stage 1 of §4.3.2: +Γ(P) where P is lit (stencil 0); `first` clears the target.
+    fn encode_lit_surfaces(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        first: bool,
+    ) {
+        let mut pass = self.accumulate_pass(f, enc, "biri-poly surfaces", k, first);
         pass.set_stencil_reference(0);
         pass.set_pipeline(&self.pipes.surface);
         match &self.grid {
@@ -361,26 +375,8 @@ impl Passes {
         first: bool,
         pixel: &PixelPass,
     ) {
-        let load = if first {
-            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
-        } else {
-            wgpu::LoadOp::Load
-        };
-        let attachments = self.color(load);
-        let mut pass = f.gpu.render_pass(
-            enc,
-            &wgpu::RenderPassDescriptor {
-                label: Some("biri-poly crossing walk"),
-                color_attachments: &attachments,
-                depth_stencil_attachment: Some(
-                    self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Load),
-                ),
-                ..Default::default()
-            },
-        );
+        let mut pass = self.accumulate_pass(f, enc, "biri-poly crossing walk", k, first);
         pass.set_pipeline(&pixel.walk);
-        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
-        pass.set_bind_group(1, f.bind, &slot(k));
         pass.set_bind_group(GROUP, pixel.lists.bind_group(), &pixel.lists.slot(k));
         pass.draw(0..3, 0..1);
     }

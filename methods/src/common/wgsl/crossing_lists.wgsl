@@ -6,7 +6,7 @@
 //   2. scan:   `cs_crossing_scan` turns the counts into offsets (exclusive prefix sum) and
 //              records the total and the longest list; the CPU reads them and sizes the pool;
 //   3. gather: the same fragments call `crossing_append` (the counts, cleared, are the cursors);
-//   4. walk:   `crossing_sorted` sorts the pixel's list; `crossing_walk` (crossing_walk.wgsl)
+//   4. walk:   `crossing_sorted` sorts the pixel's list; `crossing_walk` (crossing_passes.wgsl)
 //              walks it.
 // One list per pixel and per light (`crossing_cfg.list`); needs nothing else (the scan pipeline
 // is this module alone).
