@@ -205,7 +205,10 @@ impl Passes {
             acc_format,
             &cfg,
         );
-        let pixel = (cfg.resolve == Resolve::PerPixel).then(|| {
+        // Without volumetric shadow casters both resolves are the one +Γ(P) pass of the lit
+        // surfaces: the lists (and their mid-frame sync) are not built.
+        let shadowed = ctx.scene.features().volumetric_occluders;
+        let pixel = (cfg.resolve == Resolve::PerPixel && shadowed).then(|| {
             PixelPass::new(
                 gpu,
                 [&renderer.frame_layout, &layout],
@@ -215,7 +218,6 @@ impl Passes {
                 ctx.scene.features().lights as u32,
             )
         });
-        let shadowed = ctx.scene.features().volumetric_occluders;
         Passes {
             cfg,
             casters: shadowed.then(|| ShadowCasters::new(ctx.scene)),
