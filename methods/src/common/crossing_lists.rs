@@ -259,7 +259,8 @@ impl CrossingLists {
         report.count("max_crossings", longest as f64);
         report.count("crossing_pool", total as f64);
         if total > self.capacity {
-            self.capacity = total.next_power_of_two();
+            // A quarter of headroom, so a slowly growing count does not reallocate every frame.
+            self.capacity = total + total / 4;
             self.pool = storage(gpu, "crossing pool", 4 * self.capacity);
             self.bind = bind_group(
                 gpu,
