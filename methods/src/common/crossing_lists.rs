@@ -20,7 +20,10 @@
 //! wrong (the first frame, a camera cut, a new caster), at the cost of one submit-and-wait per
 //! frame (the scene depth and the count passes run before the rest of the frame is encoded).
 //! Cost: per frame 2 × planes rasterised (count + gather), 8 bytes per pixel and light for
-//! counts and offsets, 4 bytes per crossing; the sort is n² per list of n.
+//! counts and offsets, 4 bytes per crossing; the sort is an insertion sort, n − 1 + inversions
+//! (≤ n²/2) steps per list of n. The walk calls the method's `crossing_lit` once per lit
+//! interval, but lavapipe runs a branch for a group of pixels whenever one of them takes it, so
+//! in practice about once per crossing of the group's longest list.
 //!
 //! Counters: `max_crossings` (longest list, this frame), `crossing_pool` (crossings stored, this
 //! frame), `crossing_count_ms` (the submit-and-wait: GPU work outside the harness's timestamps),
