@@ -13,7 +13,9 @@ use scenes::{FrameState, Scene};
 
 use super::geometry::{faces_eye, far_grid, mesh_quad, order_key};
 use super::pipelines::Pipelines;
+use super::pixel::PixelPass;
 use super::spot_rays::{self, SpotRays};
+use crate::common::crossing_lists;
 use crate::common::gpu_scene::GpuScene;
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
@@ -31,11 +33,14 @@ pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
-            "{}\n{}\n{}\n{}",
+            "{}\n{}\n{}\n{}\n{}\n{}\n{}",
             super::KERNEL_WGSL,
             include_str!("passes.wgsl"),
             include_str!("spot.wgsl"),
-            include_str!("spot_rays.wgsl")
+            include_str!("spot_rays.wgsl"),
+            crossing_lists::WGSL,
+            crossing_lists::PASSES_WGSL,
+            include_str!("pixel.wgsl")
         ),
     )
 }
@@ -47,6 +52,15 @@ pub enum Eval {
     Vertex,
     /// Per fragment (the modern variant).
     Fragment,
+}
+
+/// How the plane crossings become in-scatter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resolve {
+    /// Per-pixel crossing lists sorted and walked (`pixel.rs`; modern, exact shadow in shadow).
+    PerPixel,
+    /// The paper's: planes front to back in eq. 13/14's order under §4.4's stencil rules.
+    Planes,
 }
 
 /// The accumulation target.
@@ -62,6 +76,7 @@ pub enum Accumulate {
 /// The knobs the passes depend on.
 #[derive(Clone, Copy, Debug)]
 pub struct Config {
+    pub resolve: Resolve,
     pub eval: Eval,
     pub accumulate: Accumulate,
     /// Subdivision levels of the surfaces (vertex evaluation only).
@@ -112,6 +127,8 @@ pub struct Passes {
     spot_rays_view: wgpu::TextureView,
     spot_rays: Option<SpotRays>,
     pipes: Pipelines,
+    /// `resolve = per-pixel`: the crossing lists and their passes.
+    pixel: Option<PixelPass>,
     vertices: Option<wgpu::Buffer>,
     draws: Vec<LightDraws>,
 }
@@ -188,7 +205,19 @@ impl Passes {
             acc_format,
             &cfg,
         );
+        // Without volumetric shadow casters both resolves are the one +Γ(P) pass of the lit
+        // surfaces: the lists (and their mid-frame sync) are not built.
         let shadowed = ctx.scene.features().volumetric_occluders;
+        let pixel = (cfg.resolve == Resolve::PerPixel && shadowed).then(|| {
+            PixelPass::new(
+                gpu,
+                [&renderer.frame_layout, &layout],
+                &module,
+                &constants,
+                size,
+                ctx.scene.features().lights as u32,
+            )
+        });
         Passes {
             cfg,
             casters: shadowed.then(|| ShadowCasters::new(ctx.scene)),
@@ -202,6 +231,7 @@ impl Passes {
             spot_rays_view,
             spot_rays,
             pipes,
+            pixel,
             vertices: None,
             draws: Vec::new(),
         }

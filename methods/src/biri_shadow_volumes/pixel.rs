@@ -78,17 +78,11 @@ impl PixelPass {
                 ],
             });
         let lists = CrossingLists::new(gpu, width, height, lights, vis);
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("biri per-pixel"),
-                bind_group_layouts: &[
-                    Some(&renderer.frame_layout),
-                    Some(&layout),
-                    Some(&lists.layout),
-                ],
-                immediate_size: 0,
-            });
+        let pl = crate::common::pipeline::layout(
+            &gpu.device,
+            "biri per-pixel",
+            &[&renderer.frame_layout, &layout, &lists.layout],
+        );
         // Only crossings in front of the visible surface are listed; as in the stencil passes,
         // entering a shadow rasterises clockwise (planes.rs). Count and gather share this state,
         // so they rasterise the same fragments.
@@ -119,8 +113,8 @@ impl PixelPass {
             });
         PixelPass {
             layout,
-            count: planes("biri crossing count", "fs_count"),
-            gather: planes("biri crossing gather", "fs_gather"),
+            count: planes("biri crossing count", "fs_crossing_count"),
+            gather: planes("biri crossing gather", "fs_crossing_gather"),
             walk,
             lists,
             sum: gpu.buffer(&wgpu::BufferDescriptor {
@@ -168,8 +162,14 @@ impl PixelPass {
     }
 
     /// The crossing lists' count encoder (the caller records the scene depth into it first).
-    pub fn begin(&mut self, gpu: &Gpu, report: &mut FrameReport) -> wgpu::CommandEncoder {
-        self.lists.begin_count(gpu, report)
+    pub fn begin(
+        &mut self,
+        gpu: &Gpu,
+        ranges: &[LightRange],
+        report: &mut FrameReport,
+    ) -> wgpu::CommandEncoder {
+        let eye: Vec<u32> = ranges.iter().map(|r| r.eye_count).collect();
+        self.lists.begin_count(gpu, &eye, report)
     }
 
     /// Per light: count its crossings into `pre` (then submitted, the pool sized), gather them

@@ -1,25 +1,14 @@
 // `resolve: per-pixel`: exact shadow in shadow without a CPU sort, on the shared crossing lists
-// (common/wgsl/crossing_lists.wgsl, crossing_walk.wgsl; group 2). For one light (cfg.light.x) the
-// shadow planes, depth-tested against the scene, are drawn twice: `fs_count` sizes each pixel's
-// list, `fs_gather` stores each fragment's crossing (distance along the view ray, signed: +
-// front-facing = entering a volume, − leaving). `cs_walk` sorts each list, walks it from the
-// eye's count (cfg.light.y) and sums L_dss (eq. 7 between two distances) over the lit intervals
-// up to the visible surface; the light's sum is added to the running total of earlier lights.
-// Composed after planes.wgsl (group 1 bindings 0–2: Γ table, cfg, ray distance).
+// (common/wgsl/crossing_lists.wgsl, crossing_passes.wgsl; group 2). For one light (cfg.light.x)
+// the shadow planes, depth-tested against the scene, are drawn twice: `fs_crossing_count` sizes
+// each pixel's list, `fs_crossing_gather` stores each fragment's crossing (distance along the
+// view ray, signed: + front-facing = entering a volume, − leaving). `cs_walk` sorts each list,
+// walks it from the eye's count and sums L_dss (eq. 7 between two distances) over the lit
+// intervals up to the visible surface; the light's sum is added to the running total of earlier
+// lights. Composed after planes.wgsl (group 1 bindings 0–2: Γ table, cfg, ray distance).
 
 @group(1) @binding(5) var<storage, read_write> inscatter_sum: array<vec4<f32>>;
 @group(1) @binding(6) var inscatter_out: texture_storage_2d<rgba32float, write>;
-
-@fragment
-fn fs_count(v: PlaneOut) {
-    crossing_count_fragment(vec2<u32>(v.clip.xy));
-}
-
-@fragment
-fn fs_gather(v: PlaneOut, @builtin(front_facing) front: bool) {
-    let d = length(v.world - camera.position.xyz);
-    crossing_append(vec2<u32>(v.clip.xy), select(-d, d, front));
-}
 
 // Eq. 7 on pixel px's ray between distances a and b (the walk's lit intervals).
 fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32> {
@@ -37,7 +26,7 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dir = camera_ray_dir(camera, vec2<f32>(gid.xy) + 0.5);
     let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(gid.xy), 0).r);
     let k = cfg.light.x;
-    var acc = vec4<f32>(crossing_walk(gid.xy, cfg.light.y, end), 0.0);
+    var acc = vec4<f32>(crossing_walk(gid.xy, end), 0.0);
     if (k > 0u) {
         acc += inscatter_sum[i];
     }

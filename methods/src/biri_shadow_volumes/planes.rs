@@ -38,7 +38,7 @@ pub fn source() -> String {
             "{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
             super::LDSS_WGSL,
             crossing_lists::WGSL,
-            crossing_lists::WALK_WGSL
+            crossing_lists::PASSES_WGSL
         ),
     )
 }
@@ -336,7 +336,7 @@ impl Planes {
         if let Some(pixel) = self.pixel.as_mut() {
             // The lists are sized before the frame goes on: depth and counts in their own
             // submission (`common::crossing_lists`).
-            let mut pre = pixel.begin(gpu, report);
+            let mut pre = pixel.begin(gpu, &self.ranges, report);
             encode_depth(
                 &self.depth_pipe,
                 gpu,

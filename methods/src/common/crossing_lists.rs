@@ -13,14 +13,17 @@
 //! 4. gather: the method draws the same planes with the same pipeline state calling
 //!    `crossing_append` into the harness's encoder;
 //! 5. walk: `crossing_sorted` sorts one list by distance, `crossing_walk`
-//!    (`wgsl/crossing_walk.wgsl`) walks it from the eye's shadow count and sums the method's
+//!    (`wgsl/crossing_passes.wgsl`) walks it from the eye's shadow count and sums the method's
 //!    `crossing_lit(px, a, b)` over the lit intervals.
 //!
 //! Why a sync rather than "grow and redraw" from the last frame's size: a frame is then never
 //! wrong (the first frame, a camera cut, a new caster), at the cost of one submit-and-wait per
 //! frame (the scene depth and the count passes run before the rest of the frame is encoded).
 //! Cost: per frame 2 × planes rasterised (count + gather), 8 bytes per pixel and light for
-//! counts and offsets, 4 bytes per crossing; the sort is n² per list of n.
+//! counts and offsets, 4 bytes per crossing; the sort is an insertion sort, n − 1 + inversions
+//! (≤ n²/2) steps per list of n. The walk calls the method's `crossing_lit` once per lit
+//! interval, but lavapipe runs a branch for a group of pixels whenever one of them takes it, so
+//! in practice about once per crossing of the group's longest list.
 //!
 //! Counters: `max_crossings` (longest list, this frame), `crossing_pool` (crossings stored, this
 //! frame), `crossing_count_ms` (the submit-and-wait: GPU work outside the harness's timestamps),
@@ -34,12 +37,14 @@ use super::layouts::storage_buffer;
 
 /// The shared WGSL: bindings, count, append, scan, sort.
 pub const WGSL: &str = include_str!("wgsl/crossing_lists.wgsl");
-/// The walk; the including module supplies `crossing_lit(px, a, b) -> vec3<f32>`.
-pub const WALK_WGSL: &str = include_str!("wgsl/crossing_walk.wgsl");
+/// The count and gather fragment entries and the walk (after PRELUDE and [`WGSL`]); the
+/// including module supplies `crossing_lit(px, a, b) -> vec3<f32>`.
+pub const PASSES_WGSL: &str = include_str!("wgsl/crossing_passes.wgsl");
 /// The bind group index the WGSL uses.
 pub const GROUP: u32 = 2;
 /// Uniform slot stride (wgpu's guaranteed minimum dynamic-offset alignment).
 const SLOT: u64 = 256;
+const UNIFORM_SIZE: u64 = std::mem::size_of::<CrossingUniform>() as u64;
 
 /// `CrossingCfg` in crossing_lists.wgsl, field for field.
 #[repr(C)]
@@ -49,6 +54,9 @@ struct CrossingUniform {
     width: u32,
     height: u32,
     lists: u32,
+    /// The eye's shadow count for this light (this frame).
+    eye_count: u32,
+    _pad: [u32; 3],
 }
 
 pub struct CrossingLists {
@@ -101,7 +109,7 @@ impl CrossingLists {
                         ty: wgpu::BindingType::Buffer {
                             ty: wgpu::BufferBindingType::Uniform,
                             has_dynamic_offset: true,
-                            min_binding_size: wgpu::BufferSize::new(16),
+                            min_binding_size: wgpu::BufferSize::new(UNIFORM_SIZE),
                         },
                         count: None,
                     },
@@ -119,13 +127,19 @@ impl CrossingLists {
                     width,
                     height,
                     lists,
+                    eye_count: 0,
+                    _pad: [0; 3],
                 };
                 let mut v = vec![0u8; SLOT as usize];
-                v[..16].copy_from_slice(bytemuck::bytes_of(&u));
+                v[..UNIFORM_SIZE as usize].copy_from_slice(bytemuck::bytes_of(&u));
                 v
             })
             .collect();
-        let uniform = gpu.buffer_init("crossing lists", &slots, wgpu::BufferUsages::UNIFORM);
+        let uniform = gpu.buffer_init(
+            "crossing lists",
+            &slots,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
         let n = lists as u64 * width as u64 * height as u64;
         let counts = storage(gpu, "crossing counts", 4 * n);
         let offsets = storage(gpu, "crossing offsets", 4 * (n + 1));
@@ -145,13 +159,7 @@ impl CrossingLists {
                 label: Some("empty"),
                 entries: &[],
             });
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("crossing scan"),
-                bind_group_layouts: &[Some(&empty), Some(&empty), Some(&layout)],
-                immediate_size: 0,
-            });
+        let pl = super::pipeline::layout(&gpu.device, "crossing scan", &[&empty, &empty, &layout]);
         let scan = gpu
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -190,8 +198,19 @@ impl CrossingLists {
     }
 
     /// Starts a frame: the encoder the method records its scene depth and count passes into
-    /// (submitted by [`CrossingLists::size_pool`]), with the counts cleared.
-    pub fn begin_count(&mut self, gpu: &Gpu, report: &mut FrameReport) -> wgpu::CommandEncoder {
+    /// (submitted by [`CrossingLists::size_pool`]), with the counts cleared. `eye_counts`: per
+    /// light, the number of shadow volumes around the eye (where each walk starts).
+    pub fn begin_count(
+        &mut self,
+        gpu: &Gpu,
+        eye_counts: &[u32],
+        report: &mut FrameReport,
+    ) -> wgpu::CommandEncoder {
+        for (k, c) in eye_counts.iter().take(self.lists as usize).enumerate() {
+            let at = k as u64 * SLOT + std::mem::offset_of!(CrossingUniform, eye_count) as u64;
+            gpu.queue
+                .write_buffer(&self.uniform, at, bytemuck::bytes_of(c));
+        }
         self.readback.begin_frame(gpu, &self.stats);
         if let Some(v) = self.readback.latest() {
             report.count("crossing_overflows", v[2] as f64);
@@ -243,7 +262,8 @@ impl CrossingLists {
         report.count("max_crossings", longest as f64);
         report.count("crossing_pool", total as f64);
         if total > self.capacity {
-            self.capacity = total.next_power_of_two();
+            // A quarter of headroom, so a slowly growing count does not reallocate every frame.
+            self.capacity = total + total / 4;
             self.pool = storage(gpu, "crossing pool", 4 * self.capacity);
             self.bind = bind_group(
                 gpu,
@@ -276,7 +296,7 @@ fn bind_group(gpu: &Gpu, layout: &wgpu::BindGroupLayout, b: [&wgpu::Buffer; 5]) 
                 wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                     buffer: buf,
                     offset: 0,
-                    size: wgpu::BufferSize::new(16),
+                    size: wgpu::BufferSize::new(UNIFORM_SIZE),
                 })
             } else {
                 buf.as_entire_binding()

@@ -59,10 +59,12 @@ pub struct PipelineBuilder<'a> {
 }
 
 impl<'a> PipelineBuilder<'a> {
-    pub fn new(
+    /// `groups`: the bind group layouts, group 0 first (the renderer's frame group, the
+    /// method's group 1, and for the crossing-list passes `common::crossing_lists`' group 2).
+    pub fn new<const N: usize>(
         device: &'a wgpu::Device,
         label: &str,
-        groups: [&wgpu::BindGroupLayout; 2],
+        groups: [&wgpu::BindGroupLayout; N],
         module: &'a wgpu::ShaderModule,
         constants: &'a [(&'static str, f64)],
     ) -> Self {

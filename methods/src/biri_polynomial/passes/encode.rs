@@ -3,10 +3,11 @@
 
 use std::ops::Range;
 
-use harness::gpu::{color_attachment, depth_stencil_attachment};
+use harness::gpu::{Counted, color_attachment, depth_stencil_attachment};
 use harness::{FrameReport, Gpu};
 
-use super::{Accumulate, LightDraws, Passes, PolyUniform, SLOT};
+use super::{Accumulate, LightDraws, Passes, PixelPass, PolyUniform, SLOT};
+use crate::common::crossing_lists::GROUP;
 use crate::common::gpu_scene::GpuScene;
 use crate::common::renderer::SceneRenderer;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
@@ -15,21 +16,41 @@ use crate::common::uniforms::MAX_LIGHTS;
 impl Passes {
     /// Every pass of every light into `acc_view`.
     pub fn encode(
-        &self,
+        &mut self,
         gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
         surface: &wgpu::TextureView,
         surface_shadows: Option<&StencilSurfaceShadows>,
         report: &mut FrameReport,
-    ) {
+    ) -> anyhow::Result<()> {
         let bind = self.bind_group(gpu, renderer, surface);
         let f = Encoding {
             gpu,
             renderer,
             bind: &bind,
         };
-        self.encode_depth(&f, enc);
+        // resolve = per-pixel: the depth and the crossing counts go first, on their own, so the
+        // lists' pool is sized before the gather (`common::crossing_lists`).
+        let eye: Vec<u32> = self.draws.iter().map(|d| d.eye_count).collect();
+        match self
+            .pixel
+            .as_mut()
+            .map(|p| p.lists.begin_count(gpu, &eye, report))
+        {
+            Some(mut pre) => {
+                self.encode_depth(&f, &mut pre);
+                if let Some(pixel) = &self.pixel {
+                    for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+                        self.encode_crossings(&f, &mut pre, k, light, pixel, &pixel.count);
+                    }
+                }
+                if let Some(pixel) = self.pixel.as_mut() {
+                    pixel.lists.size_pool(gpu, pre, report)?;
+                }
+            }
+            None => self.encode_depth(&f, enc),
+        }
         // §4.3's surface shadows: per light, the count of its volumes around each visible point,
         // then its light removed from the surfaces where the count is not zero.
         if let Some(shadows) = surface_shadows {
@@ -45,11 +66,21 @@ impl Passes {
         let mut first = self.cfg.accumulate == Accumulate::Float;
         for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
             self.encode_spot_rays(&f, enc, k);
+            if let Some(pixel) = &self.pixel {
+                self.encode_crossings(&f, enc, k, light, pixel, &pixel.gather);
+                self.encode_walk(&f, enc, k, first, pixel);
+                first = false;
+                continue;
+            }
             // Stencil = shadow volumes around each visible point (z-pass from the eye's count).
             self.encode_count(&f, enc, k, light, "biri-poly count");
             self.encode_lit_surfaces(&f, enc, k, first);
             first = false;
             self.encode_planes(&f, enc, k, light);
+        }
+        if let Some(pixel) = self.pixel.as_mut() {
+            pixel.lists.end_frame(enc);
+            report.ran("crossing-lists");
         }
         report.ran("polynomial-surfaces");
         if self.spot_rays.is_some() {
@@ -60,6 +91,7 @@ impl Passes {
         } else {
             report.skip("shadow-planes", "no object casts a volumetric shadow");
         }
+        Ok(())
     }
 
     /// Group 1 of every pass: distances, the light slots, the surface radiance, Δ, spot rays.
@@ -209,14 +241,16 @@ impl Passes {
         pass.dispatch_workgroups(rays.width.div_ceil(8), rays.height.div_ceil(8), 1);
     }
 
-    /// Stage 1 of §4.3.2: +Γ(P) where P is lit (stencil 0); `first` clears the target.
-    fn encode_lit_surfaces(
+    /// A pass into the accumulation target over the loaded depth-stencil, groups 0 and 1 bound
+    /// for light k; `first` clears the target.
+    fn accumulate_pass<'e>(
         &self,
         f: &Encoding,
-        enc: &mut wgpu::CommandEncoder,
+        enc: &'e mut wgpu::CommandEncoder,
+        label: &str,
         k: usize,
         first: bool,
-    ) {
+    ) -> Counted<wgpu::RenderPass<'e>> {
         let load = if first {
             wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
         } else {
@@ -226,7 +260,7 @@ impl Passes {
         let mut pass = f.gpu.render_pass(
             enc,
             &wgpu::RenderPassDescriptor {
-                label: Some("biri-poly surfaces"),
+                label: Some(label),
                 color_attachments: &attachments,
                 depth_stencil_attachment: Some(
                     self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Load),
@@ -236,6 +270,18 @@ impl Passes {
         );
         pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
         pass.set_bind_group(1, f.bind, &slot(k));
+        pass
+    }
+
+    /// Stage 1 of §4.3.2: +Γ(P) where P is lit (stencil 0); `first` clears the target.
+    fn encode_lit_surfaces(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        first: bool,
+    ) {
+        let mut pass = self.accumulate_pass(f, enc, "biri-poly surfaces", k, first);
         pass.set_stencil_reference(0);
         pass.set_pipeline(&self.pipes.surface);
         match &self.grid {
@@ -285,6 +331,54 @@ impl Passes {
                 pass.draw(range.clone(), 0..1);
             }
         }
+    }
+
+    /// resolve = per-pixel: light k's planes in front of the visible surface with `pipe` (the
+    /// lists' count or gather), no colour.
+    fn encode_crossings(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        light: &LightDraws,
+        pixel: &PixelPass,
+        pipe: &wgpu::RenderPipeline,
+    ) {
+        let Some(v) = self.vertices.as_ref().filter(|_| !light.runs.is_empty()) else {
+            return;
+        };
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("biri-poly crossing lists"),
+                depth_stencil_attachment: Some(
+                    self.depth_stencil(wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                ),
+                ..Default::default()
+            },
+        );
+        pass.set_pipeline(pipe);
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, f.bind, &slot(k));
+        pass.set_bind_group(GROUP, pixel.lists.bind_group(), &pixel.lists.slot(k));
+        pass.set_vertex_buffer(0, v.slice(..));
+        pass.draw(light.whole(), 0..1);
+    }
+
+    /// resolve = per-pixel: light k's lists sorted and walked, its lit intervals' Γ added to the
+    /// target (`first` clears it).
+    fn encode_walk(
+        &self,
+        f: &Encoding,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        first: bool,
+        pixel: &PixelPass,
+    ) {
+        let mut pass = self.accumulate_pass(f, enc, "biri-poly crossing walk", k, first);
+        pass.set_pipeline(&pixel.walk);
+        pass.set_bind_group(GROUP, pixel.lists.bind_group(), &pixel.lists.slot(k));
+        pass.draw(0..3, 0..1);
     }
 }
 

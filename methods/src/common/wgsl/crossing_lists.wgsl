@@ -6,7 +6,7 @@
 //   2. scan:   `cs_crossing_scan` turns the counts into offsets (exclusive prefix sum) and
 //              records the total and the longest list; the CPU reads them and sizes the pool;
 //   3. gather: the same fragments call `crossing_append` (the counts, cleared, are the cursors);
-//   4. walk:   `crossing_sorted` sorts the pixel's list; `crossing_walk` (crossing_walk.wgsl)
+//   4. walk:   `crossing_sorted` sorts the pixel's list; `crossing_walk` (crossing_passes.wgsl)
 //              walks it.
 // One list per pixel and per light (`crossing_cfg.list`); needs nothing else (the scan pipeline
 // is this module alone).
@@ -16,7 +16,11 @@ struct CrossingCfg {
     list: u32,   // which light's lists (0 for the scan)
     width: u32,
     height: u32,
-    lists: u32,  // lights with lists this frame (the scan covers lists × width × height)
+    lists: u32,  // lights with lists (the scan covers lists × width × height)
+    eye_count: u32,  // shadow volumes around the eye for this light (where the walk starts)
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(2) @binding(0) var<uniform> crossing_cfg: CrossingCfg;
@@ -89,24 +93,29 @@ fn cs_crossing_scan(@builtin(local_invocation_index) t: u32) {
     }
 }
 
-// Pass 4: sorts list px by distance in place and returns (first pool index, length). Bubble
-// sort flattened to one loop of n² steps (lavapipe's compiler crashes on nested dynamic loops):
-// fine for the tens of crossings a pixel sees; a list of n costs n² steps.
+// Pass 4: sorts list px by distance in place and returns (first pool index, length). Insertion
+// sort flattened to one loop (lavapipe's compiler crashes on nested dynamic loops): each step
+// either shifts one element up or drops the held key into its hole, so a list of n with m
+// inversions costs n − 1 + m steps (≤ n²/2; about n²/4 in rasterisation order).
 fn crossing_sorted(px: vec2<u32>) -> vec2<u32> {
     let i = crossing_index(px);
     let base = crossing_offset[i];
     let n = crossing_offset[i + 1u] - base;
     // Unconditional: lavapipe crashes on an atomicAdd under a branch in compute.
     atomicAdd(&crossing_stats[2], select(0u, 1u, atomicLoad(&crossing_count[i]) != n));
-    for (var it = 0u; it < n * n; it++) {
-        let j = it % n;
-        if (j + 1u < n) {
-            let x = crossing_pool[base + j];
-            let y = crossing_pool[base + j + 1u];
-            if (abs(x) > abs(y)) {
-                crossing_pool[base + j] = y;
-                crossing_pool[base + j + 1u] = x;
-            }
+    var next = 1u;  // the element being inserted
+    var hole = 1u;  // where it would go
+    var key = crossing_pool[base + min(1u, max(n, 1u) - 1u)];
+    for (var step = 0u; step < n * n && next < n; step++) {
+        let prev = crossing_pool[base + max(hole, 1u) - 1u];
+        if (hole > 0u && abs(prev) > abs(key)) {
+            crossing_pool[base + hole] = prev;
+            hole -= 1u;
+        } else {
+            crossing_pool[base + hole] = key;
+            next += 1u;
+            hole = next;
+            key = crossing_pool[base + min(next, n - 1u)];
         }
     }
     return vec2<u32>(base, n);

@@ -1,0 +1,52 @@
+// The method side of the crossing lists (after PRELUDE and crossing_lists.wgsl): the count and
+// gather fragment entries of the shadow-plane draws, and the walk over a sorted list. The
+// planes' vertex stage must output the clip position and, at location 0, the world position.
+// The including module supplies `fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32>`:
+// the method's in-scatter of the lit interval [a, b] (distances from the eye) on pixel px's ray,
+// so each method keeps its own per-interval integral (biri-shadow-volumes: eq. 7 between two
+// distances; biri-polynomial: Γ(b) − Γ(a)).
+
+struct CrossingFrag {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
+// Pass 1: one count per plane fragment in front of the visible surface.
+@fragment
+fn fs_crossing_count(v: CrossingFrag) {
+    crossing_count_fragment(vec2<u32>(v.clip.xy));
+}
+
+// Pass 3: the fragment's distance along the view ray, + front-facing (entering a shadow volume),
+// − back-facing (leaving one).
+@fragment
+fn fs_crossing_gather(v: CrossingFrag, @builtin(front_facing) front: bool) {
+    let d = length(v.world - camera.position.xyz);
+    crossing_append(vec2<u32>(v.clip.xy), select(-d, d, front));
+}
+
+// Pass 4: the sum of `crossing_lit(px, a, b)` over the lit intervals of the ray through pixel px
+// from the eye to distance `end` (the visible surface), walking its sorted crossings from the
+// eye's shadow count (crossing_cfg.eye_count). Count ≤ 0 is lit (a negative count only comes from a plane the rasteriser
+// lost, and is treated as lit rather than trusted).
+fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
+    let list = crossing_sorted(px);
+    var count = i32(crossing_cfg.eye_count);
+    var start = 0.0;
+    var sum = vec3<f32>(0.0);
+    for (var a = 0u; a < list.y; a++) {
+        let x = crossing_pool[list.x + a];
+        let d = min(abs(x), end);
+        let lit = count <= 0;
+        count += select(-1, 1, x > 0.0);
+        if (lit && count > 0) {
+            sum += crossing_lit(px, start, d);
+        } else if (!lit && count <= 0) {
+            start = d;
+        }
+    }
+    if (count <= 0) {
+        sum += crossing_lit(px, start, end);
+    }
+    return sum;
+}
