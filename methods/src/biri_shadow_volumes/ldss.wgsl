@@ -72,3 +72,27 @@ fn ldss_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, d: f32) ->
     let bound = scale * pmax * PI * exp(-st * dist);
     return min(scale * exp(min(-st * g.x, vec3<f32>(80.0))) * max(diff, vec3<f32>(0.0)), bound);
 }
+
+// The ONE per-interval function of both resolves (the per-pixel walk calls it per lit interval,
+// the stencil planes through `crossing_term`): the unshadowed in-scatter of light k over [a, b]
+// of the view ray, dispatched on the light's kind (baked where the pass sets LIGHT_KIND_k).
+// Point: eq. 7's two Γ lookups (the paper). Directional (modernised; the paper only says it is
+// easier): σ_s E p(θ) (e^(−σ_t a) − e^(−σ_t b))/σ_t, the scattering angle being constant along
+// the ray. Spot (modernised): `spot_panels` two-node Gauss–Legendre panels in the angle seen from
+// the light over [a, b] ∩ the outer cone, falloff and pattern at every node (light_segments.wgsl).
+fn lit_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, b: f32, spot_panels: u32) -> vec3<f32> {
+    if (b <= a) { return vec3<f32>(0.0); }
+    let kind = light_kind(k);
+    if (kind == LIGHT_DIRECTIONAL) { return sunlight_between(k, dir, a, b); }
+    if (kind == LIGHT_SPOT) { return spot_between(k, dir, a, b, spot_panels); }
+    return ldss_between(tab, k, dir, a, b);
+}
+
+// What a shadow-plane crossing at distance d adds (front face) or subtracts (back face) in the
+// stencil resolve, an antiderivative of `lit_between` in d: point lights Γ's term at d
+// (`ldss_term`; the resolve adds the eye's −ldss_term(0) once), other kinds ∫ from the eye to d
+// (0 at the eye, so they need no eye term).
+fn crossing_term(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32, spot_panels: u32) -> vec3<f32> {
+    if (light_kind(k) == LIGHT_POINT) { return ldss_term(tab, k, dir, d); }
+    return lit_between(tab, k, dir, 0.0, d, spot_panels);
+}

@@ -67,13 +67,13 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
         let lit = count <= 0;
         count += select(-1, 1, x > 0.0);
         if (lit && count > 0) {
-            sum += ldss_between(gamma_table, k, dir, start, d);
+            sum += lit_between(gamma_table, k, dir, start, d, cfg.light.w);
         } else if (!lit && count <= 0) {
             start = d;
         }
     }
     if (count <= 0) {
-        sum += ldss_between(gamma_table, k, dir, start, end);
+        sum += lit_between(gamma_table, k, dir, start, end, cfg.light.w);
     }
     var acc = vec4<f32>(sum, 0.0);
     if (k > 0u) {

@@ -56,6 +56,8 @@ pub struct Options {
     pub unorm8: bool,
     /// Per-pixel list capacity.
     pub crossings: u32,
+    /// Knob `spot_panels` (the spot quadrature of `lit_between`).
+    pub spot_panels: u32,
 }
 
 /// One light's planes in the vertex buffer and the eye's shadow count.
@@ -201,7 +203,12 @@ impl Planes {
                 eye_count: light.eye_count,
             });
             if k < crate::common::uniforms::MAX_LIGHTS {
-                let cfg = [k as u32, light.eye_count, self.opts.crossings, 0];
+                let cfg = [
+                    k as u32,
+                    light.eye_count,
+                    self.opts.crossings,
+                    self.opts.spot_panels,
+                ];
                 slots[k * SLOT as usize..][..16].copy_from_slice(bytemuck::cast_slice(&cfg));
             }
         }
