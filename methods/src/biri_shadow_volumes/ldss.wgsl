@@ -47,12 +47,8 @@ fn ldss_term(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> 
     return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * exp(-st * g.x) / g.y * gam;
 }
 
-// L_dss over [0, d] (eq. 7): the difference of the two lookups.
-fn ldss(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> {
-    return ldss_between(tab, k, dir, 0.0, d);
-}
-
-// L_dss over [a, b] of the view ray (eq. 14's lit pieces): Γ(w(b − t)) − Γ(w(a − t)).
+// L_dss over [a, b] of the view ray (eq. 14's lit pieces; eq. 7 for [0, d]):
+// Γ(w(b − t)) − Γ(w(a − t)).
 fn ldss_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, d: f32) -> vec3<f32> {
     let g = ldss_geometry(k, dir);
     let w0 = gamma_w(a - g.x, g.y);
