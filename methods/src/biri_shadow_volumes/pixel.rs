@@ -122,7 +122,7 @@ impl PixelPass {
                 layout: Some(&pl),
                 module,
                 entry_point: Some("cs_walk"),
-                compilation_options: Default::default(),
+                compilation_options: renderer.specialization.options(),
                 cache: None,
             });
         let pixels = width as u64 * height as u64;

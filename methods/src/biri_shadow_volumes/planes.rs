@@ -142,7 +142,7 @@ impl Planes {
             "biri planes",
             [&renderer.frame_layout, &layout],
             &module,
-            &[],
+            renderer.specialization.constants(),
         );
         let pixel = (opts.resolve == Resolve::PerPixel).then(|| {
             PixelPass::new(

@@ -23,7 +23,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = pixel_ray_length(px, dir);
     var l_in = vec3<f32>(0.0);
-    for (var k = 0u; k < lights.count.x; k++) {
+    for (var k = 0u; k < light_count(); k++) {
         if (config.shadowed == 0u) {
             l_in += lit_between(gamma_table, k, dir, 0.0, d, config.spot_panels);
         } else if (light_kind(k) == LIGHT_POINT && (config.eye_lit & (1u << k)) != 0u) {
