@@ -72,8 +72,9 @@ fn is_spot() -> bool {
 
 // Directional light (modernised, kernel-free): the scattering angle is constant along the ray, so
 // Γ(M) = σ_s E p(θ) (1 − e^(−σ_t x))/σ_t in closed form (common light_segments.wgsl).
+// Folds to false in scenes without a directional light (the kinds are baked).
 fn is_directional() -> bool {
-    return light_kind(poly.light) == LIGHT_DIRECTIONAL;
+    return scene_has_light_kind(LIGHT_DIRECTIONAL) && light_kind(poly.light) == LIGHT_DIRECTIONAL;
 }
 
 // Γ(M) for light poly.light, M at distance x from the eye along the unit direction `dir`.
