@@ -655,14 +655,7 @@ fn dump_images() {
 #[test]
 fn directional_light_against_reference() {
     let Some(gpu) = gpu() else { return };
-    let text_scene = include_str!("scenes/sun-shafts.json");
-    let scene = scenes::load::parse_scene(
-        text_scene,
-        "sun-shafts.json",
-        "sun",
-        std::path::Path::new("."),
-    )
-    .expect("scene");
+    let scene = harness::testing::scene_text(include_str!("scenes/sun-shafts.json"), "sun-shafts");
     let (w, h) = (64u32, 64u32);
     let refimg = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
     let error = |scene: &scenes::Scene, list: &[(&str, ParamValue)]| {

@@ -312,14 +312,7 @@ fn stencil_surface_shadows_match_the_reference() {
 /// outside them); `sun_in_eye` moves the camera two metres down the light from the box's centre,
 /// inside its shadow volume.
 fn sun_scene(sun_in_eye: bool) -> Scene {
-    let text_scene = include_str!("scenes/sun-shafts.json");
-    let mut scene = scenes::load::parse_scene(
-        text_scene,
-        "sun-shafts.json",
-        "sun",
-        std::path::Path::new("."),
-    )
-    .expect("scene");
+    let mut scene = testing::scene_text(include_str!("scenes/sun-shafts.json"), "sun-shafts");
     if sun_in_eye {
         scene.desc.camera.position = glam::Vec3::new(0.4, 0.6, 0.0);
         scene.desc.camera.look_at = glam::Vec3::new(3.0, 1.2, -2.5);
@@ -442,14 +435,7 @@ fn spot_light_matches_reference() {
 #[test]
 fn mixed_light_kinds_match_reference() {
     let Some(gpu) = gpu() else { return };
-    let text_scene = include_str!("scenes/mixed-lights.json");
-    let scene = scenes::load::parse_scene(
-        text_scene,
-        "mixed-lights.json",
-        "mixed",
-        std::path::Path::new("."),
-    )
-    .expect("scene");
+    let scene = testing::scene_text(include_str!("scenes/mixed-lights.json"), "mixed-lights");
     let case = Case::new(scene, 48);
     let panels = ("spot_panels", ParamValue::Int(64));
     let pixel = case.error(&gpu, &[panels.clone()]);
