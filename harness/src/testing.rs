@@ -68,6 +68,14 @@ pub fn library(name: &str) -> scenes::Scene {
     scenes::library::resolve(name).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// A scene from JSON text (a test's own scene file, `include_str!`-ed), named `name` (panics
+/// with the loader's message: test setup).
+pub fn scene_text(text: &str, name: &str) -> scenes::Scene {
+    let file = format!("{name}.json");
+    scenes::load::parse_scene(text, &file, name, std::path::Path::new("."))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// `method` prepared on `scene` at `res`² with `list` over its defaults (a refused knob is an
 /// error, as in a run).
 pub fn prepare(

@@ -559,34 +559,31 @@ fn spots_against_reference() {
     }
 }
 
-/// Directional lights are refused with the reason; spots no longer are.
+/// Every homogeneous library scene is supported, directional and spot lights included (the
+/// directional closed form is a modernisation; before it, window-sun was refused); the indirect
+/// term is the only part left out (`Partial`).
 #[test]
-fn directional_scenes_are_refused() {
-    let mut checked = 0;
+fn every_homogeneous_scene_is_supported() {
+    let mut directional = 0;
     for name in scenes::library::names() {
         let scene = scenes::library::resolve(name).unwrap();
         let f = scene.features();
         if f.medium != "homogeneous" {
-            continue; // refused for the medium first
+            continue; // refused for the medium
         }
-        let support = BiriPolynomial.support(&f, wgpu::Features::empty());
-        if f.light_kinds.iter().any(|k| *k == "directional") {
-            checked += 1;
-            match support {
-                Support::No(why) => assert!(why.contains("directional"), "{name}: {why}"),
-                other => panic!("{name} should be refused, got {other:?}"),
+        directional += f.light_kinds.iter().any(|k| *k == "directional") as u32;
+        match BiriPolynomial.support(&f, wgpu::Features::empty()) {
+            Support::Full => assert!(!f.indirect_single_scattering, "{name}"),
+            Support::Partial(parts) => {
+                assert!(f.indirect_single_scattering, "{name}: {parts:?}");
             }
+            Support::No(why) => panic!("{name} refused: {why}"),
         }
     }
     assert!(
-        checked > 0,
+        directional > 0,
         "no homogeneous library scene with a directional light"
     );
-    for name in ["fence-spot", "stained-glass-spot"] {
-        let scene = scenes::library::resolve(name).unwrap();
-        let support = BiriPolynomial.support(&scene.features(), wgpu::Features::empty());
-        assert!(matches!(support, Support::Full), "{name}: {support:?}");
-    }
 }
 
 /// The fence-spot defect (issue 18): the paper's eq. 13/14 order sorts whole planes, and the
@@ -707,4 +704,43 @@ fn dump_images() {
         )
         .unwrap();
     }
+}
+
+/// Directional light (modernised): Γ(M) = σ_s E p(θ) (1 − e^(−σ_t x))/σ_t in closed form (the
+/// scattering angle is constant along a ray, so no kernel Λ), shadow planes extruded along the
+/// light and drawn in the far-light limit of eq. 13/14's order (`geometry::light_order_key`).
+/// On tests/scenes/sun-shafts.json at 64² (two disjoint shafts, the eye outside them), per
+/// fragment with §4.4's rules and counting every crossing, the in-scatter matches the reference
+/// up to rasterised shadow edges (bound 5e-3; measured: eprintln). Per vertex (the paper's
+/// Gouraud evaluation) the closed form is smooth but the shafts' edges follow the meshes: bounded
+/// by 0.1. Without the planes (no caster) the shafts are missing: > 10× worse. An irradiance
+/// attenuated on the light leg or a missing phase would be ≥ 10 % off.
+#[test]
+fn directional_light_against_reference() {
+    let Some(gpu) = gpu() else { return };
+    let scene = harness::testing::scene_text(include_str!("scenes/sun-shafts.json"), "sun-shafts");
+    let (w, h) = (64u32, 64u32);
+    let refimg = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
+    let error = |scene: &scenes::Scene, list: &[(&str, ParamValue)]| {
+        let [ins, _, _] = render(&gpu, scene, w, h, list);
+        rel_rmse(&ins, &refimg.inscatter)
+    };
+    let rules = error(&scene, &[]);
+    let every = error(&scene, &[("stencil_rules", ParamValue::Bool(false))]);
+    let vertex = error(&scene, &[("eval", text("vertex"))]);
+    let mut open = scene.clone();
+    for o in &mut open.desc.objects {
+        o.casts_volumetric_shadow = false;
+    }
+    let no_planes = error(&open, &[]);
+    eprintln!(
+        "sun-shafts 64² inscatter rel RMSE: fragment with rules {rules:.3e}, every crossing {every:.3e}, vertex {vertex:.3e}; no planes {no_planes:.3e}"
+    );
+    assert!(rules < 5e-3, "with §4.4's rules: {rules}");
+    assert!(every < 5e-3, "every crossing: {every}");
+    assert!(vertex < 0.1, "per vertex: {vertex}");
+    assert!(
+        no_planes > 10.0 * rules.max(every),
+        "shafts missing? {no_planes}"
+    );
 }

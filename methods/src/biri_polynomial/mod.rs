@@ -47,7 +47,14 @@
 //! half-circle cell, the scaled coefficients and Σ c'_i Δ_i(γ_0)), and the plane and surface
 //! fragments only finish the sum.
 //!
-//! Limits: directional lights have no foot distance h and are refused; spot cones ≥ 90° do not
+//! Directional light (modernised; the paper treats point lights): no foot distance h, but the
+//! scattering angle is constant along a ray, so Γ(M) = σ_s E p(θ) (1 − e^(−σ_t x))/σ_t in closed
+//! form (`passes.wgsl` → `sunlight_between` of `common/wgsl/light_segments.wgsl`, shared with
+//! biri-shadow-volumes and polygonal-light-volumes; no polynomial), shadow planes extruded along
+//! the direction, and eq. 13/14's order replaced by its limit for a light receding to infinity:
+//! the squared distance from the eye to the plane's infinite strip (`geometry::light_order_key`).
+//!
+//! Limits: spot cones ≥ 90° do not
 //! fit one hemisphere (refused at prepare); spot tables come from frame 0 (a keyframed cone or
 //! pattern would need a rebuild). Taylor degrades as |θ| → π/2
 //! (rays passing near the light or far from it: the paper's caveat); per-vertex evaluation cannot
@@ -230,11 +237,6 @@ impl Method for BiriPolynomial {
         if scene.medium != "homogeneous" {
             return Support::No(
                 "needs a homogeneous medium (the angular RTE assumes constant σ_t)".into(),
-            );
-        }
-        if scene.light_kinds.contains(&"directional") {
-            return Support::No(
-                "point and spot lights only (a directional light has no foot distance h)".into(),
             );
         }
         if scene.indirect_single_scattering {

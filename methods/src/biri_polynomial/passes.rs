@@ -11,7 +11,7 @@ use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
 use scenes::{FrameState, Scene};
 
-use super::geometry::{faces_eye, far_grid, mesh_quad, order_key};
+use super::geometry::{faces_eye, far_grid, light_order_key, mesh_quad};
 use super::pipelines::Pipelines;
 use super::pixel::PixelPass;
 use super::spot_rays::{self, SpotRays};
@@ -31,7 +31,7 @@ const SLOT: u64 = 256;
 /// The composed WGSL of the passes.
 pub fn source() -> String {
     wgsl::compose(
-        &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
+        &[wgsl::PRELUDE, &[wgsl::FULLSCREEN, wgsl::LIGHT_SEGMENTS]].concat(),
         &format!(
             "{}\n{}\n{}\n{}\n{}\n{}\n{}",
             super::KERNEL_WGSL,
@@ -267,11 +267,11 @@ impl Passes {
         };
         let mut verts: Vec<[f32; 3]> = Vec::new();
         for (light, state) in planes.iter().zip(&frame.lights) {
-            let lpos = state.position().unwrap_or(Vec3::ZERO);
+            let lpos = crate::common::shadow_planes::light_pos(state);
             let mut keyed: Vec<(f32, &[Vec3; 6])> = light
                 .quads
                 .iter()
-                .map(|q| (order_key(q[0], q[1], lpos, eye), q))
+                .map(|q| (light_order_key(q[0], q[1], lpos, eye), q))
                 .collect();
             keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
             let mut runs: Vec<(Range<u32>, bool)> = Vec::new();

@@ -70,8 +70,18 @@ fn is_spot() -> bool {
     return ALL_SPOT || (ANY_SPOT && poly.spot_f.y > 0.5);
 }
 
+// Directional light (modernised, kernel-free): the scattering angle is constant along the ray, so
+// Γ(M) = σ_s E p(θ) (1 − e^(−σ_t x))/σ_t in closed form (common light_segments.wgsl).
+// Folds to false in scenes without a directional light (the kinds are baked).
+fn is_directional() -> bool {
+    return scene_has_light_kind(LIGHT_DIRECTIONAL) && light_kind(poly.light) == LIGHT_DIRECTIONAL;
+}
+
 // Γ(M) for light poly.light, M at distance x from the eye along the unit direction `dir`.
 fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
+    if is_directional() {
+        return sunlight_between(poly.light, dir, 0.0, x);
+    }
     if is_spot() {
         return biri_light_scale() * biri_spot_gamma(dir, x);
     }
@@ -81,6 +91,9 @@ fn biri_gamma(dir: vec3<f32>, x: f32) -> vec3<f32> {
 // Γ(M) per fragment, on the ray of pixel `frag`: spots read the ray's part of eq. 7 from
 // `cs_spot_rays` (spot_rays.wgsl).
 fn biri_gamma_frag(frag: vec2<f32>, x: f32) -> vec3<f32> {
+    if is_directional() {
+        return sunlight_between(poly.light, camera_ray_dir(camera, frag), 0.0, x);
+    }
     if is_spot() {
         return biri_spot_gamma_pixel(vec2<i32>(frag), x);
     }

@@ -47,12 +47,8 @@ fn ldss_term(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> 
     return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * exp(-st * g.x) / g.y * gam;
 }
 
-// L_dss over [0, d] (eq. 7): the difference of the two lookups.
-fn ldss(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> {
-    return ldss_between(tab, k, dir, 0.0, d);
-}
-
-// L_dss over [a, b] of the view ray (eq. 14's lit pieces): Γ(w(b − t)) − Γ(w(a − t)).
+// L_dss over [a, b] of the view ray (eq. 14's lit pieces; eq. 7 for [0, d]):
+// Γ(w(b − t)) − Γ(w(a − t)).
 fn ldss_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, d: f32) -> vec3<f32> {
     let g = ldss_geometry(k, dir);
     let w0 = gamma_w(a - g.x, g.y);
@@ -71,4 +67,36 @@ fn ldss_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, d: f32) ->
     let scale = medium.sigma_s.rgb * lights.lights[k].intensity.rgb / g.y;
     let bound = scale * pmax * PI * exp(-st * dist);
     return min(scale * exp(min(-st * g.x, vec3<f32>(80.0))) * max(diff, vec3<f32>(0.0)), bound);
+}
+
+// The ONE per-interval function of both resolves (the per-pixel walk calls it per lit interval,
+// the stencil planes through `crossing_term`): the unshadowed in-scatter of light k over [a, b]
+// of the view ray, dispatched on the light's kind (the scene's kinds baked: every pass that calls
+// it sets the renderer's specialisation constants).
+// Point: eq. 7's two Γ lookups (the paper). Directional (modernised; the paper only says it is
+// easier): σ_s E p(θ) (e^(−σ_t a) − e^(−σ_t b))/σ_t, the scattering angle being constant along
+// the ray. Spot (modernised): `spot_panels` two-node Gauss–Legendre panels in the angle seen from
+// the light over [a, b] ∩ the outer cone, falloff and pattern at every node (light_segments.wgsl).
+fn lit_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, b: f32, spot_panels: u32) -> vec3<f32> {
+    if (b <= a) { return vec3<f32>(0.0); }
+    // The scene's kinds are baked (common::specialize): lavapipe would otherwise run every kind's
+    // branch for every light (measured on point-light scenes: the stencil resolve up to 3×).
+    let kind = light_kind(k);
+    if (scene_has_light_kind(LIGHT_DIRECTIONAL) && kind == LIGHT_DIRECTIONAL) {
+        return sunlight_between(k, dir, a, b);
+    }
+    if (scene_has_light_kind(LIGHT_SPOT) && kind == LIGHT_SPOT) {
+        return spot_between(k, dir, a, b, spot_panels);
+    }
+    return ldss_between(tab, k, dir, a, b);
+}
+
+// What a shadow-plane crossing at distance d adds (front face) or subtracts (back face) in the
+// stencil resolve, an antiderivative of `lit_between` in d: point lights Γ's term at d
+// (`ldss_term`; the resolve adds the eye's −ldss_term(0) once), other kinds ∫ from the eye to d
+// (0 at the eye, so they need no eye term).
+fn crossing_term(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32, spot_panels: u32) -> vec3<f32> {
+    let others = scene_has_light_kind(LIGHT_DIRECTIONAL) || scene_has_light_kind(LIGHT_SPOT);
+    if (!others || light_kind(k) == LIGHT_POINT) { return ldss_term(tab, k, dir, d); }
+    return lit_between(tab, k, dir, 0.0, d, spot_panels);
 }

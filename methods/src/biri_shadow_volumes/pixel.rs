@@ -108,7 +108,7 @@ impl PixelPass {
                 layout: Some(&pl),
                 module,
                 entry_point: Some("cs_walk"),
-                compilation_options: Default::default(),
+                compilation_options: renderer.specialization.options(),
                 cache: None,
             });
         PixelPass {

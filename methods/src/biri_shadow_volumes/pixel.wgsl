@@ -13,7 +13,7 @@
 // Eq. 7 on pixel px's ray between distances a and b (the walk's lit intervals).
 fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32> {
     let dir = camera_ray_dir(camera, vec2<f32>(px) + 0.5);
-    return ldss_between(gamma_table, cfg.light.x, dir, a, b);
+    return lit_between(gamma_table, cfg.light.x, dir, a, b, cfg.light.w);
 }
 
 @compute @workgroup_size(8, 8)

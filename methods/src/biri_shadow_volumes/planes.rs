@@ -60,6 +60,8 @@ pub struct Options {
     pub rules: bool,
     /// The paper's 8-bit target with reverse-subtract blending (stencil resolve only).
     pub unorm8: bool,
+    /// Knob `spot_panels` (the spot quadrature of `lit_between`).
+    pub spot_panels: u32,
 }
 
 /// One light's planes in the vertex buffer and the eye's shadow count.
@@ -144,7 +146,7 @@ impl Planes {
             "biri planes",
             [&renderer.frame_layout, &layout],
             &module,
-            &[],
+            renderer.specialization.constants(),
         );
         let pixel = (opts.resolve == Resolve::PerPixel).then(|| {
             PixelPass::new(
@@ -204,7 +206,7 @@ impl Planes {
                 eye_count: light.eye_count,
             });
             if k < crate::common::uniforms::MAX_LIGHTS {
-                let cfg = [k as u32, light.eye_count, 0, 0];
+                let cfg = [k as u32, light.eye_count, 0, self.opts.spot_panels];
                 slots[k * SLOT as usize..][..16].copy_from_slice(bytemuck::cast_slice(&cfg));
             }
         }

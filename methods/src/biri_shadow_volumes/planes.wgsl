@@ -3,11 +3,11 @@
 // number of shadow volumes around the visible point, seeded with the eye's count), the lit
 // surfaces' term +C Γ(w(d)) where the stencil is 0, then the planes back to front, each crossing
 // adding (front-facing: entering a shadow) or subtracting (back-facing: leaving one) its term
-// C Γ(w(distance)) under the paper's stencil rules. Signed float accumulation replaces the
+// C Γ(w(distance)) under the paper's stencil rules (other light kinds: `crossing_term`). Signed float accumulation replaces the
 // paper's reverse-subtract blending on 8-bit targets. Needs PRELUDE, FULLSCREEN and ldss.wgsl.
 
 struct PlaneCfg {
-    // x: light index
+    // x: light index; y: the eye's shadow count; z: per-pixel list capacity; w: `spot_panels`
     light: vec4<u32>,
 };
 @group(1) @binding(0) var gamma_table: texture_2d<f32>;
@@ -32,7 +32,7 @@ fn vs_plane(@location(0) p: vec3<f32>) -> PlaneOut {
 @fragment
 fn fs_plane(v: PlaneOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, v.clip.xy);
-    let term = ldss_term(gamma_table, cfg.light.x, dir, length(v.world - camera.position.xyz));
+    let term = crossing_term(gamma_table, cfg.light.x, dir, length(v.world - camera.position.xyz), cfg.light.w);
     return vec4<f32>(select(-term, term, front), 0.0);
 }
 
@@ -40,7 +40,7 @@ fn fs_plane(v: PlaneOut, @builtin(front_facing) front: bool) -> @location(0) vec
 fn fs_surface(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
-    return vec4<f32>(ldss_term(gamma_table, cfg.light.x, dir, d), 0.0);
+    return vec4<f32>(crossing_term(gamma_table, cfg.light.x, dir, d, cfg.light.w), 0.0);
 }
 
 // `accumulate: unorm8` (the paper's 8-bit target): every crossing writes the whole L_dss from the
@@ -49,12 +49,13 @@ fn fs_surface(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 @fragment
 fn fs_plane_full(v: PlaneOut) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, v.clip.xy);
-    return vec4<f32>(ldss(gamma_table, cfg.light.x, dir, length(v.world - camera.position.xyz)), 0.0);
+    let d = length(v.world - camera.position.xyz);
+    return vec4<f32>(lit_between(gamma_table, cfg.light.x, dir, 0.0, d, cfg.light.w), 0.0);
 }
 
 @fragment
 fn fs_surface_full(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
-    return vec4<f32>(ldss(gamma_table, cfg.light.x, dir, d), 0.0);
+    return vec4<f32>(lit_between(gamma_table, cfg.light.x, dir, 0.0, d, cfg.light.w), 0.0);
 }

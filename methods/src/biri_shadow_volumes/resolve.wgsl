@@ -1,15 +1,16 @@
 // Step 3 of Biri et al. (lit surface fragments and the far plane): per pixel, L_dss from the
-// eye to the visible surface for every point light (eq. 7), plus the surface AOV and ambient.
+// eye to the visible surface for every light (`lit_between`: eq. 7 for point lights), plus the
+// surface AOV and ambient.
 // With shadow planes (config.shadowed = 1) the signed sum of the lit surface and plane terms is
-// read from binding 4 and the eye's term −C Γ(w(0)) is added for the lights whose eye is lit
-// (bit k of config.eye_lit).
+// read from binding 4 and the eye's term −C Γ(w(0)) is added for the point lights whose eye is
+// lit (bit k of config.eye_lit; the other kinds' crossing terms are 0 at the eye).
 // Needs PRELUDE, FULLSCREEN and ldss.wgsl.
 
 // Mirrors `ConfigUniform` in mod.rs, field for field.
 struct Config {
     shadowed: u32,  // 1 when binding 4 holds the accumulated crossing terms
     eye_lit: u32,   // bit k set when light k sees the eye
-    _pad0: u32,
+    spot_panels: u32,  // the `spot_panels` knob (lit_between)
     _pad1: u32,
 };
 @group(1) @binding(2) var<uniform> config: Config;
@@ -22,11 +23,10 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = pixel_ray_length(px, dir);
     var l_in = vec3<f32>(0.0);
-    for (var k = 0u; k < lights.count.x; k++) {
-        if (light_kind(k) != LIGHT_POINT) { continue; }
+    for (var k = 0u; k < light_count(); k++) {
         if (config.shadowed == 0u) {
-            l_in += ldss(gamma_table, k, dir, d);
-        } else if ((config.eye_lit & (1u << k)) != 0u) {
+            l_in += lit_between(gamma_table, k, dir, 0.0, d, config.spot_panels);
+        } else if (light_kind(k) == LIGHT_POINT && (config.eye_lit & (1u << k)) != 0u) {
             l_in -= ldss_term(gamma_table, k, dir, 0.0);
         }
     }

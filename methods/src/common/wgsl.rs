@@ -9,6 +9,9 @@ pub const SHADOW: &str = include_str!("wgsl/shadow.wgsl");
 pub const SCENE: &str = include_str!("wgsl/scene.wgsl");
 /// The frame bind group (group 0) every scene pass uses; see `renderer::SceneRenderer`.
 pub const FRAME_BINDINGS: &str = include_str!("wgsl/frame_bindings.wgsl");
+/// The unshadowed in-scatter over a ray stretch without a table: directional closed form, spot
+/// quadrature (`sunlight_between`, `spot_between`, `local_quadrature`); needs PRELUDE.
+pub const LIGHT_SEGMENTS: &str = include_str!("wgsl/light_segments.wgsl");
 /// `vs_fullscreen`: one triangle covering the viewport.
 pub const FULLSCREEN: &str = include_str!("wgsl/fullscreen.wgsl");
 

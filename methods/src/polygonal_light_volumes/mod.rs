@@ -31,7 +31,9 @@
 //! pattern the integral is not closed-form: it is evaluated per fragment by `panels` two-node
 //! Gauss–Legendre panels uniform in the angle seen from the light (dx/r² = dφ/h flattens the
 //! 1/r² peak), over the ray's stretch inside the outer cone only; `table = 0` uses the same
-//! quadrature for point lights. Directional light is closed-form.
+//! quadrature for point lights. Directional light is closed-form. The quadrature and the closed
+//! form are shared (`common/wgsl/light_segments.wgsl`) and dispatched by biri-shadow-volumes'
+//! per-interval `lit_between`, which both Biri resolves use too.
 //!
 //! Faithful: the displaced shadow-map grid, the closed light volume, the signed accumulation of
 //! the unshadowed integral from the eye, the eye inside a volume needing no special case (F(0) =

@@ -59,6 +59,17 @@ fn light_kind(k: u32) -> u32 {
     return u32(lights.lights[k].position.w + 0.5);
 }
 
+// Whether the scene can have a light of `kind`: false only where the pass baked the light layout
+// and no light has that kind, so `if (scene_has_light_kind(K) && light_kind(k) == K)` folds
+// away for scenes without K even where k is a run-time index.
+fn scene_has_light_kind(kind: u32) -> bool {
+    if (LIGHT_COUNT == UNBAKED || LIGHT_KIND_0 == UNBAKED) { return true; }
+    return LIGHT_KIND_0 == kind
+        || (LIGHT_COUNT > 1u && LIGHT_KIND_1 == kind)
+        || (LIGHT_COUNT > 2u && LIGHT_KIND_2 == kind)
+        || (LIGHT_COUNT > 3u && LIGHT_KIND_3 == kind);
+}
+
 // smoothstep(cos_outer, cos_inner, cos_angle), as scenes::light::spot_falloff.
 fn spot_falloff(k: u32, cos_angle: f32) -> f32 {
     let ci = lights.lights[k].direction.w;
