@@ -161,7 +161,8 @@ struct Stats {
     /// Per-axis median of the members' centres, m: the centre of the cluster's bulk, which one
     /// far particle does not move (the centroid does, by its distance over the count).
     core: Vec3,
-    /// Median distance of the members' centres from `core`, m (robust like it).
+    /// Median over the members of (distance from `core` + radius), m: the cluster's size,
+    /// robust like `core`, never 0 (a one-particle cluster's is its radius).
     spread: f32,
     mass: f64,
     albedo: Vec3,
@@ -174,7 +175,11 @@ fn stats(ps: &[Particle], members: &[usize]) -> Stats {
     let centroid = members.iter().map(|&i| ps[i].center).sum::<Vec3>() / n;
     let axis = |a: usize| median(members.iter().map(|&i| ps[i].center[a]));
     let core = Vec3::new(axis(0), axis(1), axis(2));
-    let spread = median(members.iter().map(|&i| (ps[i].center - core).length()));
+    let spread = median(
+        members
+            .iter()
+            .map(|&i| (ps[i].center - core).length() + ps[i].radius),
+    );
     let mass: f64 = members
         .iter()
         .map(|&i| ps[i].density as f64 * (ps[i].radius as f64).powi(3))
@@ -217,9 +222,10 @@ fn median(v: impl Iterator<Item = f32>) -> f32 {
     }
 }
 
-/// A prototype particle farther than this many times its cluster's median distance from the
-/// centroid is an outlier: not drawn into the prototype (its optical mass is folded into the
-/// instances' τ scaling). Uniform in a ball the farthest particle is at 1.26× the median.
+/// A prototype particle whose distance from the core plus radius exceeds this many times the
+/// cluster's size (the median of the same) is an outlier: not drawn into the prototype (its
+/// optical mass is folded into the instances' τ scaling). Uniform in a ball the farthest
+/// centre is at 1.26× the median distance.
 pub const OUTLIER_FACTOR: f32 = 2.0;
 
 /// One primitive per particle: the unblocked splat (analytic spheres, no impostors).
@@ -287,24 +293,44 @@ fn per_cluster(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
     set
 }
 
-/// The most typical cluster: among those with at least the median particle count, the one
-/// whose spread is nearest (in ratio) the clusters' median spread; ties by distance to the
-/// cloud's centroid. An atypically tight or loose prototype would scale every instance.
+/// The prototype: the cluster nearest the cloud's centroid (the most representative of the
+/// interior) among the typical ones — at least the median particle count and a size within
+/// [`TYPICAL_SIZE`] of the clusters' median size, since an atypically small or large
+/// prototype would shrink or inflate every instance. Without a typical cluster, the one whose
+/// size is nearest the median.
 fn typical(st: &[Stats], clusters: &[Vec<usize>], all: Vec3) -> usize {
     let n_med = median(clusters.iter().map(|c| c.len() as f32));
     let s_med = median(st.iter().map(|s| s.spread)).max(1e-9);
-    let key = |i: usize| {
-        let off = (st[i].spread.max(1e-9) / s_med).ln().abs();
-        (off, (st[i].centroid - all).length_squared())
-    };
-    (0..st.len())
+    let off = |i: usize| (st[i].spread.max(1e-9) / s_med).ln().abs();
+    let near = |i: usize| (st[i].centroid - all).length_squared();
+    let full: Vec<usize> = (0..st.len())
         .filter(|&i| clusters[i].len() as f32 >= n_med)
-        .min_by(|&a, &b| {
-            let (ka, kb) = (key(a), key(b));
-            ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+        .collect();
+    full.iter()
+        .copied()
+        .filter(|&i| off(i) <= TYPICAL_SIZE.ln())
+        .min_by(|&a, &b| near(a).total_cmp(&near(b)))
+        .or_else(|| {
+            full.iter()
+                .copied()
+                .min_by(|&a, &b| off(a).total_cmp(&off(b)))
         })
         .unwrap_or(0)
 }
+
+/// A cluster's extent about its core without its outliers (m), and the members kept.
+fn extent(ps: &[Particle], members: &[usize], s: &Stats) -> (f32, Vec<usize>) {
+    let size = |i: usize| (ps[i].center - s.core).length() + ps[i].radius;
+    let kept: Vec<usize> = members
+        .iter()
+        .copied()
+        .filter(|&i| size(i) <= s.spread * OUTLIER_FACTOR)
+        .collect();
+    (kept.iter().map(|&i| size(i)).fold(0.0, f32::max), kept)
+}
+
+/// A cluster is typical if its size is within this factor (either way) of the median size.
+pub const TYPICAL_SIZE: f32 = 1.25;
 
 /// ONE prototype block (the most typical cluster, recentred on its core, outliers dropped)
 /// instanced at every cluster's core, scaled by the ratio of spreads (median distances), τ
@@ -318,17 +344,11 @@ fn prototype(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
     }
     let proto = typical(&st, clusters, set.centroid);
     let sp = &st[proto];
-    let far = sp.spread * OUTLIER_FACTOR;
-    let kept: Vec<usize> = clusters[proto]
-        .iter()
-        .copied()
-        .filter(|&i| clusters[proto].len() == 1 || (ps[i].center - sp.core).length() <= far)
-        .collect();
-    let (mut h, mut mass) = (0.0f32, 0.0f64);
+    let (h, kept) = extent(ps, &clusters[proto], sp);
+    let mut mass = 0.0f64;
     for &i in &kept {
         let p = &ps[i];
         let d = p.center - sp.core;
-        h = h.max(d.length() + p.radius);
         mass += p.density as f64 * (p.radius as f64).powi(3);
         set.imp.push(ImpParticle {
             pos: [d.x, d.y, d.z, p.radius],
@@ -337,13 +357,8 @@ fn prototype(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
     }
     set.tiles.push((TileView::Light(set.centroid), h * PAD));
     set.tiles.push((TileView::Camera(set.centroid), h * PAD));
-    for (c, s) in clusters.iter().zip(&st) {
-        // A one-particle cluster or prototype has no spread: scale by size instead.
-        let scale = if c.len() > 1 && kept.len() > 1 && sp.spread > 0.0 && s.spread > 0.0 {
-            s.spread / sp.spread
-        } else {
-            s.bound / h.max(1e-6)
-        };
+    for s in &st {
+        let scale = s.spread / sp.spread;
         let tau_mul = if mass > 0.0 {
             (s.mass / (mass * (scale as f64).powi(3))) as f32
         } else {
