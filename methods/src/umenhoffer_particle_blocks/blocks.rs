@@ -1,16 +1,31 @@
-//! CPU side of the particle hierarchy: the scene's particles grouped into `blocks` spatial
-//! clusters (balanced k-d splits), and what the GPU draws from them — one *primitive* per block
-//! (or per particle, unblocked), the impostor *tiles* and the particles rendered into them.
+//! CPU side of the particle hierarchy: the scene's particles grouped into blocks, and what the
+//! GPU draws from them — one *primitive* per block (or per particle, unblocked), the impostor
+//! *tiles* and the particles rendered into them.
 //!
-//! Two ways to map clusters to impostors (the knob `instancing`):
-//! - `prototype` (the paper): ONE block of b = N/blocks particles — the cluster nearest the
-//!   cloud's centre, recentred — is rendered into one impostor per direction (light, camera) and
-//!   instanced at every cluster's centroid, scaled to the cluster's spread (RMS radius) and with
-//!   its extinction scaled so the instance's optical mass Σ τ·V equals the cluster's. Cost:
-//!   b impostor splats + N/b block splats. The geometry is approximate (every block looks alike);
-//!   that error is part of what is measured.
-//! - `clusters`: every cluster gets its own impostor pair from its own particles (exact
-//!   geometry up to impostor resolution); cost N impostor splats + N/b block splats.
+//! Where the blocks come from:
+//! - **declared** ([`declared`], knob `from_scene`, default on): when ONE `blocks` generator
+//!   made every particle of the scene (`scenes::particles::BlockInstancing`), its block is the
+//!   prototype (about the block's origin) and its instances are the instances, with their own
+//!   scale and density scale — the paper's construction ("build a block of b particles and
+//!   instance it N/b times"), so no shape error remains; `blocks` is then ignored.
+//! - **clustered** ([`blocked`]): `blocks` spatial clusters (balanced k-d splits + Lloyd steps).
+//!
+//! Two ways to map blocks to impostors (the knob `instancing`):
+//! - `prototype` (the paper): ONE block rendered into one impostor per direction (light,
+//!   camera) and instanced at every block. Clustered, the prototype is the cluster nearest the
+//!   cloud's centroid among the *typical* ones (at least 3/4 of the median particle count,
+//!   size within [`TYPICAL_SIZE`] of the median), recentred on its core (per-axis median); its particles
+//!   farther than [`OUTLIER_FACTOR`] × its size are outliers, left out of the impostor (their
+//!   optical mass goes into the instances' τ). Each cluster's instance sits at its core, scaled
+//!   by the ratio of sizes (size: median of distance-from-core + radius), τ scaled so its
+//!   optical mass Σ τ·r³ is the cluster's. Robust statistics throughout: one outlying particle
+//!   sets neither the prototype's extent nor an instance's size (before, the RMS spread and the
+//!   farthest particle did, and 800 blocks drew larger billboards than 1600 on cloud-plane).
+//!   Cost: b impostor splats + N/b block splats. The geometry is approximate (every block looks
+//!   alike); that error is part of what is measured.
+//! - `clusters`: every cluster (declared: every instance) gets its own impostor pair from its
+//!   own particles (exact geometry up to impostor resolution); cost N impostor splats + N/b
+//!   block splats.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -294,9 +309,9 @@ fn per_cluster(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
 }
 
 /// The prototype: the cluster nearest the cloud's centroid (the most representative of the
-/// interior) among the typical ones — at least the median particle count and a size within
-/// [`TYPICAL_SIZE`] of the clusters' median size, since an atypically small or large
-/// prototype would shrink or inflate every instance. Without a typical cluster, the one whose
+/// interior) among the typical ones — at least [`TYPICAL_COUNT`] × the median particle count
+/// and a size within [`TYPICAL_SIZE`] of the clusters' median size, since an atypically small
+/// or large prototype would shrink or inflate every instance. Without a typical cluster, the one whose
 /// size is nearest the median.
 fn typical(st: &[Stats], clusters: &[Vec<usize>], all: Vec3) -> usize {
     let n_med = median(clusters.iter().map(|c| c.len() as f32));
@@ -304,7 +319,7 @@ fn typical(st: &[Stats], clusters: &[Vec<usize>], all: Vec3) -> usize {
     let off = |i: usize| (st[i].spread.max(1e-9) / s_med).ln().abs();
     let near = |i: usize| (st[i].centroid - all).length_squared();
     let full: Vec<usize> = (0..st.len())
-        .filter(|&i| clusters[i].len() as f32 >= n_med)
+        .filter(|&i| clusters[i].len() as f32 >= TYPICAL_COUNT * n_med)
         .collect();
     full.iter()
         .copied()
@@ -331,6 +346,8 @@ fn extent(ps: &[Particle], members: &[usize], s: &Stats) -> (f32, Vec<usize>) {
 
 /// A cluster is typical if its size is within this factor (either way) of the median size.
 pub const TYPICAL_SIZE: f32 = 1.25;
+/// … and it has at least this fraction of the median particle count.
+pub const TYPICAL_COUNT: f32 = 0.75;
 
 /// ONE prototype block (the most typical cluster, recentred on its core, outliers dropped)
 /// instanced at every cluster's core, scaled by the ratio of spreads (median distances), τ

@@ -20,12 +20,15 @@
 //!
 //! **How the scene's particles become blocks** (the design decision of issue 8). The scene's
 //! particles are explicit and the reference renders exactly them, while the paper's speed comes
-//! from instancing ONE block N/b times. `instancing = prototype` (default) is the paper: the
+//! from instancing ONE block N/b times. A scene built that way (a `blocks` generator) declares
+//! its block and instances, and with `from_scene` (default) they are the blocks: the paper's
+//! construction exactly. Otherwise `instancing = prototype` (default) is the paper: the
 //! particles are split into `blocks` clusters (balanced k-d split, then 4 Lloyd steps so the
-//! cells are round and alike); the cluster nearest the cloud's
-//! centre, recentred, is the prototype block, rendered into one light and one camera impostor
-//! per frame, and instanced at every cluster's centroid, scaled to the cluster's RMS spread with
-//! its extinction scaled so the optical mass Σ τ·r³ matches the cluster's. Cost per frame:
+//! cells are round and alike); a typical cluster near the cloud's centre, recentred on its
+//! core with outliers left out, is the prototype block (robust statistics, `blocks.rs`),
+//! rendered into one light and one camera impostor per frame, and instanced at every
+//! cluster's core, scaled to the cluster's median size with its extinction scaled so the
+//! optical mass Σ τ·r³ matches the cluster's. Cost per frame:
 //! b = N/blocks impostor splats + 2·blocks billboards — the b + N/b of the paper, so `blocks`
 //! moves cost as in Fig. 5 — and the geometry error of "every block looks alike" is part of the
 //! measured error. `instancing = clusters` gives every cluster its own impostor pair from its
