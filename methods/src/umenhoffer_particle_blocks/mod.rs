@@ -211,9 +211,13 @@ impl State {
         let (set, tile_res_knob) = match blocked_mode {
             None => (blocks::unblocked(ps), 1),
             Some((b, mode, res, from_scene)) => {
-                let decl = from_scene.then(|| blocks::declared(ps, &particles.blocks, mode));
-                let set = decl.flatten();
-                (set.unwrap_or_else(|| blocks::blocked(ps, b, mode)), res)
+                let declared = from_scene
+                    .then(|| blocks::declared(ps, &particles.blocks, mode))
+                    .flatten();
+                (
+                    declared.unwrap_or_else(|| blocks::blocked(ps, b, mode)),
+                    res,
+                )
             }
         };
         let tiles = set.tiles.len() as u32;
