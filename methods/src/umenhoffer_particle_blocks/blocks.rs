@@ -1,20 +1,35 @@
-//! CPU side of the particle hierarchy: the scene's particles grouped into `blocks` spatial
-//! clusters (balanced k-d splits), and what the GPU draws from them — one *primitive* per block
-//! (or per particle, unblocked), the impostor *tiles* and the particles rendered into them.
+//! CPU side of the particle hierarchy: the scene's particles grouped into blocks, and what the
+//! GPU draws from them — one *primitive* per block (or per particle, unblocked), the impostor
+//! *tiles* and the particles rendered into them.
 //!
-//! Two ways to map clusters to impostors (the knob `instancing`):
-//! - `prototype` (the paper): ONE block of b = N/blocks particles — the cluster nearest the
-//!   cloud's centre, recentred — is rendered into one impostor per direction (light, camera) and
-//!   instanced at every cluster's centroid, scaled to the cluster's spread (RMS radius) and with
-//!   its extinction scaled so the instance's optical mass Σ τ·V equals the cluster's. Cost:
-//!   b impostor splats + N/b block splats. The geometry is approximate (every block looks alike);
-//!   that error is part of what is measured.
-//! - `clusters`: every cluster gets its own impostor pair from its own particles (exact
-//!   geometry up to impostor resolution); cost N impostor splats + N/b block splats.
+//! Where the blocks come from:
+//! - **declared** ([`declared`], knob `from_scene`, default on): when ONE `blocks` generator
+//!   made every particle of the scene (`scenes::particles::BlockInstancing`), its block is the
+//!   prototype (about the block's origin) and its instances are the instances, with their own
+//!   scale and density scale — the paper's construction ("build a block of b particles and
+//!   instance it N/b times"), so no shape error remains; `blocks` is then ignored.
+//! - **clustered** ([`blocked`]): `blocks` spatial clusters (balanced k-d splits + Lloyd steps).
+//!
+//! Two ways to map blocks to impostors (the knob `instancing`):
+//! - `prototype` (the paper): ONE block rendered into one impostor per direction (light,
+//!   camera) and instanced at every block. Clustered, the prototype is the cluster nearest the
+//!   cloud's centroid among the *typical* ones (at least 3/4 of the median particle count,
+//!   size within [`TYPICAL_SIZE`] of the median), recentred on its core (per-axis median); its particles
+//!   farther than [`OUTLIER_FACTOR`] × its size are outliers, left out of the impostor (their
+//!   optical mass goes into the instances' τ). Each cluster's instance sits at its core, scaled
+//!   by the ratio of sizes (size: median of distance-from-core + radius), τ scaled so its
+//!   optical mass Σ τ·r³ is the cluster's. Robust statistics throughout: one outlying particle
+//!   sets neither the prototype's extent nor an instance's size (before, the RMS spread and the
+//!   farthest particle did, and 800 blocks drew larger billboards than 1600 on cloud-plane).
+//!   Cost: b impostor splats + N/b block splats. The geometry is approximate (every block looks
+//!   alike); that error is part of what is measured.
+//! - `clusters`: every cluster (declared: every instance) gets its own impostor pair from its
+//!   own particles (exact geometry up to impostor resolution); cost N impostor splats + N/b
+//!   block splats.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use scenes::particles::Particle;
+use scenes::particles::{BlockInstancing, Particle};
 
 /// One billboard the light pass and the final gathering draw. Mirrors `Prim` in common.wgsl.
 #[repr(C)]
@@ -78,6 +93,8 @@ pub struct BlockSet {
     pub per_block: f64,
     /// Centroid of all particles.
     pub centroid: Vec3,
+    /// Built from the scene's declared block instances (not from clusters).
+    pub declared: bool,
 }
 
 /// A stable orthonormal (right, up) pair perpendicular to `dir`; the same rule as `basis_of`
@@ -153,10 +170,15 @@ fn split(ps: &[Particle], idx: &mut [usize], k: usize, out: &mut Vec<Vec<usize>>
     split(ps, r, k - k_left, out);
 }
 
-/// Centroid, RMS spread about it, optical mass Σ τ r³ and mass-weighted albedo of a cluster.
+/// Centroid, spread about it, optical mass Σ τ r³ and mass-weighted albedo of a cluster.
 struct Stats {
     centroid: Vec3,
-    rms: f32,
+    /// Per-axis median of the members' centres, m: the centre of the cluster's bulk, which one
+    /// far particle does not move (the centroid does, by its distance over the count).
+    core: Vec3,
+    /// Median over the members of (distance from `core` + radius), m: the cluster's size,
+    /// robust like `core`, never 0 (a one-particle cluster's is its radius).
+    spread: f32,
     mass: f64,
     albedo: Vec3,
     /// max |p − centroid| + r.
@@ -166,12 +188,13 @@ struct Stats {
 fn stats(ps: &[Particle], members: &[usize]) -> Stats {
     let n = members.len().max(1) as f32;
     let centroid = members.iter().map(|&i| ps[i].center).sum::<Vec3>() / n;
-    let rms = (members
-        .iter()
-        .map(|&i| (ps[i].center - centroid).length_squared())
-        .sum::<f32>()
-        / n)
-        .sqrt();
+    let axis = |a: usize| median(members.iter().map(|&i| ps[i].center[a]));
+    let core = Vec3::new(axis(0), axis(1), axis(2));
+    let spread = median(
+        members
+            .iter()
+            .map(|&i| (ps[i].center - core).length() + ps[i].radius),
+    );
     let mass: f64 = members
         .iter()
         .map(|&i| ps[i].density as f64 * (ps[i].radius as f64).powi(3))
@@ -191,12 +214,34 @@ fn stats(ps: &[Particle], members: &[usize]) -> Stats {
         .fold(0.0f32, f32::max);
     Stats {
         centroid,
-        rms,
+        core,
+        spread,
         mass,
         albedo,
         bound,
     }
 }
+
+/// The median of some values (the mean of the middle two for an even count; 0 for none).
+fn median(v: impl Iterator<Item = f32>) -> f32 {
+    let mut v: Vec<f32> = v.collect();
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f32::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// A prototype particle whose distance from the core plus radius exceeds this many times the
+/// cluster's size (the median of the same) is an outlier: not drawn into the prototype (its
+/// optical mass is folded into the instances' τ scaling). Uniform in a ball the farthest
+/// centre is at 1.26× the median distance.
+pub const OUTLIER_FACTOR: f32 = 2.0;
 
 /// One primitive per particle: the unblocked splat (analytic spheres, no impostors).
 pub fn unblocked(ps: &[Particle]) -> BlockSet {
@@ -214,6 +259,7 @@ pub fn unblocked(ps: &[Particle]) -> BlockSet {
         tiles: Vec::new(),
         per_block: 1.0,
         centroid: centroid(ps),
+        declared: false,
     }
 }
 
@@ -224,90 +270,181 @@ fn centroid(ps: &[Particle]) -> Vec3 {
 /// Lloyd steps after the k-d split.
 pub const LLOYD_STEPS: usize = 4;
 
+/// Padding so rasterised particle quads never spill over a tile's border.
+const PAD: f32 = 1.02;
+
 /// `blocks` clusters as impostor-backed primitives (see the module doc).
 pub fn blocked(ps: &[Particle], blocks: usize, mode: Instancing) -> BlockSet {
     let clusters = clusters(ps, blocks, LLOYD_STEPS);
-    let all = centroid(ps);
-    let st: Vec<Stats> = clusters.iter().map(|c| stats(ps, c)).collect();
-    let per_block = ps.len() as f64 / clusters.len().max(1) as f64;
-    let mut prims = Vec::with_capacity(clusters.len());
-    let mut imp = Vec::new();
-    let mut tiles = Vec::new();
-    // Padding so rasterised particle quads never spill over a tile's border.
-    const PAD: f32 = 1.02;
     match mode {
-        Instancing::Clusters => {
-            for (c, s) in clusters.iter().zip(&st) {
-                let (tl, tc) = (tiles.len() as f32, tiles.len() as f32 + 1.0);
-                tiles.push((TileView::Light(s.centroid), s.bound * PAD));
-                tiles.push((TileView::Camera(s.centroid), s.bound * PAD));
-                for &i in c {
-                    let p = &ps[i];
-                    let d = p.center - s.centroid;
-                    imp.push(ImpParticle {
-                        pos: [d.x, d.y, d.z, p.radius],
-                        data: [p.density, tl, tc, 0.0],
-                    });
-                }
-                prims.push(Prim {
-                    center: [s.centroid.x, s.centroid.y, s.centroid.z, s.bound * PAD],
-                    albedo: [s.albedo.x, s.albedo.y, s.albedo.z, 1.0],
-                    extra: [1.0, tl, tc, 0.0],
-                });
-            }
-        }
-        Instancing::Prototype => {
-            // The most representative block: the cluster whose centroid is nearest the cloud's.
-            let proto = (0..clusters.len())
-                .min_by(|&a, &b| {
-                    (st[a].centroid - all)
-                        .length_squared()
-                        .total_cmp(&(st[b].centroid - all).length_squared())
-                })
-                .unwrap_or(0);
-            let ps_proto = &st[proto];
-            tiles.push((TileView::Light(all), ps_proto.bound * PAD));
-            tiles.push((TileView::Camera(all), ps_proto.bound * PAD));
-            for &i in &clusters[proto] {
-                let p = &ps[i];
-                let d = p.center - ps_proto.centroid;
-                imp.push(ImpParticle {
-                    pos: [d.x, d.y, d.z, p.radius],
-                    data: [p.density, 0.0, 1.0, 0.0],
-                });
-            }
-            let rms_p = ps_proto.rms.max(1e-6);
-            for s in &st {
-                // A one-particle prototype has no spread: scale by size instead of by spread.
-                let scale = if clusters[proto].len() > 1 && s.rms > 0.0 {
-                    s.rms / rms_p
-                } else {
-                    s.bound / ps_proto.bound.max(1e-6)
-                };
-                let tau_mul = if ps_proto.mass > 0.0 {
-                    (s.mass / (ps_proto.mass * (scale as f64).powi(3))) as f32
-                } else {
-                    0.0
-                };
-                prims.push(Prim {
-                    center: [
-                        s.centroid.x,
-                        s.centroid.y,
-                        s.centroid.z,
-                        ps_proto.bound * PAD * scale,
-                    ],
-                    albedo: [s.albedo.x, s.albedo.y, s.albedo.z, tau_mul],
-                    extra: [scale, 0.0, 1.0, 0.0],
-                });
-            }
-        }
+        Instancing::Clusters => per_cluster(ps, &clusters),
+        Instancing::Prototype => prototype(ps, &clusters),
     }
-    BlockSet {
-        prims,
-        imp,
-        tiles,
-        per_block,
-        centroid: all,
+}
+
+/// Every cluster its own impostor pair from its own particles.
+fn per_cluster(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
+    let mut set = BlockSet::empty(ps, clusters.len());
+    for c in clusters {
+        let s = stats(ps, c);
+        let (tl, tc) = (set.tiles.len() as f32, set.tiles.len() as f32 + 1.0);
+        set.tiles.push((TileView::Light(s.centroid), s.bound * PAD));
+        set.tiles
+            .push((TileView::Camera(s.centroid), s.bound * PAD));
+        for &i in c {
+            let p = &ps[i];
+            let d = p.center - s.centroid;
+            set.imp.push(ImpParticle {
+                pos: [d.x, d.y, d.z, p.radius],
+                data: [p.density, tl, tc, 0.0],
+            });
+        }
+        set.prims.push(Prim {
+            center: [s.centroid.x, s.centroid.y, s.centroid.z, s.bound * PAD],
+            albedo: [s.albedo.x, s.albedo.y, s.albedo.z, 1.0],
+            extra: [1.0, tl, tc, 0.0],
+        });
+    }
+    set
+}
+
+/// The prototype: the cluster nearest the cloud's centroid (the most representative of the
+/// interior) among the typical ones — at least [`TYPICAL_COUNT`] × the median particle count
+/// and a size within [`TYPICAL_SIZE`] of the clusters' median size, since an atypically small
+/// or large prototype would shrink or inflate every instance. Without a typical cluster, the one whose
+/// size is nearest the median.
+fn typical(st: &[Stats], clusters: &[Vec<usize>], all: Vec3) -> usize {
+    let n_med = median(clusters.iter().map(|c| c.len() as f32));
+    let s_med = median(st.iter().map(|s| s.spread)).max(1e-9);
+    let off = |i: usize| (st[i].spread.max(1e-9) / s_med).ln().abs();
+    let near = |i: usize| (st[i].centroid - all).length_squared();
+    let full: Vec<usize> = (0..st.len())
+        .filter(|&i| clusters[i].len() as f32 >= TYPICAL_COUNT * n_med)
+        .collect();
+    full.iter()
+        .copied()
+        .filter(|&i| off(i) <= TYPICAL_SIZE.ln())
+        .min_by(|&a, &b| near(a).total_cmp(&near(b)))
+        .or_else(|| {
+            full.iter()
+                .copied()
+                .min_by(|&a, &b| off(a).total_cmp(&off(b)))
+        })
+        .unwrap_or(0)
+}
+
+/// A cluster's extent about its core without its outliers (m), and the members kept.
+fn extent(ps: &[Particle], members: &[usize], s: &Stats) -> (f32, Vec<usize>) {
+    let size = |i: usize| (ps[i].center - s.core).length() + ps[i].radius;
+    let kept: Vec<usize> = members
+        .iter()
+        .copied()
+        .filter(|&i| size(i) <= s.spread * OUTLIER_FACTOR)
+        .collect();
+    (kept.iter().map(|&i| size(i)).fold(0.0, f32::max), kept)
+}
+
+/// A cluster is typical if its size is within this factor (either way) of the median size.
+pub const TYPICAL_SIZE: f32 = 1.25;
+/// … and it has at least this fraction of the median particle count.
+pub const TYPICAL_COUNT: f32 = 0.75;
+
+/// ONE prototype block (the most typical cluster, recentred on its core, outliers dropped)
+/// instanced at every cluster's core, scaled by the ratio of spreads (median distances), τ
+/// scaled so each instance's optical mass is its cluster's (which folds the dropped outliers'
+/// mass in). Robust statistics throughout, so one far particle sets no size.
+fn prototype(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
+    let mut set = BlockSet::empty(ps, clusters.len());
+    let st: Vec<Stats> = clusters.iter().map(|c| stats(ps, c)).collect();
+    if st.is_empty() {
+        return set;
+    }
+    let proto = typical(&st, clusters, set.centroid);
+    let sp = &st[proto];
+    let (h, kept) = extent(ps, &clusters[proto], sp);
+    let mut mass = 0.0f64;
+    for &i in &kept {
+        let p = &ps[i];
+        let d = p.center - sp.core;
+        mass += p.density as f64 * (p.radius as f64).powi(3);
+        set.imp.push(ImpParticle {
+            pos: [d.x, d.y, d.z, p.radius],
+            data: [p.density, 0.0, 1.0, 0.0],
+        });
+    }
+    set.tiles.push((TileView::Light(set.centroid), h * PAD));
+    set.tiles.push((TileView::Camera(set.centroid), h * PAD));
+    for s in &st {
+        let scale = s.spread / sp.spread;
+        let tau_mul = if mass > 0.0 {
+            (s.mass / (mass * (scale as f64).powi(3))) as f32
+        } else {
+            0.0
+        };
+        set.prims.push(Prim {
+            center: [s.core.x, s.core.y, s.core.z, h * PAD * scale],
+            albedo: [s.albedo.x, s.albedo.y, s.albedo.z, tau_mul],
+            extra: [scale, 0.0, 1.0, 0.0],
+        });
+    }
+    set
+}
+
+/// The scene's declared structure as blocks, when ONE `blocks` generator made every particle
+/// (None otherwise: the caller clusters). Prototype: the declared block, about its origin, is
+/// the one impostor pair, instanced at each declared instance with its scale and density
+/// scale — the paper's construction, no modelling error. Clusters: each instance's own
+/// particles are a cluster.
+pub fn declared(ps: &[Particle], decl: &[BlockInstancing], mode: Instancing) -> Option<BlockSet> {
+    let [b] = decl else { return None };
+    if b.block.is_empty() || b.block.len() * b.instances.len() != ps.len() {
+        return None;
+    }
+    if mode == Instancing::Clusters {
+        let cl: Vec<Vec<usize>> = b
+            .instances
+            .iter()
+            .map(|i| (i.first..i.first + b.block.len()).collect())
+            .collect();
+        return Some(BlockSet {
+            declared: true,
+            ..per_cluster(ps, &cl)
+        });
+    }
+    let mut set = BlockSet::empty(ps, b.instances.len());
+    set.declared = true;
+    let members: Vec<usize> = (0..b.block.len()).collect();
+    let s = stats(&b.block, &members);
+    let h = b
+        .block
+        .iter()
+        .map(|p| p.center.length() + p.radius)
+        .fold(0.0f32, f32::max);
+    set.tiles.push((TileView::Light(set.centroid), h * PAD));
+    set.tiles.push((TileView::Camera(set.centroid), h * PAD));
+    set.imp.extend(b.block.iter().map(|p| ImpParticle {
+        pos: [p.center.x, p.center.y, p.center.z, p.radius],
+        data: [p.density, 0.0, 1.0, 0.0],
+    }));
+    set.prims.extend(b.instances.iter().map(|i| Prim {
+        center: [i.center.x, i.center.y, i.center.z, h * PAD * i.scale],
+        albedo: [s.albedo.x, s.albedo.y, s.albedo.z, i.density_scale],
+        extra: [i.scale, 0.0, 1.0, 0.0],
+    }));
+    Some(set)
+}
+
+impl BlockSet {
+    /// No primitives yet, for `blocks` blocks of `ps`.
+    fn empty(ps: &[Particle], blocks: usize) -> BlockSet {
+        BlockSet {
+            prims: Vec::with_capacity(blocks),
+            imp: Vec::new(),
+            tiles: Vec::new(),
+            per_block: ps.len() as f64 / blocks.max(1) as f64,
+            centroid: centroid(ps),
+            declared: false,
+        }
     }
 }
 
@@ -409,6 +546,117 @@ mod tests {
             (total_inst / total - 1.0).abs() < 1e-4,
             "{total_inst} vs {total}"
         );
+    }
+
+    /// Half-extent of the prototype's tiles and the largest instance billboard.
+    fn extents(set: &BlockSet) -> (f32, f32) {
+        let big = set.prims.iter().map(|p| p.center[3]).fold(0.0, f32::max);
+        (set.tiles[0].1, big)
+    }
+
+    #[test]
+    fn one_outlier_does_not_set_the_prototypes_size() {
+        let ps = grid(1000);
+        let mut with = ps.clone();
+        // 20 m from a 10 m grid: an outlier of the single cluster (k = 1), and of whichever
+        // edge cluster takes it (k = 40).
+        with.push(Particle {
+            center: Vec3::new(4.5, 4.5, 25.0),
+            ..ps[0]
+        });
+        for k in [1usize, 40] {
+            let (h0, big0) = extents(&blocked(&ps, k, Instancing::Prototype));
+            let set = blocked(&with, k, Instancing::Prototype);
+            let (h1, big1) = extents(&set);
+            assert!(h1 <= 1.1 * h0, "k = {k}: prototype half-extent {h0} → {h1}");
+            assert!(
+                big1 <= 1.5 * big0,
+                "k = {k}: largest billboard {big0} → {big1}"
+            );
+            // The dropped outlier's optical mass is kept: Σ over instances of τ-multiplier ·
+            // scale³ · prototype mass is the whole cloud's.
+            let proto: f64 = set
+                .imp
+                .iter()
+                .map(|q| q.data[0] as f64 * (q.pos[3] as f64).powi(3))
+                .sum();
+            let inst: f64 = set
+                .prims
+                .iter()
+                .map(|p| p.albedo[3] as f64 * (p.extra[0] as f64).powi(3) * proto)
+                .sum();
+            let all: f64 = with
+                .iter()
+                .map(|p| p.density as f64 * (p.radius as f64).powi(3))
+                .sum();
+            assert!((inst / all - 1.0).abs() < 1e-4, "k = {k}: {inst} vs {all}");
+        }
+    }
+
+    #[test]
+    fn the_prototype_is_a_typical_cluster_so_instances_keep_their_size() {
+        // Instances scale by spread ratio: with a typical prototype the median scale is ~1.
+        let ps = grid(1000);
+        for k in [40usize, 200] {
+            let set = blocked(&ps, k, Instancing::Prototype);
+            let med = median(set.prims.iter().map(|p| p.extra[0]));
+            assert!((0.85..=1.15).contains(&med), "k = {k}: median scale {med}");
+        }
+    }
+
+    #[test]
+    fn declared_blocks_are_the_prototype_and_the_instances() {
+        let block: Vec<Particle> = grid(50)
+            .into_iter()
+            .map(|p| Particle {
+                center: (p.center - Vec3::new(4.5, 2.0, 0.0)) * 0.1,
+                ..p
+            })
+            .collect();
+        let instances: Vec<scenes::particles::BlockInstance> = (0..6)
+            .map(|k| scenes::particles::BlockInstance {
+                center: Vec3::new(k as f32, 0.5 * k as f32, 0.0),
+                scale: 0.5 + 0.25 * k as f32,
+                density_scale: 1.0 + k as f32,
+                first: 50 * k,
+            })
+            .collect();
+        let ps: Vec<Particle> = instances
+            .iter()
+            .flat_map(|i| block.iter().map(|p| i.place(p)))
+            .collect();
+        let decl = [BlockInstancing {
+            block: block.clone(),
+            instances: instances.clone(),
+        }];
+        let set = declared(&ps, &decl, Instancing::Prototype).expect("declared");
+        assert!(set.declared);
+        assert_eq!(
+            (set.imp.len(), set.prims.len(), set.tiles.len()),
+            (50, 6, 2)
+        );
+        for (q, p) in set.imp.iter().zip(&block) {
+            assert_eq!(q.pos, [p.center.x, p.center.y, p.center.z, p.radius]);
+            assert_eq!(q.data[0], p.density);
+        }
+        let h = set.tiles[0].1;
+        for (p, i) in set.prims.iter().zip(&instances) {
+            assert_eq!(&p.center[..3], &i.center.to_array());
+            assert_eq!((p.extra[0], p.albedo[3]), (i.scale, i.density_scale));
+            assert!((p.center[3] - h * i.scale).abs() < 1e-6);
+        }
+        // Every block particle fits its tile.
+        for q in &set.imp {
+            assert!(Vec3::new(q.pos[0], q.pos[1], q.pos[2]).length() + q.pos[3] <= h);
+        }
+        // Clusters mode: one cluster per instance, exactly its particles.
+        let cl = declared(&ps, &decl, Instancing::Clusters).unwrap();
+        assert_eq!((cl.prims.len(), cl.imp.len(), cl.tiles.len()), (6, 300, 12));
+        // Not the whole medium (an extra particle) → no declared structure.
+        let mut more = ps.clone();
+        more.push(ps[0]);
+        assert!(declared(&more, &decl, Instancing::Prototype).is_none());
+        assert!(declared(&ps, &[], Instancing::Prototype).is_none());
     }
 
     #[test]

@@ -20,12 +20,15 @@
 //!
 //! **How the scene's particles become blocks** (the design decision of issue 8). The scene's
 //! particles are explicit and the reference renders exactly them, while the paper's speed comes
-//! from instancing ONE block N/b times. `instancing = prototype` (default) is the paper: the
+//! from instancing ONE block N/b times. A scene built that way (a `blocks` generator) declares
+//! its block and instances, and with `from_scene` (default) they are the blocks: the paper's
+//! construction exactly. Otherwise `instancing = prototype` (default) is the paper: the
 //! particles are split into `blocks` clusters (balanced k-d split, then 4 Lloyd steps so the
-//! cells are round and alike); the cluster nearest the cloud's
-//! centre, recentred, is the prototype block, rendered into one light and one camera impostor
-//! per frame, and instanced at every cluster's centroid, scaled to the cluster's RMS spread with
-//! its extinction scaled so the optical mass Σ τ·r³ matches the cluster's. Cost per frame:
+//! cells are round and alike); a typical cluster near the cloud's centre, recentred on its
+//! core with outliers left out, is the prototype block (robust statistics, `blocks.rs`),
+//! rendered into one light and one camera impostor per frame, and instanced at every
+//! cluster's core, scaled to the cluster's median size with its extinction scaled so the
+//! optical mass Σ τ·r³ matches the cluster's. Cost per frame:
 //! b = N/blocks impostor splats + 2·blocks billboards — the b + N/b of the paper, so `blocks`
 //! moves cost as in Fig. 5 — and the geometry error of "every block looks alike" is part of the
 //! measured error. `instancing = clusters` gives every cluster its own impostor pair from its
@@ -184,10 +187,11 @@ fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
 }
 
 impl State {
-    /// `blocked_mode`: (blocks, instancing, impostor resolution), or None for particle-splat.
+    /// `blocked_mode`: (blocks, instancing, impostor resolution, use the scene's declared
+    /// block instances), or None for particle-splat.
     pub fn new(
         ctx: &PrepareContext,
-        blocked_mode: Option<(usize, Instancing, u32)>,
+        blocked_mode: Option<(usize, Instancing, u32, bool)>,
     ) -> Result<State> {
         let medium = ctx.scene.medium();
         let Some(particles) = medium.particles() else {
@@ -206,7 +210,15 @@ impl State {
         let ps = &particles.particles;
         let (set, tile_res_knob) = match blocked_mode {
             None => (blocks::unblocked(ps), 1),
-            Some((b, mode, res)) => (blocks::blocked(ps, b, mode), res),
+            Some((b, mode, res, from_scene)) => {
+                let declared = from_scene
+                    .then(|| blocks::declared(ps, &particles.blocks, mode))
+                    .flatten();
+                (
+                    declared.unwrap_or_else(|| blocks::blocked(ps, b, mode)),
+                    res,
+                )
+            }
         };
         let tiles = set.tiles.len() as u32;
         let cols = (tiles as f64).sqrt().ceil().max(1.0) as u32;
@@ -441,6 +453,7 @@ impl Prepared for State {
         }
         report.count("blocks", self.set.prims.len() as f64);
         report.count("particles_per_block", self.set.per_block);
+        report.count("declared_blocks", self.set.declared as u32 as f64);
         Ok(report)
     }
 
@@ -470,6 +483,9 @@ impl Method for UmenhofferParticleBlocks {
             Knob::choice("instancing", "prototype", &["prototype", "clusters"])
                 .sweep(["clusters"])
                 .meaning("prototype: one block impostor instanced per cluster (the paper); clusters: each cluster its own impostor (exact geometry)"),
+            Knob::boolean("from_scene", true)
+                .sweep(Vec::<bool>::new())
+                .meaning("when one `blocks` generator made every particle, its declared block and instances are the blocks (the paper's construction; `blocks` is then ignored); false = cluster the particles like any other"),
             Knob::int("impostor_res", 64, 4..=1024)
                 .unit("texels")
                 .meaning("impostor tile resolution (shrunk to fit a 2048² atlas in clusters mode)"),
@@ -488,7 +504,12 @@ impl Method for UmenhofferParticleBlocks {
             "clusters" => Instancing::Clusters,
             _ => Instancing::Prototype,
         };
-        let blocked = (p.knob("blocks")?, mode, p.knob("impostor_res")?);
+        let blocked = (
+            p.knob("blocks")?,
+            mode,
+            p.knob("impostor_res")?,
+            p.knob("from_scene")?,
+        );
         Ok(Box::new(State::new(ctx, Some(blocked))?))
     }
 
