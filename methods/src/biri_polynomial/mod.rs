@@ -73,6 +73,7 @@ use harness::{
 };
 use scenes::{FrameState, SceneFeatures};
 
+use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
@@ -218,6 +219,9 @@ impl Method for BiriPolynomial {
                 .meaning("eval = vertex: strips per shadow plane, at (i/n)² of its length (finer near the light)"),
             Knob::choice("surface_shadows", "stencil", &["stencil", "shadow-map"])
                 .meaning("surface shadows: §4.3's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass"),
+            knobs::shadow_map(1024)
+                .meaning("shadow-map resolution per face (surface_shadows = shadow-map only)"),
+            knobs::pattern_res(512),
             Knob::choice("accumulate", "float", &["float", "unorm8"])
                 .meaning("float: signed Rgba32Float sums; unorm8: the paper's 8-bit frame buffer, clamped after each blend (§5.2's quantization problem; needs resolve = planes)"),
             // 48 × 96 half circles × 128 γ samples is the largest table the uniforms index.
@@ -310,7 +314,12 @@ impl State {
             }
         }
         let stencil_shadows = ctx.params.knob::<String>("surface_shadows")? == "stencil";
-        let renderer = SceneRenderer::with_shadow_maps(ctx, 1024, 16, !stencil_shadows)?;
+        let renderer = SceneRenderer::with_shadow_maps(
+            ctx,
+            ctx.params.knob("shadow_map")?,
+            ctx.params.knob("pattern_res")?,
+            !stencil_shadows,
+        )?;
         let passes = passes::Passes::new(ctx, &renderer, cfg);
         let surface_shadows = stencil_shadows.then(|| {
             StencilSurfaceShadows::new(
