@@ -9,6 +9,9 @@ pub const SHADOW: &str = include_str!("wgsl/shadow.wgsl");
 pub const SCENE: &str = include_str!("wgsl/scene.wgsl");
 /// The frame bind group (group 0) every scene pass uses; see `renderer::SceneRenderer`.
 pub const FRAME_BINDINGS: &str = include_str!("wgsl/frame_bindings.wgsl");
+/// The forward surface pass (`vs`, `fs`, `shade_light…`; needs PRELUDE), also composed by passes
+/// that redraw the scene's surfaces per light.
+pub const SURFACE_PASS: &str = include_str!("wgsl/surface_pass.wgsl");
 /// `vs_fullscreen`: one triangle covering the viewport.
 pub const FULLSCREEN: &str = include_str!("wgsl/fullscreen.wgsl");
 
