@@ -24,7 +24,12 @@ fn centre(p: &Prim) -> Vec3 {
 
 /// Whether primitive `p` is a block (not an analytic sphere) whose bounds hold `x`.
 pub fn holds(p: &Prim, x: Vec3) -> bool {
-    p.extra[1] >= 0.0 && (centre(p) - x).length() < COVERS * p.center[3]
+    near(p, x, COVERS)
+}
+
+/// Whether primitive `p` is a block whose centre is within `factor` times its radius of `x`.
+pub fn near(p: &Prim, x: Vec3, factor: f32) -> bool {
+    p.extra[1] >= 0.0 && (centre(p) - x).length() < factor * p.center[3]
 }
 
 /// Block `p`'s particles as analytic spheres: the impostor particles of its light tile (every
@@ -50,12 +55,18 @@ pub fn capacity(prims: &[Prim], imp: &[ImpParticle]) -> usize {
         .sum()
 }
 
-/// `prims` with every block holding `viewer` replaced by its particles, in place; with
-/// `back_to_front`, those particles sorted by decreasing distance from the viewer.
-pub fn expand(prims: &[Prim], imp: &[ImpParticle], viewer: Vec3, back_to_front: bool) -> Vec<Prim> {
+/// `prims` with every block for which `replace` holds replaced by its particles, in place; with
+/// `back_to_front`, those particles sorted by decreasing distance from `viewer`.
+pub fn expand(
+    prims: &[Prim],
+    imp: &[ImpParticle],
+    viewer: Vec3,
+    back_to_front: bool,
+    replace: impl Fn(&Prim) -> bool,
+) -> Vec<Prim> {
     let mut out = Vec::with_capacity(prims.len());
     for p in prims {
-        if !holds(p, viewer) {
+        if !replace(p) {
             out.push(*p);
             continue;
         }

@@ -121,6 +121,9 @@ pub struct State {
     set: BlockSet,
     clip_fix: bool,
     background_dimming: bool,
+    /// Blocks whose centre is within this many radii of a local light are gathered as their
+    /// particles (knob `near_light`; 0 for the splat, which has no blocks).
+    near_light: f32,
     slices: u32,
     blocked: bool,
     sky: Vec3,
@@ -269,6 +272,10 @@ impl State {
             set,
             clip_fix: p.knob("clip_fix")?,
             background_dimming: p.knob("background_dimming")?,
+            near_light: match blocked_mode {
+                Some(_) => p.knob::<f64>("near_light")? as f32,
+                None => 0.0,
+            },
             slices,
             sky: particles.sky,
             background_scatters: bg.sigma_s.max_element() > 0.0,
@@ -279,7 +286,8 @@ impl State {
 
 impl State {
     /// The gathering's list (back to front from the eye) and each light's list, every block
-    /// holding that viewer replaced by its particles (held.rs).
+    /// holding that viewer replaced by its particles (held.rs); in the gathering's list also
+    /// the blocks within `near_light` radii of a local light.
     fn lists(&self, frame: &FrameState) -> (Vec<Prim>, Vec<Vec<Prim>>) {
         let eye = frame.camera.position;
         let mut sorted = self.set.prims.clone();
@@ -288,13 +296,22 @@ impl State {
             d(b).total_cmp(&d(a))
         });
         let imp = &self.set.imp;
-        let gather = held::expand(&sorted, imp, eye, true);
+        let local: Vec<Vec3> = frame
+            .lights
+            .iter()
+            .filter(|l| !matches!(l, LightState::Directional { .. }))
+            .filter_map(LightState::position)
+            .collect();
+        let near = self.near_light;
+        let gather = held::expand(&sorted, imp, eye, true, |p| {
+            held::holds(p, eye) || local.iter().any(|&lp| held::near(p, lp, near))
+        });
         let lights = frame
             .lights
             .iter()
             .map(|l| match l.position() {
                 Some(lp) if !matches!(l, LightState::Directional { .. }) => {
-                    held::expand(&self.set.prims, imp, lp, false)
+                    held::expand(&self.set.prims, imp, lp, false, |p| held::holds(p, lp))
                 }
                 _ => self.set.prims.clone(),
             })
@@ -470,6 +487,10 @@ impl Method for UmenhofferParticleBlocks {
             Knob::int("impostor_res", 64, 4..=1024)
                 .unit("texels")
                 .meaning("impostor tile resolution (shrunk to fit a 2048² atlas in clusters mode)"),
+            Knob::float("near_light", 1.5, 0.0..=10.0)
+                .sweep(Vec::<f64>::new())
+                .unit("block radii")
+                .meaning("blocks whose centre is within this many radii of a local light are gathered as their particles (a block's uniform density misweighs the light's 1/r² peak); blocks holding the eye or a light always are"),
         ];
         v.extend(shared_knobs());
         v
