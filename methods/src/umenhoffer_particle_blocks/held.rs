@@ -5,14 +5,61 @@
 //! describes them. Such a block is replaced, in that viewer's primitive list, by its particles
 //! as analytic spheres (exact chords, as `particle-splat` draws every particle): for the eye in
 //! the gathering's back-to-front list (in the block's place, sorted among themselves), for a
-//! light in that light's list for the light pass. A prototype instance's particles are the
-//! prototype's, moved and scaled to the instance (its optical depth multiplier kept), i.e.
-//! exactly what the instance's impostor models. Primitives (a block, or a sphere) still holding
-//! the viewer are drawn over the whole view (common.wgsl `covers_viewer`).
+//! light in that light's list for the light pass. The particles are the scene's own particles
+//! of the block's cluster ([`Members`]) — also for a prototype instance, whose impostor models
+//! the prototype's particles instead: near a viewer the real geometry is drawn. (If the
+//! clusters cannot be matched to the blocks, an instance falls back to the prototype's
+//! particles, moved and scaled to it.) Primitives (a block, or a sphere) still holding the
+//! viewer are drawn over the whole view (common.wgsl `covers_viewer`).
 
 use glam::Vec3;
+use scenes::particles::Particle;
 
-use super::blocks::{ImpParticle, Prim};
+use super::blocks::{self, ImpParticle, Prim};
+
+/// Each block's own particles as analytic spheres, by block index (`Prim::extra[3]`, set by
+/// [`Members::index`]).
+pub struct Members(Vec<Vec<Prim>>);
+
+impl Members {
+    /// The clusters `blocks::blocked` made (the same deterministic clustering), if they match
+    /// the blocks one to one (count and centroids); None otherwise.
+    pub fn of(ps: &[Particle], set: &[Prim], blocks: usize) -> Option<Members> {
+        let clusters = blocks::clusters(ps, blocks, blocks::LLOYD_STEPS);
+        if clusters.len() != set.len() {
+            return None;
+        }
+        let mut out = Vec::with_capacity(set.len());
+        for (c, p) in clusters.iter().zip(set) {
+            let mean = c.iter().map(|&i| ps[i].center).sum::<Vec3>() / c.len().max(1) as f32;
+            if (mean - centre(p)).length() > 1e-4 * (1.0 + p.center[3]) {
+                return None;
+            }
+            out.push(c.iter().map(|&i| sphere(&ps[i])).collect());
+        }
+        Some(Members(out))
+    }
+
+    /// Numbers the blocks (`extra[3]`), which sorting moves.
+    pub fn index(set: &mut [Prim]) {
+        for (i, p) in set.iter_mut().enumerate() {
+            p.extra[3] = i as f32;
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.0.iter().map(Vec::len).sum()
+    }
+}
+
+/// A scene particle as an analytic sphere primitive.
+pub fn sphere(p: &Particle) -> Prim {
+    Prim {
+        center: [p.center.x, p.center.y, p.center.z, p.radius],
+        albedo: [p.albedo.x, p.albedo.y, p.albedo.z, p.density],
+        extra: [1.0, -1.0, -1.0, 0.0],
+    }
+}
 
 /// A viewer nearer a primitive's centre than this times its radius is "inside": the same factor
 /// as `covers_viewer` in common.wgsl (passed to it as the override `COVERS`).
@@ -32,9 +79,16 @@ pub fn near(p: &Prim, x: Vec3, factor: f32) -> bool {
     p.extra[1] >= 0.0 && (centre(p) - x).length() < factor * p.center[3]
 }
 
-/// Block `p`'s particles as analytic spheres: the impostor particles of its light tile (every
-/// particle of the prototype, or of its own cluster), scaled to the instance.
-pub fn particles_of<'a>(p: &'a Prim, imp: &'a [ImpParticle]) -> impl Iterator<Item = Prim> + 'a {
+/// Block `p`'s particles as analytic spheres: its members, or else the impostor particles of
+/// its light tile (every particle of the prototype, or of its own cluster) scaled to it.
+fn particles_of(p: &Prim, imp: &[ImpParticle], members: Option<&Members>) -> Vec<Prim> {
+    if let Some(m) = members {
+        return m.0[p.extra[3] as usize].clone();
+    }
+    impostor_particles(p, imp).collect()
+}
+
+fn impostor_particles<'a>(p: &'a Prim, imp: &'a [ImpParticle]) -> impl Iterator<Item = Prim> + 'a {
     let (c, scale) = (centre(p), p.extra[0]);
     imp.iter().filter(move |e| e.data[1] == p.extra[1]).map(move |e| {
         let x = c + Vec3::new(e.pos[0], e.pos[1], e.pos[2]) * scale;
@@ -47,7 +101,10 @@ pub fn particles_of<'a>(p: &'a Prim, imp: &'a [ImpParticle]) -> impl Iterator<It
 }
 
 /// The most spheres the blocks' particles can add to one list.
-pub fn capacity(prims: &[Prim], imp: &[ImpParticle]) -> usize {
+pub fn capacity(prims: &[Prim], imp: &[ImpParticle], members: Option<&Members>) -> usize {
+    if let Some(m) = members {
+        return m.len();
+    }
     prims
         .iter()
         .filter(|p| p.extra[1] >= 0.0)
@@ -60,6 +117,7 @@ pub fn capacity(prims: &[Prim], imp: &[ImpParticle]) -> usize {
 pub fn expand(
     prims: &[Prim],
     imp: &[ImpParticle],
+    members: Option<&Members>,
     viewer: Vec3,
     back_to_front: bool,
     replace: impl Fn(&Prim) -> bool,
@@ -71,7 +129,7 @@ pub fn expand(
             continue;
         }
         let start = out.len();
-        out.extend(particles_of(p, imp));
+        out.extend(particles_of(p, imp, members));
         if back_to_front {
             out[start..].sort_by(|a, b| {
                 (centre(b) - viewer)

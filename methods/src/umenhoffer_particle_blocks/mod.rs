@@ -42,9 +42,10 @@
 //! bounds that sees the cloud within an 80° half-angle cone) and otherwise a cube of six 90°
 //! perspective maps around the light, as omnidirectional shadow maps do (counter
 //! `light_faces`: maps rendered per frame). A block whose bounds hold the eye or a local light
-//! is replaced, in that viewer's list only, by its particles as analytic spheres (held.rs;
+//! is replaced, in that viewer's list only, by its own particles as analytic spheres (held.rs;
 //! counter `held_spheres`): an impostor is a view from outside and a billboard cannot cover its
-//! own viewer. A sphere that still holds the viewer is drawn over the whole view, its interval
+//! own viewer; so are blocks within `near_light` radii of a local light, whose 1/r² peak a
+//! block's uniform density (and a prototype's shape) misweighs. A sphere that still holds the viewer is drawn over the whole view, its interval
 //! cut at the viewer. The background medium's in-scatter is dimmed by the cloud on the eye leg
 //! (`background_dimming`, resolve.wgsl): exact in front of the cloud (no dimming) and behind it
 //! (the gathered 1 − α), linear optical depth across the cloud's span in between.
@@ -124,6 +125,8 @@ pub struct State {
     /// Blocks whose centre is within this many radii of a local light are gathered as their
     /// particles (knob `near_light`; 0 for the splat, which has no blocks).
     near_light: f32,
+    /// Each block's own particles (None: the splat, or clusters that did not match).
+    members: Option<held::Members>,
     slices: u32,
     blocked: bool,
     sky: Vec3,
@@ -225,10 +228,13 @@ impl State {
         let light_res: u32 = p.knob("light_res")?;
         let forward_scattering: bool = p.knob("forward_scattering")?;
         let ps = &particles.particles;
-        let (set, tile_res_knob) = match blocked_mode {
+        let (mut set, tile_res_knob) = match blocked_mode {
             None => (blocks::unblocked(ps), 1),
             Some((b, mode, res)) => (blocks::blocked(ps, b, mode), res),
         };
+        // Each block's own particles, for blocks that hold a viewer (held.rs).
+        let members = blocked_mode.and_then(|(b, _, _)| held::Members::of(ps, &set.prims, b));
+        held::Members::index(&mut set.prims);
         let lights = ctx.scene.desc.lights.len();
         // Every light has its own light tiles (the camera tiles repeat, unused, per light).
         let tiles = (set.tiles.len() * lights.max(1)) as u32;
@@ -244,7 +250,7 @@ impl State {
             ctx.gpu,
             &renderer,
             Sizes {
-                prims: set.prims.len() + held::capacity(&set.prims, &set.imp),
+                prims: set.prims.len() + held::capacity(&set.prims, &set.imp, members.as_ref()),
                 imp: set.imp.len(),
                 tiles: tiles as usize,
                 atlas: cols * tile_res,
@@ -272,6 +278,7 @@ impl State {
             set,
             clip_fix: p.knob("clip_fix")?,
             background_dimming: p.knob("background_dimming")?,
+            members,
             near_light: match blocked_mode {
                 Some(_) => p.knob::<f64>("near_light")? as f32,
                 None => 0.0,
@@ -286,9 +293,10 @@ impl State {
 
 impl State {
     /// The gathering's list (back to front from the eye) and each light's list, every block
-    /// holding that viewer replaced by its particles (held.rs); in the gathering's list also
-    /// the blocks within `near_light` radii of a local light.
+    /// holding that viewer replaced by its particles (held.rs), and in both kinds of list
+    /// every block within `near_light` radii of a local light.
     fn lists(&self, frame: &FrameState) -> (Vec<Prim>, Vec<Vec<Prim>>) {
+        let members = self.members.as_ref();
         let eye = frame.camera.position;
         let mut sorted = self.set.prims.clone();
         sorted.sort_by(|a, b| {
@@ -303,7 +311,7 @@ impl State {
             .filter_map(LightState::position)
             .collect();
         let near = self.near_light;
-        let gather = held::expand(&sorted, imp, eye, true, |p| {
+        let gather = held::expand(&sorted, imp, members, eye, true, |p| {
             held::holds(p, eye) || local.iter().any(|&lp| held::near(p, lp, near))
         });
         let lights = frame
@@ -311,7 +319,9 @@ impl State {
             .iter()
             .map(|l| match l.position() {
                 Some(lp) if !matches!(l, LightState::Directional { .. }) => {
-                    held::expand(&self.set.prims, imp, lp, false, |p| held::holds(p, lp))
+                    held::expand(&self.set.prims, imp, members, lp, false, |p| {
+                        held::near(p, lp, near.max(held::COVERS))
+                    })
                 }
                 _ => self.set.prims.clone(),
             })
@@ -490,7 +500,7 @@ impl Method for UmenhofferParticleBlocks {
             Knob::float("near_light", 1.5, 0.0..=10.0)
                 .sweep(Vec::<f64>::new())
                 .unit("block radii")
-                .meaning("blocks whose centre is within this many radii of a local light are gathered as their particles (a block's uniform density misweighs the light's 1/r² peak); blocks holding the eye or a light always are"),
+                .meaning("blocks whose centre is within this many radii of a local light are drawn as their own particles, in the gathering and that light's pass (a block's uniform density and the prototype's shape misweigh the light's 1/r² peak); blocks holding the eye or a light always are"),
         ];
         v.extend(shared_knobs());
         v

@@ -66,14 +66,10 @@ impl SurfaceShadow {
             &wgpu::RenderPassDescriptor {
                 label: Some("particle surface shadow"),
                 color_attachments: &[harness::gpu::color_attachment(surface, wgpu::LoadOp::Load)],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &renderer.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(harness::gpu::depth_attachment(
+                    &renderer.depth_view,
+                    wgpu::LoadOp::Load,
+                )),
                 ..Default::default()
             },
         );

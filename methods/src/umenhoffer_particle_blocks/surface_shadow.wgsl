@@ -6,11 +6,8 @@
 
 @fragment
 fn fs_cloud_shadow(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let o = objects[i.object];
-    let n = facing_normal(i.normal, front, o);
-    let v = normalize(camera.position.xyz - i.world);
-    let d = length(i.world - camera.position.xyz);
-    let lit = shade_light_shadowed(SURFACE_LIGHT, i.world, n, v, o) * transmittance(medium, d);
-    let blocked = 1.0 - exp(-light_optical_depth(SURFACE_LIGHT, i.world));
+    let s = seen(i, front);
+    let lit = shade_light_shadowed(SURFACE_LIGHT, s.x, s.n, s.v, s.o) * transmittance(medium, s.d);
+    let blocked = 1.0 - exp(-light_optical_depth(SURFACE_LIGHT, s.x));
     return vec4<f32>(-lit * blocked, 0.0);
 }

@@ -79,13 +79,28 @@ fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32>
 // the visible point is inside one of that light's shadow volumes.
 override SURFACE_LIGHT: u32 = 0u;
 
+// A rasterised surface point as the shading functions take it.
+struct Seen {
+    x: vec3<f32>,
+    // the normal facing the viewer (zero: the back of a one-sided surface)
+    n: vec3<f32>,
+    // unit direction toward the eye
+    v: vec3<f32>,
+    o: ObjectData,
+    // distance from the eye (m)
+    d: f32,
+};
+
+fn seen(i: VsOut, front: bool) -> Seen {
+    let o = objects[i.object];
+    let to_eye = camera.position.xyz - i.world;
+    return Seen(i.world, facing_normal(i.normal, front, o), normalize(to_eye), o, length(to_eye));
+}
+
 @fragment
 fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let o = objects[i.object];
-    let n = facing_normal(i.normal, front, o);
-    let v = normalize(camera.position.xyz - i.world);
-    let d = length(i.world - camera.position.xyz);
-    let l = shade_light(SURFACE_LIGHT, i.world, n, v, o) * transmittance(medium, d);
+    let s = seen(i, front);
+    let l = shade_light(SURFACE_LIGHT, s.x, s.n, s.v, s.o) * transmittance(medium, s.d);
     return vec4<f32>(-l, 0.0);
 }
 
