@@ -8,8 +8,11 @@
 //! - Otherwise (the light inside a block's bounds or among the particles, or the cloud spread
 //!   around it): a cube of six perspective maps with 90° fields, one per axis direction, as
 //!   omnidirectional shadow maps do — the light pass runs once per face (counter
-//!   `light_faces`), and a primitive whose bounds hold the light covers its faces whole
-//!   (light.wgsl). Each face's slices span the depth range of the primitives that face can see.
+//!   `light_faces`); a block whose bounds hold the light is drawn as its particles (held.rs),
+//!   a sphere holding it covers its faces whole (light.wgsl). Each face's slices span the depth
+//!   range of the primitives that face can see.
+//! - A spot light whose cone reaches no primitive's bounds: no map at all (its light pass and
+//!   surface-shadow pass are skipped; nothing it lights is behind the cloud).
 
 use glam::{Vec2, Vec3};
 use scenes::LightState;
@@ -39,7 +42,7 @@ pub fn light_views(
     k: usize,
     u: &mut PbUniform,
 ) -> u32 {
-    if prims.is_empty() {
+    if prims.is_empty() || !reaches(light, prims) {
         u.maps[k] = [0.0; 4];
         return 0;
     }
@@ -64,6 +67,26 @@ pub fn light_views(
     };
     u.maps[k] = [count as f32, 0.0, 0.0, 0.0];
     count
+}
+
+/// Whether the light can light any primitive: false only for a spot whose cone (its outer
+/// angle) misses every primitive's bounding sphere.
+fn reaches(light: &LightState, prims: &[Prim]) -> bool {
+    let LightState::Spot {
+        position,
+        direction,
+        cos_outer,
+        ..
+    } = light
+    else {
+        return true;
+    };
+    let (axis, outer) = (direction.normalize(), cos_outer.clamp(-1.0, 1.0).acos());
+    prims.iter().any(|p| {
+        let w = centre(p) - *position;
+        let (d, h) = (w.length(), p.center[3] * BOUNDS);
+        d <= h || (w / d).dot(axis).clamp(-1.0, 1.0).acos() - (h / d).asin() <= outer
+    })
 }
 
 /// Slice depths spread evenly over [dmin, dmax] (slices beyond S repeat the last depth).
@@ -175,4 +198,63 @@ fn cube(lp: Vec3, prims: &[Prim], slices: u32) -> Vec<ViewUniform> {
             with_slices(v, dmin.max(0.0), dmax, slices)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn prim(c: Vec3, r: f32) -> Prim {
+        Prim {
+            center: [c.x, c.y, c.z, r],
+            albedo: [1.0; 4],
+            extra: [1.0, -1.0, -1.0, 0.0],
+        }
+    }
+
+    fn spot(direction: Vec3, outer_deg: f32) -> LightState {
+        let outer = outer_deg.to_radians();
+        LightState::Spot {
+            position: Vec3::ZERO,
+            direction,
+            cos_inner: outer.cos(),
+            cos_outer: outer.cos(),
+            tan_outer: outer.tan(),
+            intensity: Vec3::ONE,
+            pattern: None,
+        }
+    }
+
+    /// Maps per light: a sun 1; a point light outside the cloud 1, inside a block 6; a spot 1
+    /// when its cone reaches a block's bounds (even by its edge), 0 when it points away.
+    #[test]
+    fn maps_per_light() {
+        let prims = [
+            prim(Vec3::new(0.0, 0.0, 5.0), 1.0),
+            prim(Vec3::new(1.0, 0.0, 6.0), 1.0),
+        ];
+        let c = Vec3::new(0.5, 0.0, 5.5);
+        let mut u = PbUniform::default();
+        let mut views = |l: &LightState| light_views(l, &prims, c, 4, 1, &mut u);
+        let sun = LightState::Directional {
+            direction: Vec3::NEG_Y,
+            irradiance: Vec3::ONE,
+        };
+        let point = |p: Vec3| LightState::Point {
+            position: p,
+            intensity: Vec3::ONE,
+        };
+        assert_eq!(views(&sun), 1);
+        assert_eq!(views(&point(Vec3::ZERO)), 1);
+        assert_eq!(views(&point(Vec3::new(0.2, 0.0, 5.0))), FACES as u32);
+        assert_eq!(views(&spot(Vec3::Z, 20.0)), 1);
+        // 30° to the side of the first block, away from the second: the first block's 1.2 m
+        // bounds subtend 13.9° at 5 m, so a 20° cone reaches them and a 10° cone does not.
+        let (s, c30) = (30f32.to_radians().sin(), 30f32.to_radians().cos());
+        let off = Vec3::new(-s, 0.0, c30);
+        assert_eq!(views(&spot(off, 20.0)), 1);
+        assert_eq!(views(&spot(off, 10.0)), 0);
+        assert_eq!(views(&spot(Vec3::NEG_Z, 60.0)), 0);
+        assert_eq!(u.maps[1][0], 0.0, "a light without maps is marked so for the shaders");
+    }
 }
