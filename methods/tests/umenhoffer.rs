@@ -356,17 +356,28 @@ fn two_lights_add_up_against_the_reference() {
     // (id, knobs, bound on the total's headline, on the in-scatter's)
     let cases = [
         ("particle-splat", vec![], 0.0075, 0.092),
-        ("umenhoffer-particle-blocks", blocks(20, "clusters"), 0.017, 0.19),
+        (
+            "umenhoffer-particle-blocks",
+            blocks(20, "clusters"),
+            0.017,
+            0.19,
+        ),
         ("umenhoffer-particle-blocks", vec![], 0.05, 0.49),
     ];
     for k in 0..2 {
         let mut alone = s.clone();
         alone.desc.lights = vec![s.desc.lights[k].clone()];
         let ra = reference(&alone, res);
-        let (et, ei) = (headline(&ra.total, &r.total), headline(&ra.inscatter, &r.inscatter));
+        let (et, ei) = (
+            headline(&ra.total, &r.total),
+            headline(&ra.inscatter, &r.inscatter),
+        );
         println!("light {k} alone vs both: headline total {et:.4}, inscatter {ei:.4}");
         for (id, list, bt, bi) in &cases {
-            assert!(et > *bt && ei > *bi, "{id} {list:?}: light {k} alone ({et}, {ei}) passes");
+            assert!(
+                et > *bt && ei > *bi,
+                "{id} {list:?}: light {k} alone ({et}, {ei}) passes"
+            );
         }
     }
     // One light map per light.
@@ -378,13 +389,22 @@ type Case = (&'static str, Vec<(&'static str, ParamValue)>, f64, f64);
 
 /// Every case rendered at the reference's resolution within its bounds, its frame reporting
 /// `faces` light maps.
-fn headlines_within(gpu: &Gpu, s: &Scene, r: &harness::reference::ReferenceImages, cases: &[Case], faces: f64) {
+fn headlines_within(
+    gpu: &Gpu,
+    s: &Scene,
+    r: &harness::reference::ReferenceImages,
+    cases: &[Case],
+    faces: f64,
+) {
     for (id, list, bt, bi) in cases {
         let ([ins, _, total], report) = render_counted(gpu, id, s, r.total.width, list);
         let (et, ei) = (headline(&total, &r.total), headline(&ins, &r.inscatter));
         println!("{id} {list:?}: headline total {et:.4}, inscatter {ei:.4}");
         assert_eq!(report.counters["light_faces"], faces, "{id}: light maps");
-        assert!(et < *bt && ei < *bi, "{id} {list:?}: total {et}, inscatter {ei}");
+        assert!(
+            et < *bt && ei < *bi,
+            "{id} {list:?}: total {et}, inscatter {ei}"
+        );
     }
 }
 
@@ -413,10 +433,18 @@ fn a_light_inside_the_cloud_renders_against_the_reference() {
         intensity: glam::Vec3::new(3.0, 3.0, 3.0),
         keyframes: Vec::new(),
     }];
-    assert!(inside_a_block(&s, centre), "the light lies inside a block's bounds");
+    assert!(
+        inside_a_block(&s, centre),
+        "the light lies inside a block's bounds"
+    );
     let cases = [
         ("particle-splat", vec![], 0.052, 0.106),
-        ("umenhoffer-particle-blocks", blocks(20, "clusters"), 0.07, 0.135),
+        (
+            "umenhoffer-particle-blocks",
+            blocks(20, "clusters"),
+            0.07,
+            0.135,
+        ),
         ("umenhoffer-particle-blocks", vec![], 0.11, 0.17),
     ];
     // A cube of six light maps.
@@ -435,10 +463,18 @@ fn a_camera_inside_the_cloud_renders_against_the_reference() {
     s.desc.camera.position = eye;
     s.desc.camera.look_at = glam::Vec3::new(1.5, 1.1, -0.5);
     s.desc.lights.truncate(1);
-    assert!(inside_a_block(&s, eye), "the eye lies inside a block's bounds");
+    assert!(
+        inside_a_block(&s, eye),
+        "the eye lies inside a block's bounds"
+    );
     let cases = [
         ("particle-splat", vec![], 0.042, 0.083),
-        ("umenhoffer-particle-blocks", blocks(20, "clusters"), 0.127, 0.071),
+        (
+            "umenhoffer-particle-blocks",
+            blocks(20, "clusters"),
+            0.127,
+            0.071,
+        ),
     ];
     headlines_within(&gpu, &s, &reference(&s, 48), &cases, 1.0);
 }

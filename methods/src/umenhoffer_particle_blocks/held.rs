@@ -90,14 +90,21 @@ fn particles_of(p: &Prim, imp: &[ImpParticle], members: Option<&Members>) -> Vec
 
 fn impostor_particles<'a>(p: &'a Prim, imp: &'a [ImpParticle]) -> impl Iterator<Item = Prim> + 'a {
     let (c, scale) = (centre(p), p.extra[0]);
-    imp.iter().filter(move |e| e.data[1] == p.extra[1]).map(move |e| {
-        let x = c + Vec3::new(e.pos[0], e.pos[1], e.pos[2]) * scale;
-        Prim {
-            center: [x.x, x.y, x.z, e.pos[3] * scale],
-            albedo: [p.albedo[0], p.albedo[1], p.albedo[2], e.data[0] * p.albedo[3]],
-            extra: [1.0, -1.0, -1.0, 0.0],
-        }
-    })
+    imp.iter()
+        .filter(move |e| e.data[1] == p.extra[1])
+        .map(move |e| {
+            let x = c + Vec3::new(e.pos[0], e.pos[1], e.pos[2]) * scale;
+            Prim {
+                center: [x.x, x.y, x.z, e.pos[3] * scale],
+                albedo: [
+                    p.albedo[0],
+                    p.albedo[1],
+                    p.albedo[2],
+                    e.data[0] * p.albedo[3],
+                ],
+                extra: [1.0, -1.0, -1.0, 0.0],
+            }
+        })
 }
 
 /// The most spheres the blocks' particles can add to one list.

@@ -169,7 +169,14 @@ fn single_perspective(
 }
 
 /// The cube's face axes, in the order common.wgsl's `view_of` indexes them.
-pub const CUBE_AXES: [Vec3; FACES] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+pub const CUBE_AXES: [Vec3; FACES] = [
+    Vec3::X,
+    Vec3::NEG_X,
+    Vec3::Y,
+    Vec3::NEG_Y,
+    Vec3::Z,
+    Vec3::NEG_Z,
+];
 
 /// Six 90° perspective maps around `lp`; each face's depth range covers the primitives whose
 /// bounding spheres reach into its frustum (a plane test against its four sides).
@@ -255,6 +262,9 @@ mod tests {
         assert_eq!(views(&spot(off, 20.0)), 1);
         assert_eq!(views(&spot(off, 10.0)), 0);
         assert_eq!(views(&spot(Vec3::NEG_Z, 60.0)), 0);
-        assert_eq!(u.maps[1][0], 0.0, "a light without maps is marked so for the shaders");
+        assert_eq!(
+            u.maps[1][0], 0.0,
+            "a light without maps is marked so for the shaders"
+        );
     }
 }

@@ -432,10 +432,7 @@ impl Prepared for State {
             self.passes.encode_impostors(enc, &self.renderer);
             report.ran("impostors");
             let groups = 1 + self.passes.sizes.lights;
-        report.count(
-            "impostor_splats",
-            (groups * self.set.imp.len()) as f64,
-        );
+            report.count("impostor_splats", (groups * self.set.imp.len()) as f64);
         }
         mark(&mut self.timer, enc, "light");
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
@@ -450,8 +447,7 @@ impl Prepared for State {
         }
         report.count("light_faces", views.iter().sum::<u32>() as f64);
         mark(&mut self.timer, enc, "gather");
-        self.passes
-            .encode_gather(enc, &self.renderer, gather.len());
+        self.passes.encode_gather(enc, &self.renderer, gather.len());
         report.ran("gather");
         mark(&mut self.timer, enc, "resolve");
         self.passes

@@ -480,7 +480,10 @@ impl Passes {
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_impostor, &[]);
         // The camera tiles, then each light's tiles.
-        p.draw(0..6, 0..(1 + self.sizes.lights as u32) * self.sizes.imp as u32);
+        p.draw(
+            0..6,
+            0..(1 + self.sizes.lights as u32) * self.sizes.imp as u32,
+        );
     }
 
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
@@ -535,7 +538,10 @@ impl Passes {
             a: 0.0,
         };
         let attachments = [
-            color_attachment(&self.res.gather_view, wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
+            color_attachment(
+                &self.res.gather_view,
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ),
             color_attachment(&self.res.extents_view, wgpu::LoadOp::Clear(far)),
         ];
         let mut p = renderer.passes.render_pass(

@@ -24,7 +24,11 @@ impl SurfaceShadow {
         let layout = pipeline::layout(b.device, label, &[&b.renderer.frame_layout, &bgl]);
         let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
         shared.extend([COMMON_WGSL, wgsl::SURFACE_PASS]);
-        let module = wgsl::module(b.device, label, &wgsl::compose(&shared, SURFACE_SHADOW_WGSL));
+        let module = wgsl::module(
+            b.device,
+            label,
+            &wgsl::compose(&shared, SURFACE_SHADOW_WGSL),
+        );
         let depth = wgpu::DepthStencilState {
             format: wgpu::TextureFormat::Depth32Float,
             depth_write_enabled: Some(false),
