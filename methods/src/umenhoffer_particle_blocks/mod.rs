@@ -79,8 +79,8 @@
 //! in-scatter is marched (32 steps, in the angle variable of the first local light) in the
 //! resolve pass and dimmed by a linear model of the cloud's optical depth inside its span;
 //! homogeneous-medium scenes are refused.
-//! Measured on lavapipe (256², cloud-8000, issue 18's re-run): unblocked 350 ms vs 40 blocks
-//! 53 ms (6.6×), short of the paper's 25× — the baseline has no per-particle read-back, block billboards cover
+//! Measured on lavapipe (256², cloud-8000, issue 18's re-runs): unblocked vs 40 blocks 4.9–6.6×
+//! (226 vs 46 ms, 350 vs 53 ms), short of the paper's 25× — the baseline has no per-particle read-back, block billboards cover
 //! their bounding spheres (total area falls only as b^(−1/3)) and the frame's fixed passes
 //! (shadow map, surface, resolve) are included. With a point light inside the cloud the blocks'
 //! error is 2–4× the splat's in-scatter and ~10× its total at defaults; see README.md.
