@@ -16,6 +16,21 @@ pub fn color_attachment(
     })
 }
 
+/// A depth attachment of `view` (a format without stencil): loaded or cleared, stored.
+pub fn depth_attachment(
+    view: &wgpu::TextureView,
+    depth: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: depth,
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
 /// A depth-stencil attachment of `view`: depth and stencil each loaded or cleared, both stored.
 pub fn depth_stencil_attachment(
     view: &wgpu::TextureView,

@@ -358,7 +358,7 @@ impl SceneRenderer {
 }
 
 pub fn surface_source() -> String {
-    wgsl::compose(wgsl::PRELUDE, include_str!("wgsl/surface_pass.wgsl"))
+    wgsl::compose(wgsl::PRELUDE, wgsl::SURFACE_PASS)
 }
 
 /// Group 0 of every pass: camera, medium, lights, objects, shadow maps, spot patterns, sampler.

@@ -12,6 +12,9 @@ pub const FRAME_BINDINGS: &str = include_str!("wgsl/frame_bindings.wgsl");
 /// The unshadowed in-scatter over a ray stretch without a table: directional closed form, spot
 /// quadrature (`sunlight_between`, `spot_between`, `local_quadrature`); needs PRELUDE.
 pub const LIGHT_SEGMENTS: &str = include_str!("wgsl/light_segments.wgsl");
+/// The forward surface pass (`vs`, `fs`, `shade_light…`; needs PRELUDE), also composed by passes
+/// that redraw the scene's surfaces per light.
+pub const SURFACE_PASS: &str = include_str!("wgsl/surface_pass.wgsl");
 /// `vs_fullscreen`: one triangle covering the viewport.
 pub const FULLSCREEN: &str = include_str!("wgsl/fullscreen.wgsl");
 

@@ -95,6 +95,10 @@ pub struct BlockSet {
     pub centroid: Vec3,
     /// Built from the scene's declared block instances (not from clusters).
     pub declared: bool,
+    /// Each primitive's own particles (indices into the scene's), in `prims` order: a block's
+    /// cluster or declared instance, a sphere's one particle (`held.rs` draws a block that holds
+    /// a viewer as these).
+    pub members: Vec<Vec<usize>>,
 }
 
 /// A stable orthonormal (right, up) pair perpendicular to `dir`; the same rule as `basis_of`
@@ -260,6 +264,7 @@ pub fn unblocked(ps: &[Particle]) -> BlockSet {
         per_block: 1.0,
         centroid: centroid(ps),
         declared: false,
+        members: (0..ps.len()).map(|i| vec![i]).collect(),
     }
 }
 
@@ -285,6 +290,7 @@ pub fn blocked(ps: &[Particle], blocks: usize, mode: Instancing) -> BlockSet {
 /// Every cluster its own impostor pair from its own particles.
 fn per_cluster(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
     let mut set = BlockSet::empty(ps, clusters.len());
+    set.members = clusters.to_vec();
     for c in clusters {
         let s = stats(ps, c);
         let (tl, tc) = (set.tiles.len() as f32, set.tiles.len() as f32 + 1.0);
@@ -355,6 +361,7 @@ pub const TYPICAL_COUNT: f32 = 0.75;
 /// mass in). Robust statistics throughout, so one far particle sets no size.
 fn prototype(ps: &[Particle], clusters: &[Vec<usize>]) -> BlockSet {
     let mut set = BlockSet::empty(ps, clusters.len());
+    set.members = clusters.to_vec();
     let st: Vec<Stats> = clusters.iter().map(|c| stats(ps, c)).collect();
     if st.is_empty() {
         return set;
@@ -413,6 +420,11 @@ pub fn declared(ps: &[Particle], decl: &[BlockInstancing], mode: Instancing) -> 
     }
     let mut set = BlockSet::empty(ps, b.instances.len());
     set.declared = true;
+    set.members = b
+        .instances
+        .iter()
+        .map(|i| (i.first..i.first + b.block.len()).collect())
+        .collect();
     let members: Vec<usize> = (0..b.block.len()).collect();
     let s = stats(&b.block, &members);
     let h = b
@@ -444,6 +456,7 @@ impl BlockSet {
             per_block: ps.len() as f64 / blocks.max(1) as f64,
             centroid: centroid(ps),
             declared: false,
+            members: Vec::with_capacity(blocks),
         }
     }
 }

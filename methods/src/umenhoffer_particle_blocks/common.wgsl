@@ -3,26 +3,42 @@
 // the light map's projection, impostor-tile and analytic-sphere intervals, the slice lookup
 // (Umenhoffer et al. §2.3) and the light's radiance arriving at a point. Needs PRELUDE.
 
-struct Pb {
+// One light map (a "view" of a light): a single perspective or orthographic map, or one face of
+// a cube of six perspective maps around a local light (mod.rs, `light_views`).
+struct View {
     // xyz: light-map right axis; w: projection (0 orthographic / directional, 1 perspective)
-    light_u: vec4<f32>,
-    // xyz: light-map up axis; w: light-map resolution (texels)
-    light_v: vec4<f32>,
-    // xyz: light-map axis (directional: the propagation direction); w: 1 if the scene has a light
-    light_w: vec4<f32>,
+    u: vec4<f32>,
+    // xyz: light-map up axis; w: unused
+    v: vec4<f32>,
+    // xyz: light-map axis (directional: the propagation direction); w: unused
+    w: vec4<f32>,
     // xyz: map centre (orthographic) or light position (perspective);
     // w: half extent (m, orthographic) or tan of the half angle (perspective)
-    light_p: vec4<f32>,
+    p: vec4<f32>,
     // depths of slices 0..3 and 4..7 along the light (m)
     slices_a: vec4<f32>,
     slices_b: vec4<f32>,
     // x: depth where the cloud starts along the light; y: where it ends; z: slice count S (4 or 8);
-    // w: forward-scattering approximation (0/1)
+    // w: unused
     range: vec4<f32>,
+};
+
+// Views per light: light k's maps are views 6k .. 6k + 5 (slice-array layers likewise).
+const FACES: u32 = 6u;
+
+struct Pb {
+    views: array<View, 24>,
+    // per light, x: its views this frame (0: no light map, 1: one map, 6: a cube); y, z, w: unused
+    maps: array<vec4<f32>, 4>,
     // x: tile columns; y: tile resolution (texels); z: impostor particles per direction; w: atlas size
     atlas: vec4<f32>,
-    // x: clip_fix (0/1); y: background-medium march steps (0: none); z, w: unused
+    // x: clip_fix (0/1); y: background-medium march steps (0: none); z: the cloud dims the
+    // background medium's in-scatter (0/1); w: unused
     flags: vec4<f32>,
+    // x: the primitive lists' stride C (the gathering's list at 0, light k's at (k + 1)·C);
+    // y: impostor tiles per light T (light k's tiles are offset by k·T);
+    // z: light-map resolution (texels); w: unused
+    counts: vec4<f32>,
     // rgb: sky radiance
     sky: vec4<f32>,
 };
@@ -32,7 +48,8 @@ struct Prim {
     center: vec4<f32>,
     // rgb: albedo; w: τ of an analytic sphere (1/m) or an instance's extinction multiplier
     albedo: vec4<f32>,
-    // x: instance scale; y: light tile (< 0: analytic sphere); z: camera tile; w: unused
+    // x: instance scale; y: first light's tile (< 0: an analytic sphere); z: camera tile;
+    // w: unused
     extra: vec4<f32>,
 };
 
@@ -56,12 +73,15 @@ struct ImpParticle {
 @group(1) @binding(3) var<storage, read> imp: array<ImpParticle>;
 // Impostor atlas: r = min front depth, g = min(−back depth), a = Σ τ·chord (prototype units).
 @group(1) @binding(4) var atlas: texture_2d<f32>;
-// Light slices: accumulated particle optical depth up to slice depths 0..3 and 4..7.
-@group(1) @binding(5) var slices0: texture_2d<f32>;
-@group(1) @binding(6) var slices1: texture_2d<f32>;
+// Light slices, one layer per view: accumulated particle optical depth up to slice depths 0..3
+// and 4..7.
+@group(1) @binding(5) var slices0: texture_2d_array<f32>;
+@group(1) @binding(6) var slices1: texture_2d_array<f32>;
 @group(1) @binding(7) var ray_distance: texture_2d<f32>;
 // rgb: the cloud's in-scatter; a: its accumulated opacity.
 @group(1) @binding(8) var gathered: texture_2d<f32>;
+// x: the nearest ray parameter where the cloud contributes; y: minus the farthest (m).
+@group(1) @binding(10) var extents: texture_2d<f32>;
 // The shared surface pass's output (mesh shadows, background attenuation; no particle shadows).
 @group(1) @binding(9) var surface_in: texture_2d<f32>;
 
@@ -74,10 +94,20 @@ fn quad_corner(v: u32) -> vec2<f32> {
 
 // How much larger than its bounding radius R a billboard at distance d from a perspective
 // viewer must be: the bounding sphere's silhouette cone meets the billboard plane at radius
-// R/√(1 − R²/d²). Capped at 4 (a viewer inside the bounds cannot be covered by a billboard).
+// R/√(1 − R²/d²). Capped at 4: a viewer nearer than `covers_viewer` draws a full-view quad.
 fn grow_for(radius: f32, d: f32) -> f32 {
     let s = clamp(radius / max(d, 1e-6), 0.0, 0.97);
     return min(1.0 / sqrt(1.0 - s * s), 4.0);
+}
+
+// Whether a viewer at distance d from a primitive's centre lies inside (or so near) its bounds
+// of radius R that no billboard can cover what it sees of it: the primitive is then drawn as a
+// quad over the whole view, each fragment finding its interval along its own ray.
+// (held.rs replaces a block holding a viewer by its particles; spheres can still hold one.)
+override COVERS: f32 = 1.1;
+
+fn covers_viewer(radius: f32, d: f32) -> bool {
+    return d < COVERS * radius;
 }
 
 struct Basis {
@@ -101,18 +131,19 @@ override EIGHT_SLICES: bool = false;
 // Primitives are impostor blocks (false: analytic spheres, the splat).
 override BLOCKS: bool = true;
 
-fn is_perspective() -> bool {
-    return pb.light_u.w > 0.5;
+fn is_perspective(vi: u32) -> bool {
+    return pb.views[vi].u.w > 0.5;
 }
 
-// Clip position of world point x in the light map.
-fn light_clip(x: vec3<f32>) -> vec4<f32> {
-    let q = x - pb.light_p.xyz;
-    if (is_perspective()) {
-        let z = dot(q, pb.light_w.xyz);
-        return vec4<f32>(dot(q, pb.light_u.xyz) / pb.light_p.w, dot(q, pb.light_v.xyz) / pb.light_p.w, 0.0, z);
+// Clip position of world point x in light map vi.
+fn light_clip(vi: u32, x: vec3<f32>) -> vec4<f32> {
+    let q = x - pb.views[vi].p.xyz;
+    let t = pb.views[vi].p.w;
+    let xy = vec2<f32>(dot(q, pb.views[vi].u.xyz), dot(q, pb.views[vi].v.xyz)) / t;
+    if (is_perspective(vi)) {
+        return vec4<f32>(xy, 0.0, dot(q, pb.views[vi].w.xyz));
     }
-    return vec4<f32>(dot(q, pb.light_u.xyz) / pb.light_p.w, dot(q, pb.light_v.xyz) / pb.light_p.w, 0.0, 1.0);
+    return vec4<f32>(xy, 0.0, 1.0);
 }
 
 struct LightCoord {
@@ -124,30 +155,43 @@ struct LightCoord {
     ok: bool,
 };
 
-fn light_coord(x: vec3<f32>) -> LightCoord {
-    let c = light_clip(x);
+fn light_coord(vi: u32, x: vec3<f32>) -> LightCoord {
+    let c = light_clip(vi, x);
     if (c.w <= 1e-6) { return LightCoord(vec2<f32>(0.0), 0.0, 1.0, false); }
     let ndc = c.xy / c.w;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
     let inside = all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
-    if (is_perspective()) {
-        return LightCoord(uv, length(x - pb.light_p.xyz), 2.0 * c.w * pb.light_p.w, inside);
+    let pw = pb.views[vi].p;
+    if (is_perspective(vi)) {
+        return LightCoord(uv, length(x - pw.xyz), 2.0 * c.w * pw.w, inside);
     }
-    return LightCoord(uv, dot(x, pb.light_w.xyz), 2.0 * pb.light_p.w, inside);
+    return LightCoord(uv, dot(x, pb.views[vi].w.xyz), 2.0 * pw.w, inside);
 }
 
-// The ray along which the light map sees world point x: origin at depth 0, unit direction.
+// The ray along which light map vi sees world point x: origin at depth 0, unit direction.
 struct Ray {
     origin: vec3<f32>,
     dir: vec3<f32>,
 };
 
-fn light_ray(x: vec3<f32>) -> Ray {
-    if (is_perspective()) {
-        return Ray(pb.light_p.xyz, normalize(x - pb.light_p.xyz));
+fn light_ray(vi: u32, x: vec3<f32>) -> Ray {
+    if (is_perspective(vi)) {
+        return Ray(pb.views[vi].p.xyz, normalize(x - pb.views[vi].p.xyz));
     }
-    let d = pb.light_w.xyz;
+    let d = pb.views[vi].w.xyz;
     return Ray(x - d * dot(x, d), d);
+}
+
+// The map of light k that sees x: its only one, or the cube face of x's major axis from the
+// light (faces +X, −X, +Y, −Y, +Z, −Z as in mod.rs).
+fn view_of(k: u32, x: vec3<f32>) -> u32 {
+    let base = k * FACES;
+    if (pb.maps[k].x < 5.5) { return base; }
+    let q = x - lights.lights[k].position.xyz;
+    let a = abs(q);
+    if (a.x >= a.y && a.x >= a.z) { return base + select(1u, 0u, q.x >= 0.0); }
+    if (a.y >= a.z) { return base + select(3u, 2u, q.y >= 0.0); }
+    return base + select(5u, 4u, q.z >= 0.0);
 }
 
 // A primitive's extent along a ray: [near, far] (ray parameter, m), its optical depth, and the
@@ -203,7 +247,9 @@ fn prim_interval(p: Prim, tile: f32, r: Ray) -> Interval {
     let off = r.dir * tc - oc;
     let b = basis_of(r.dir);
     let q = vec2<f32>(dot(off, b.right), dot(off, b.up)) / p.center.w;
-    if (!BLOCKS) {
+    // Analytic spheres: every primitive of the splat, and a block's particles standing in for a
+    // block that holds the viewer (light.y < 0; held.rs).
+    if (!BLOCKS || p.extra.y < 0.0) {
         let rad = p.center.w;
         let h2 = rad * rad - (dot(oc, oc) - tc * tc);
         if (h2 <= 0.0) { return Interval(0.0, 0.0, 0.0, tc, false); }
@@ -224,8 +270,8 @@ struct Slices {
     b: vec4<f32>,
 };
 
-fn load_slices(uv: vec2<f32>) -> Slices {
-    let res = pb.light_v.w;
+fn load_slices(vi: u32, uv: vec2<f32>) -> Slices {
+    let res = pb.counts.z;
     let f = uv * res - 0.5;
     let i0 = floor(f);
     let w = f - i0;
@@ -236,21 +282,21 @@ fn load_slices(uv: vec2<f32>) -> Slices {
         let o = vec2<f32>(select(0.0, 1.0, hx), select(0.0, 1.0, hy));
         let ij = vec2<i32>(clamp(i0 + o, vec2<f32>(0.0), vec2<f32>(res - 1.0)));
         let wk = select(1.0 - w.x, w.x, hx) * select(1.0 - w.y, w.y, hy);
-        s.a += wk * textureLoad(slices0, ij, 0);
-        s.b += wk * textureLoad(slices1, ij, 0);
+        s.a += wk * textureLoad(slices0, ij, vi, 0);
+        if (EIGHT_SLICES) { s.b += wk * textureLoad(slices1, ij, vi, 0); }
     }
     return s;
 }
 
-// Optical depth at light depth d, linear between the enclosing slices (§2.3): a sum of ramps,
-// one per slice interval, so no component is indexed dynamically.
-fn depth_from_slices(v: Slices, d: f32) -> f32 {
-    let a = pb.slices_a;
-    let lo = vec4<f32>(pb.range.x, a.x, a.y, a.z);
+// Optical depth at light depth d in map vi, linear between the enclosing slices (§2.3): a sum of
+// ramps, one per slice interval, so no component is indexed dynamically.
+fn depth_from_slices(vi: u32, v: Slices, d: f32) -> f32 {
+    let a = pb.views[vi].slices_a;
+    let lo = vec4<f32>(pb.views[vi].range.x, a.x, a.y, a.z);
     let r0 = clamp((vec4<f32>(d) - lo) / max(a - lo, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
     var tau = dot(r0, v.a - vec4<f32>(0.0, v.a.x, v.a.y, v.a.z));
     if (EIGHT_SLICES) {
-        let b = pb.slices_b;
+        let b = pb.views[vi].slices_b;
         let lo2 = vec4<f32>(a.w, b.x, b.y, b.z);
         let r1 = clamp((vec4<f32>(d) - lo2) / max(b - lo2, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
         tau += dot(r1, v.b - vec4<f32>(v.a.w, v.b.x, v.b.y, v.b.z));
@@ -258,43 +304,64 @@ fn depth_from_slices(v: Slices, d: f32) -> f32 {
     return tau;
 }
 
-// Particle optical depth between the light and x. With the forward-scattering approximation
+// Particle optical depth between light k and x. With the forward-scattering approximation
 // the transmittance is averaged over a cone of taps around the light ray, widening with the
 // depth travelled in the cloud (light scattered slightly forward fills in shadows).
-fn light_optical_depth(x: vec3<f32>) -> f32 {
-    if (pb.light_w.w < 0.5) { return 0.0; }
-    let c = light_coord(x);
+fn light_optical_depth(k: u32, x: vec3<f32>) -> f32 {
+    if (pb.maps[k].x < 0.5) { return 0.0; }
+    let vi = view_of(k, x);
+    let c = light_coord(vi, x);
     if (!c.ok) { return 0.0; }
     if (!FORWARD_SCATTERING) {
-        return depth_from_slices(load_slices(c.uv), c.depth);
+        return depth_from_slices(vi, load_slices(vi, c.uv), c.depth);
     }
-    let radius = 0.2 * max(c.depth - pb.range.x, 0.0) / c.span;
-    var t = exp(-depth_from_slices(load_slices(c.uv), c.depth));
-    t += exp(-depth_from_slices(load_slices(c.uv + vec2<f32>(radius, 0.0)), c.depth));
-    t += exp(-depth_from_slices(load_slices(c.uv - vec2<f32>(radius, 0.0)), c.depth));
-    t += exp(-depth_from_slices(load_slices(c.uv + vec2<f32>(0.0, radius)), c.depth));
-    t += exp(-depth_from_slices(load_slices(c.uv - vec2<f32>(0.0, radius)), c.depth));
+    let radius = 0.2 * max(c.depth - pb.views[vi].range.x, 0.0) / c.span;
+    var t = exp(-depth_from_slices(vi, load_slices(vi, c.uv), c.depth));
+    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv + vec2<f32>(radius, 0.0)), c.depth));
+    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv - vec2<f32>(radius, 0.0)), c.depth));
+    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv + vec2<f32>(0.0, radius)), c.depth));
+    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv - vec2<f32>(0.0, radius)), c.depth));
     return -log(max(t / 5.0, 1e-30));
 }
 
-// p(θ) · I(ω) · V (· e^(−σt r) / r² for local lights) at x, toward the eye along `to_eye`,
-// without the particles' shadow. Light 0 only (the method's limit).
-fn light_radiance(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
-    if (light_count() == 0u) { return vec3<f32>(0.0); }
-    let vis = shadow_visibility(0u, x);
-    if (light_kind(0u) == LIGHT_DIRECTIONAL) {
-        let l = lights.lights[0].direction.xyz;
-        return lights.lights[0].intensity.rgb * (phase(medium, dot(l, to_eye)) * vis);
+// p(θ) · I(ω) · V (· e^(−σt r) · inv_r2 for local lights) of light k at x, toward the eye along
+// `to_eye`, without the particles' shadow; inv_r2 stands for 1/r² (or its mean over a segment).
+fn light_radiance_with(k: u32, x: vec3<f32>, to_eye: vec3<f32>, inv_r2: f32) -> vec3<f32> {
+    let vis = shadow_visibility(k, x);
+    if (light_kind(k) == LIGHT_DIRECTIONAL) {
+        let l = lights.lights[k].direction.xyz;
+        return lights.lights[k].intensity.rgb * (phase(medium, dot(l, to_eye)) * vis);
     }
-    let w = x - lights.lights[0].position.xyz;
-    let r2 = max(dot(w, w), 1e-12);
-    let r = sqrt(r2);
-    return light_intensity(0u, w) * transmittance(medium, r) * (phase(medium, dot(w / r, to_eye)) * vis / r2);
+    let w = x - lights.lights[k].position.xyz;
+    let r = max(length(w), 1e-6);
+    return light_intensity(k, w) * transmittance(medium, r) * (phase(medium, dot(w / r, to_eye)) * vis * inv_r2);
 }
 
-// What σ_s multiplies in DESIGN §1's L_in at x: the light's radiance times the particles'
-// transmittance toward the light (from the slices).
+fn light_radiance(k: u32, x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
+    let w = x - lights.lights[k].position.xyz;
+    return light_radiance_with(k, x, to_eye, 1.0 / max(dot(w, w), 1e-12));
+}
+
+// The mean of 1/r² over the segment o + dir·[a, b] (r: the distance to light k), in Biri's angle
+// variable: ∫ dt / r² = Δφ / h with h the light's distance from the ray's line. Exact; for a
+// segment through a local light's neighbourhood it replaces the midpoint's 1/r², which can be
+// off by orders of magnitude there.
+fn mean_inv_r2(k: u32, o: vec3<f32>, dir: vec3<f32>, a: f32, b: f32) -> f32 {
+    let w0 = o - lights.lights[k].position.xyz;
+    let t0 = -dot(w0, dir);
+    let h = length(w0 + dir * t0);
+    let mid = w0 + dir * (0.5 * (a + b));
+    let point = 1.0 / max(dot(mid, mid), 1e-12);
+    if (b - a < 1e-4 * max(h, 1e-3) || h < 1e-6) { return point; }
+    return (atan((b - t0) / h) - atan((a - t0) / h)) / (h * (b - a));
+}
+
+// What σ_s multiplies in DESIGN §1's L_in at x: every light's radiance times the particles'
+// transmittance toward it (from its slices), summed.
 fn incident(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
-    if (light_count() == 0u) { return vec3<f32>(0.0); }
-    return light_radiance(x, to_eye) * exp(-light_optical_depth(x));
+    var l = vec3<f32>(0.0);
+    for (var k = 0u; k < light_count(); k++) {
+        l += light_radiance(k, x, to_eye) * exp(-light_optical_depth(k, x));
+    }
+    return l;
 }

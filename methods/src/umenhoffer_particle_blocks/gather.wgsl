@@ -6,32 +6,46 @@
 // ends of the interval (the paper samples one point per block pixel; two and a closed-form
 // average is a modernisation). clip_fix (§2.4): a surface inside the interval scales τ by the
 // fraction in front of it; without it the billboard plane alone decides (the artefact).
-// Needs PRELUDE and common.wgsl.
+// Every light's contribution is summed per fragment (one set of slices per light). A primitive
+// whose bounds hold the eye is drawn as a quad over the whole view (no billboard covers the
+// viewer), its interval cut at the eye. The second target keeps the nearest and farthest ray
+// parameter where the cloud contributes (min blending), for the background medium's dimming in
+// the resolve. Needs PRELUDE and common.wgsl.
 
 struct GatherOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) @interpolate(flat) prim: u32,
+    @location(0) @interpolate(flat) prim: u32,
 };
 
 @vertex
 fn vs_gather(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> GatherOut {
     let p = prims[i];
     let c = p.center.xyz;
-    let b = basis_of(normalize(c - camera.position.xyz));
-    let corner = quad_corner(v) * grow_for(p.center.w, length(c - camera.position.xyz));
-    let world = c + (b.right * corner.x + b.up * corner.y) * p.center.w;
+    let d = length(c - camera.position.xyz);
     var out: GatherOut;
-    out.clip = camera.clip_from_world * vec4<f32>(world, 1.0);
-    out.world = world;
     out.prim = i;
+    if (covers_viewer(p.center.w, d)) {
+        out.clip = vec4<f32>(quad_corner(v), 0.0, 1.0);
+        return out;
+    }
+    let b = basis_of(normalize(c - camera.position.xyz));
+    let corner = quad_corner(v) * grow_for(p.center.w, d);
+    let world = c + (b.right * corner.x + b.up * corner.y) * p.center.w;
+    out.clip = camera.clip_from_world * vec4<f32>(world, 1.0);
     return out;
 }
 
+struct Gathered {
+    // rgb: in-scattered radiance; a: opacity (premultiplied "over")
+    @location(0) radiance: vec4<f32>,
+    // x: near ray parameter; y: −far (min blending)
+    @location(1) extent: vec4<f32>,
+};
+
 @fragment
-fn fs_gather(in: GatherOut) -> @location(0) vec4<f32> {
+fn fs_gather(in: GatherOut) -> Gathered {
     let eye = camera.position.xyz;
-    let dir = normalize(in.world - eye);
+    let dir = camera_ray_dir(camera, in.clip.xy);
     let p = prims[in.prim];
     let iv = prim_interval(p, p.extra.z, Ray(eye, dir));
     if (!iv.ok || iv.far <= 0.0) { discard; }
@@ -52,21 +66,29 @@ fn fs_gather(in: GatherOut) -> @location(0) vec4<f32> {
         far = b;
     } else {
         if (surf <= iv.plane) { discard; }
-        near = max(near, 0.0);
+        if (near < 0.0) {
+            // The eye inside the interval: only the part in front of it is seen.
+            tau *= far / span;
+            near = 0.0;
+        }
     }
     if (tau <= 0.0) { discard; }
     let alpha = 1.0 - exp(-tau);
     let t_mid = 0.5 * (near + far);
     let x = eye + dir * t_mid;
-    // The light's optical depth at both ends of the interval (slices), taken as linear in
+    // Each light's optical depth at both ends of the interval (slices), taken as linear in
     // between: with uniform extinction τ over the interval, ∫ σ e^(−σ s) e^(−(τa + Δ s/L)) ds
     // = e^(−τa) · τ/(τ+Δ) · (1 − e^(−(τ+Δ))). light_radiance() supplies phase, I
     // and visibility at the midpoint.
-    let ta = light_optical_depth(eye + dir * near);
-    let tb = light_optical_depth(eye + dir * far);
-    let k = tau + (tb - ta);
-    var shadowed = exp(-ta) * alpha;
-    if (abs(k) > 1e-4) { shadowed = exp(-ta) * tau / k * (1.0 - exp(-k)); }
-    let l = p.albedo.rgb * light_radiance(x, -dir) * shadowed * transmittance(medium, t_mid);
-    return vec4<f32>(l, alpha);
+    var lit = vec3<f32>(0.0);
+    for (var k = 0u; k < light_count(); k++) {
+        let ta = light_optical_depth(k, eye + dir * near);
+        let tb = light_optical_depth(k, eye + dir * far);
+        let kk = tau + (tb - ta);
+        var shadowed = exp(-ta) * alpha;
+        if (abs(kk) > 1e-4) { shadowed = exp(-ta) * tau / kk * (1.0 - exp(-kk)); }
+        lit += light_radiance_with(k, x, -dir, mean_inv_r2(k, eye, dir, near, far)) * shadowed;
+    }
+    let l = p.albedo.rgb * lit * transmittance(medium, t_mid);
+    return Gathered(vec4<f32>(l, alpha), vec4<f32>(near, -far, 0.0, 0.0));
 }

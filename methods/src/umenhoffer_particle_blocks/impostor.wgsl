@@ -1,8 +1,9 @@
 // Depth impostors (Umenhoffer et al. §2.1): the particles of a block rendered orthographically
 // into its tile, one pass computing three things with one blend state — front depth (min),
 // back depth (min of its negation) and optical depth Σ τ·chord (additive alpha, the
-// separate-alpha blend). Instance i < M draws particle i into its light tile, i ≥ M into its
-// camera tile. Needs PRELUDE and common.wgsl.
+// separate-alpha blend). Instance i draws particle i mod M: group i / M = 0 into its camera
+// tile, group k + 1 into light k's tile (the first light's tile index + k·T). Needs PRELUDE and
+// common.wgsl.
 
 struct ImpOut {
     @builtin(position) clip: vec4<f32>,
@@ -16,7 +17,8 @@ struct ImpOut {
 fn vs_impostor(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> ImpOut {
     let m = u32(pb.atlas.z);
     let e = imp[i % m];
-    let tile = u32(select(e.data.y, e.data.z, i >= m));
+    let g = i / m;
+    let tile = u32(select(e.data.y + f32(g - 1u) * pb.counts.y, e.data.z, g == 0u));
     let t = tiles[tile];
     let h = t.right.w;
     let corner = quad_corner(v);

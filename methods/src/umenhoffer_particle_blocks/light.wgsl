@@ -2,33 +2,52 @@
 // billboard facing the light, adding its optical depth to each slice it lies before — the
 // fraction of its depth interval in front of the slice, assuming uniform density in the
 // interval — so slice s holds the optical depth accumulated up to depth d_s. Four slices per
-// RGBA target; additive blending, no sorting. Needs PRELUDE and common.wgsl.
+// RGBA target; additive blending, no sorting. One render pass per light map ("view": one map,
+// or each face of a cube around a local light); instance i draws entry i mod C of light k's
+// primitive list into view i / C (k = view / 6; blocks holding the light are replaced there by
+// their particles, held.rs). A primitive still holding the light (a sphere) is drawn over the
+// whole face instead of as a billboard (no billboard can pass through the light), each fragment
+// finding its interval along its own light ray, the part behind the light cut off. Needs
+// PRELUDE and common.wgsl.
 
 struct LightOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) @interpolate(flat) prim: u32,
+    @location(2) @interpolate(flat) view: u32,
 };
 
 // The billboard facing the light at c.
-fn light_basis(c: vec3<f32>) -> Basis {
-    if (is_perspective()) { return basis_of(normalize(c - pb.light_p.xyz)); }
-    return Basis(pb.light_u.xyz, pb.light_v.xyz);
+fn light_basis(vi: u32, c: vec3<f32>) -> Basis {
+    if (is_perspective(vi)) { return basis_of(normalize(c - pb.views[vi].p.xyz)); }
+    return Basis(pb.views[vi].u.xyz, pb.views[vi].v.xyz);
 }
 
 @vertex
 fn vs_light(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> LightOut {
-    let p = prims[i];
+    let stride = u32(pb.counts.x);
+    let vi = i / stride;
+    let pi = (vi / FACES + 1u) * stride + i % stride;
+    let p = prims[pi];
     let c = p.center.xyz;
-    let b = light_basis(c);
-    var grow = 1.0;
-    if (is_perspective()) { grow = grow_for(p.center.w, length(c - pb.light_p.xyz)); }
-    let corner = quad_corner(v) * grow;
-    let world = c + (b.right * corner.x + b.up * corner.y) * p.center.w;
+    let view = pb.views[vi];
+    var world: vec3<f32>;
+    if (is_perspective(vi) && covers_viewer(p.center.w, length(c - view.p.xyz))) {
+        // The whole face: the point at unit depth along the axis under each corner.
+        let q = quad_corner(v) * view.p.w;
+        world = view.p.xyz + view.w.xyz + view.u.xyz * q.x + view.v.xyz * q.y;
+    } else {
+        let b = light_basis(vi, c);
+        var grow = 1.0;
+        if (is_perspective(vi)) { grow = grow_for(p.center.w, length(c - view.p.xyz)); }
+        let corner = quad_corner(v) * grow;
+        world = c + (b.right * corner.x + b.up * corner.y) * p.center.w;
+    }
     var out: LightOut;
-    out.clip = light_clip(world);
+    out.clip = light_clip(vi, world);
     out.world = world;
-    out.prim = i;
+    out.prim = pi;
+    out.view = vi;
     return out;
 }
 
@@ -40,13 +59,25 @@ struct SliceOut {
 
 fn slice_contribution(in: LightOut) -> SliceOut {
     let p = prims[in.prim];
-    let iv = prim_interval(p, p.extra.y, light_ray(in.world));
+    let vi = in.view;
+    // Light k's impostor tiles follow the first light's, k·T further on.
+    let tile = p.extra.y + f32(vi / FACES) * pb.counts.y;
+    let iv = prim_interval(p, tile, light_ray(vi, in.world));
     if (!iv.ok || iv.tau <= 0.0) { discard; }
-    let span = max(iv.far - iv.near, 1e-6);
-    let n = vec4<f32>(iv.near);
-    let fa = clamp((pb.slices_a - n) / span, vec4<f32>(0.0), vec4<f32>(1.0));
-    let fb = clamp((pb.slices_b - n) / span, vec4<f32>(0.0), vec4<f32>(1.0));
-    return SliceOut(iv.tau * fa, iv.tau * fb);
+    var near = iv.near;
+    var tau = iv.tau;
+    let span = max(iv.far - near, 1e-6);
+    if (is_perspective(vi) && near < 0.0) {
+        // The light is inside the interval: only the part in front of it is on this ray.
+        if (iv.far <= 0.0) { discard; }
+        tau *= iv.far / span;
+        near = 0.0;
+    }
+    let rest = max(iv.far - near, 1e-6);
+    let n = vec4<f32>(near);
+    let fa = clamp((pb.views[vi].slices_a - n) / rest, vec4<f32>(0.0), vec4<f32>(1.0));
+    let fb = clamp((pb.views[vi].slices_b - n) / rest, vec4<f32>(0.0), vec4<f32>(1.0));
+    return SliceOut(tau * fa, tau * fb);
 }
 
 @fragment

@@ -1,6 +1,7 @@
-//! GPU side: the impostor atlas, the light slices, the gather target, the four pipelines
-//! (impostor, light, gather, resolve) and their bind groups. Every pass uses the shared frame
-//! bind group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
+//! GPU side: the impostor atlas, the light slices (one layer per light map), the gather
+//! targets, the four pipelines (impostor, light, gather, resolve) and their bind groups (the
+//! per-light surface-shadow pass is `surface_shadow.rs`). Every pass uses the shared frame bind
+//! group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
 
 use bytemuck::{Pod, Zeroable};
 use harness::gpu::{Counted, color_attachment};
@@ -12,19 +13,33 @@ use crate::common::pipeline::{self, ADD, ADDITIVE, Stage, target};
 use crate::common::renderer::SceneRenderer;
 use crate::common::wgsl;
 
+/// Light maps per light: one, or the six faces of a cube (`View`s 6k … 6k + 5 of light k).
+pub const FACES: usize = 6;
+/// Lights the uniform has room for (the renderer's limit).
+pub const MAX_LIGHTS: usize = crate::common::uniforms::MAX_LIGHTS;
+
+/// One light map; mirrors `View` in common.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ViewUniform {
+    pub u: [f32; 4],
+    pub v: [f32; 4],
+    pub w: [f32; 4],
+    pub p: [f32; 4],
+    pub slices_a: [f32; 4],
+    pub slices_b: [f32; 4],
+    pub range: [f32; 4],
+}
+
 /// Mirrors `Pb` in common.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct PbUniform {
-    pub light_u: [f32; 4],
-    pub light_v: [f32; 4],
-    pub light_w: [f32; 4],
-    pub light_p: [f32; 4],
-    pub slices_a: [f32; 4],
-    pub slices_b: [f32; 4],
-    pub range: [f32; 4],
+    pub views: [ViewUniform; FACES * MAX_LIGHTS],
+    pub maps: [[f32; 4]; MAX_LIGHTS],
     pub atlas: [f32; 4],
     pub flags: [f32; 4],
+    pub counts: [f32; 4],
     pub sky: [f32; 4],
 }
 
@@ -34,6 +49,7 @@ pub const LIGHT_WGSL: &str = include_str!("light.wgsl");
 pub const GATHER_WGSL: &str = include_str!("gather.wgsl");
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
 pub const TOTAL_WGSL: &str = include_str!("total.wgsl");
+pub const SURFACE_SHADOW_WGSL: &str = include_str!("surface_shadow.wgsl");
 
 /// A pass's composed source: PRELUDE, FULLSCREEN, common.wgsl, then its own.
 pub fn source(own: &str) -> String {
@@ -47,8 +63,13 @@ pub fn source(own: &str) -> String {
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Slices and the gather target accumulate many small terms: 32-bit floats.
 pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The gathered cloud's near and far ray parameters (min blending).
+pub const EXTENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// An empty extent texel: no cloud on the ray.
+const NO_EXTENT: f64 = 1e9;
 
 pub struct Sizes {
+    /// The capacity C of each primitive list (the gathering's, then one per light).
     pub prims: usize,
     pub imp: usize,
     pub tiles: usize,
@@ -58,6 +79,8 @@ pub struct Sizes {
     pub tile_res: u32,
     pub light_res: u32,
     pub slices: u32,
+    /// The scene's lights (each has FACES slice layers).
+    pub lights: usize,
 }
 
 /// What the shaders compile in (common.wgsl's overrides), beside the scene's light layout.
@@ -74,8 +97,11 @@ pub struct Resources {
     pub tiles: wgpu::Buffer,
     pub imp: wgpu::Buffer,
     atlas_view: wgpu::TextureView,
+    /// Both slice textures as arrays (sampled) and one layer of each per view (rendered).
     slice_views: [wgpu::TextureView; 2],
+    slice_layers: Vec<[wgpu::TextureView; 2]>,
     gather_view: wgpu::TextureView,
+    extents_view: wgpu::TextureView,
     pub surface_view: wgpu::TextureView,
 }
 
@@ -91,6 +117,7 @@ pub struct Passes {
     bind_light: wgpu::BindGroup,
     bind_gather: wgpu::BindGroup,
     bind_resolve: wgpu::BindGroup,
+    surface_shadow: super::surface_shadow::SurfaceShadow,
     pub sizes: Sizes,
 }
 
@@ -104,7 +131,7 @@ fn storage(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
 }
 
 /// Binding `b` of common.wgsl's group 1, as a layout entry.
-fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
+pub(super) fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
     let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
     let ty = match b {
         0 => wgpu::BindingType::Buffer {
@@ -119,7 +146,11 @@ fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
         },
         _ => wgpu::BindingType::Texture {
             sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
+            view_dimension: if b == 5 || b == 6 {
+                wgpu::TextureViewDimension::D2Array
+            } else {
+                wgpu::TextureViewDimension::D2
+            },
             multisampled: false,
         },
     };
@@ -143,7 +174,39 @@ impl Resources {
             )
             .create_view(&Default::default())
         };
-        let slices = |label| tex(label, sizes.light_res, sizes.light_res, ACCUM_FORMAT);
+        let layers = (FACES * sizes.lights.max(1)) as u32;
+        let slices = |label| {
+            gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: sizes.light_res,
+                    height: sizes.light_res,
+                    depth_or_array_layers: layers,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: ACCUM_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        };
+        let slice_tex = [slices("light slices 0-3"), slices("light slices 4-7")];
+        let array = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        };
+        let layer = |t: &wgpu::Texture, l: u32| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: l,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        };
         let (w, h) = (renderer.width, renderer.height);
         Resources {
             uniform: gpu.buffer(&wgpu::BufferDescriptor {
@@ -152,7 +215,11 @@ impl Resources {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            prims: storage(gpu, "primitives", sizes.prims * size_of::<Prim>()),
+            prims: storage(
+                gpu,
+                "primitives",
+                (1 + sizes.lights) * sizes.prims * size_of::<Prim>(),
+            ),
             tiles: storage(gpu, "impostor tiles", sizes.tiles * size_of::<Tile>()),
             imp: storage(
                 gpu,
@@ -161,14 +228,22 @@ impl Resources {
             ),
             // Splat mode has no tiles: a 1×1 atlas keeps the bindings valid.
             atlas_view: tex("impostor atlas", sizes.atlas, sizes.atlas, ATLAS_FORMAT),
-            slice_views: [slices("light slices 0-3"), slices("light slices 4-7")],
+            slice_views: [array(&slice_tex[0]), array(&slice_tex[1])],
+            slice_layers: (0..layers)
+                .map(|l| [layer(&slice_tex[0], l), layer(&slice_tex[1], l)])
+                .collect(),
             gather_view: tex("gather", w, h, ACCUM_FORMAT),
+            extents_view: tex("gather extents", w, h, EXTENT_FORMAT),
             surface_view: tex("surface (unshadowed)", w, h, AOV_FORMAT),
         }
     }
 
     /// Binding `b` of group 1 (`distance` is the renderer's distance AOV, binding 7).
-    fn binding<'a>(&'a self, b: u32, distance: &'a wgpu::TextureView) -> wgpu::BindingResource<'a> {
+    pub(super) fn binding<'a>(
+        &'a self,
+        b: u32,
+        distance: &'a wgpu::TextureView,
+    ) -> wgpu::BindingResource<'a> {
         let view = wgpu::BindingResource::TextureView;
         match b {
             0 => self.uniform.as_entire_binding(),
@@ -180,6 +255,7 @@ impl Resources {
             6 => view(&self.slice_views[1]),
             7 => view(distance),
             8 => view(&self.gather_view),
+            10 => view(&self.extents_view),
             _ => view(&self.surface_view),
         }
     }
@@ -187,22 +263,16 @@ impl Resources {
 
 /// Builds one stage: its group-1 layout and bind group from a subset of the bindings, its module
 /// (common.wgsl plus its own source) and its pipeline (no vertex buffers, no depth).
-struct StageBuilder<'a> {
-    device: &'a wgpu::Device,
-    renderer: &'a SceneRenderer,
-    res: &'a Resources,
-    constants: Vec<(&'static str, f64)>,
+pub(super) struct StageBuilder<'a> {
+    pub device: &'a wgpu::Device,
+    pub renderer: &'a SceneRenderer,
+    pub res: &'a Resources,
+    pub constants: Vec<(&'static str, f64)>,
 }
 
 impl StageBuilder<'_> {
-    fn stage(
-        &self,
-        label: &'static str,
-        bindings: &[u32],
-        own: &str,
-        (vs, fs): (&str, &str),
-        targets: &[Option<wgpu::ColorTargetState>],
-    ) -> (wgpu::RenderPipeline, wgpu::BindGroup) {
+    /// A group-1 layout of these bindings and its bind group.
+    pub fn group(&self, label: &str, bindings: &[u32]) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
         let dev = self.device;
         let entries: Vec<_> = bindings.iter().map(|&b| entry(b)).collect();
         let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -222,6 +292,19 @@ impl StageBuilder<'_> {
             layout: &bgl,
             entries: &entries,
         });
+        (bgl, bind)
+    }
+
+    fn stage(
+        &self,
+        label: &'static str,
+        bindings: &[u32],
+        own: &str,
+        (vs, fs): (&str, &str),
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> (wgpu::RenderPipeline, wgpu::BindGroup) {
+        let dev = self.device;
+        let (bgl, bind) = self.group(label, bindings);
         let layout = pipeline::layout(dev, label, &[&self.renderer.frame_layout, &bgl]);
         let module = wgsl::module(dev, label, &source(own));
         let pipeline = Stage::new(label, vs).fragment(fs, targets).build(
@@ -270,14 +353,16 @@ impl Passes {
                 ("BLOCKS", flag(modes.blocks)),
                 ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
                 ("EIGHT_SLICES", flag(sizes.slices > 4)),
+                ("COVERS", super::held::COVERS as f64),
             ]),
         };
         // Front/back depths by min blending, optical depth by additive alpha (§2.1, one pass).
+        let min = wgpu::BlendComponent {
+            operation: wgpu::BlendOperation::Min,
+            ..ADD
+        };
         let minmax = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                operation: wgpu::BlendOperation::Min,
-                ..ADD
-            },
+            color: min,
             alpha: ADD,
         };
         let (impostor, bind_impostor) = b.stage(
@@ -311,21 +396,31 @@ impl Passes {
             &[0, 1, 2, 4, 5, 6, 7],
             GATHER_WGSL,
             ("vs_gather", "fs_gather"),
-            &[target(
-                ACCUM_FORMAT,
-                Some(wgpu::BlendState {
-                    color: over,
-                    alpha: over,
-                }),
-            )],
+            &[
+                target(
+                    ACCUM_FORMAT,
+                    Some(wgpu::BlendState {
+                        color: over,
+                        alpha: over,
+                    }),
+                ),
+                target(
+                    EXTENT_FORMAT,
+                    Some(wgpu::BlendState {
+                        color: min,
+                        alpha: min,
+                    }),
+                ),
+            ],
         );
         let (resolve, bind_resolve) = b.stage(
             "particle resolve",
-            &[0, 5, 6, 7, 8, 9],
+            &[0, 5, 6, 7, 8, 9, 10],
             RESOLVE_WGSL,
             ("vs_fullscreen", "fs_resolve"),
             &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
         );
+        let surface_shadow = super::surface_shadow::SurfaceShadow::new(&b, sizes.lights);
         let (total, total_layout) = total_pipeline(&gpu.device);
         Passes {
             res,
@@ -339,6 +434,7 @@ impl Passes {
             bind_light,
             bind_gather,
             bind_resolve,
+            surface_shadow,
             sizes,
         }
     }
@@ -383,46 +479,83 @@ impl Passes {
         p.set_pipeline(&self.impostor);
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_impostor, &[]);
-        p.draw(0..6, 0..2 * self.sizes.imp as u32);
+        // The camera tiles, then each light's tiles.
+        p.draw(
+            0..6,
+            0..(1 + self.sizes.lights as u32) * self.sizes.imp as u32,
+        );
     }
 
-    /// The light pass into the slices (cleared to zero optical depth).
+    /// The light pass into the slices of each view in `views` (each cleared to zero optical
+    /// depth), then each light's shadow on the surfaces. `views[k]`: light k's maps this frame;
+    /// `lists[k]`: the length of light k's primitive list.
     pub fn encode_light(
         &self,
         enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
-        draw: bool,
+        views: &[u32],
+        lists: &[usize],
     ) {
-        let views: Vec<&wgpu::TextureView> = self.res.slice_views.iter().collect();
         let n = if self.sizes.slices > 4 { 2 } else { 1 };
-        let mut p = Self::pass(
-            renderer,
-            enc,
-            "particle light pass",
-            &views[..n],
-            wgpu::Color::TRANSPARENT,
-        );
-        if draw {
-            p.set_pipeline(&self.light);
-            p.set_bind_group(0, &renderer.frame_bind, &[]);
-            p.set_bind_group(1, &self.bind_light, &[]);
-            p.draw(0..6, 0..self.sizes.prims as u32);
+        let stride = self.sizes.prims as u32;
+        for (k, &count) in views.iter().enumerate() {
+            let len = lists[k] as u32;
+            for vi in (FACES * k) as u32..(FACES * k) as u32 + count {
+                let layer = &self.res.slice_layers[vi as usize];
+                let targets: Vec<&wgpu::TextureView> = layer.iter().collect();
+                let mut p = Self::pass(
+                    renderer,
+                    enc,
+                    "particle light pass",
+                    &targets[..n],
+                    wgpu::Color::TRANSPARENT,
+                );
+                p.set_pipeline(&self.light);
+                p.set_bind_group(0, &renderer.frame_bind, &[]);
+                p.set_bind_group(1, &self.bind_light, &[]);
+                p.draw(0..6, vi * stride..vi * stride + len);
+            }
+            if count > 0 {
+                self.surface_shadow
+                    .encode(enc, renderer, &self.res.surface_view, k);
+            }
         }
     }
 
-    /// Back-to-front gathering (the primitives buffer holds them in that order).
-    pub fn encode_gather(&self, enc: &mut wgpu::CommandEncoder, renderer: &SceneRenderer) {
-        let mut p = Self::pass(
-            renderer,
+    /// Back-to-front gathering of the first `count` primitives (the buffer holds them in that
+    /// order).
+    pub fn encode_gather(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        count: usize,
+    ) {
+        // The extents clear to "no cloud" (one pass, two clear values: set by hand).
+        let far = wgpu::Color {
+            r: NO_EXTENT,
+            g: NO_EXTENT,
+            b: 0.0,
+            a: 0.0,
+        };
+        let attachments = [
+            color_attachment(
+                &self.res.gather_view,
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ),
+            color_attachment(&self.res.extents_view, wgpu::LoadOp::Clear(far)),
+        ];
+        let mut p = renderer.passes.render_pass(
             enc,
-            "particle gather",
-            &[&self.res.gather_view],
-            wgpu::Color::TRANSPARENT,
+            &wgpu::RenderPassDescriptor {
+                label: Some("particle gather"),
+                color_attachments: &attachments,
+                ..Default::default()
+            },
         );
         p.set_pipeline(&self.gather);
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_gather, &[]);
-        p.draw(0..6, 0..self.sizes.prims as u32);
+        p.draw(0..6, 0..count as u32);
     }
 
     pub fn encode_resolve(

@@ -1,8 +1,11 @@
-// The last pass: the surface under the cloud's shadow (the shared surface pass times the
-// particle transmittance toward the light, from the slices) or the sky, both seen through the
+// The last pass: the surface (the shared surface pass, every light's cloud shadow already
+// removed by the surface-shadow pass, surface_shadow.wgsl) or the sky, both seen through the
 // gathered opacity; the cloud's in-scatter plus, where the scene has a background medium, its
-// in-scatter marched along the ray (32 steps, in Biri's angle variable for local lights) (shadow map and slices for visibility; the cloud's
-// attenuation of that haze on the eye leg is not modelled). Needs PRELUDE, FULLSCREEN and
+// in-scatter marched along the ray (32 steps, in Biri's angle variable for a local light; shadow
+// maps and slices for visibility toward every light), dimmed by the cloud on the eye leg:
+// transmittance 1 before the nearest depth where the cloud contributes, the gathered 1 − α
+// beyond the farthest, and in between the optical depth −ln(1 − α) growing linearly with depth
+// (uniform density across the cloud's span on that ray). Needs PRELUDE, FULLSCREEN and
 // common.wgsl.
 
 // `total` is their sum, written by a second pass from these two targets (total.wgsl).
@@ -20,7 +23,7 @@ fn resolve(frag: vec4<f32>) -> Resolved {
     let g = textureLoad(gathered, px, 0);
     var surf = pb.sky.rgb * transmittance(medium, d);
     if (hit >= 0.0) {
-        surf = textureLoad(surface_in, px, 0).rgb * exp(-light_optical_depth(eye + dir * hit));
+        surf = textureLoad(surface_in, px, 0).rgb;
     }
     surf *= 1.0 - g.a;
     var l_in = g.rgb;
@@ -30,6 +33,7 @@ fn resolve(frag: vec4<f32>) -> Resolved {
         // (t = t0 + h tan φ, dt = h dφ / cos² φ), which flattens the 1/r² peak near the light.
         var t0 = 0.0;
         var h = 0.0;
+        // The angle variable follows the first local light (a sun alone: equal steps in t).
         if (light_kind(0u) != LIGHT_DIRECTIONAL) {
             let w0 = eye - lights.lights[0].position.xyz;
             t0 = -dot(w0, dir);
@@ -39,6 +43,9 @@ fn resolve(frag: vec4<f32>) -> Resolved {
         let a = select(0.0, atan(-t0 / h), angular);
         let b = select(d, atan((d - t0) / h), angular);
         let step = (b - a) / f32(n);
+        let e = textureLoad(extents, px, 0);
+        let cloud_tau = -log(max(1.0 - g.a, 1e-30)) * pb.flags.z;
+        let cloud_span = max(-e.y - e.x, 1e-6);
         var acc = vec3<f32>(0.0);
         for (var k = 0u; k < n; k++) {
             let u = a + (f32(k) + 0.5) * step;
@@ -49,7 +56,8 @@ fn resolve(frag: vec4<f32>) -> Resolved {
                 t = t0 + h * tan(u);
                 jac = h / (c * c);
             }
-            acc += incident(eye + dir * t, -dir) * transmittance(medium, t) * jac;
+            let cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
+            acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * jac);
         }
         l_in += medium.sigma_s.rgb * acc * step;
     }

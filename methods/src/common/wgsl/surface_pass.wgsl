@@ -2,7 +2,9 @@
 // eye (DESIGN §1's e^(−σt d) L_surf), and the distance along each pixel's ray. Needs PRELUDE.
 
 struct VsOut {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: passes that redraw the surfaces over this depth (depth test Equal) get the
+    // very same depths.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) object: u32,
@@ -44,6 +46,15 @@ fn shade_light(k: u32, x: vec3<f32>, n: vec3<f32>, v: vec3<f32>, o: ObjectData) 
     return brdf * incident * cos_l;
 }
 
+// Light k's reflected radiance toward v at x with its shadow-map visibility.
+fn shade_light_shadowed(k: u32, x: vec3<f32>, n: vec3<f32>, v: vec3<f32>, o: ObjectData) -> vec3<f32> {
+    let directional = light_kind(k) == LIGHT_DIRECTIONAL;
+    let r = length(x - lights.lights[k].position.xyz);
+    // Offset along the normal so a surface does not shadow itself.
+    let offset = 2.0 * select(r, 1.0, directional) / max(lights.lights[k].shadow.z, 1.0);
+    return shade_light(k, x, n, v, o) * shadow_visibility(k, x + n * offset);
+}
+
 // The normal facing the viewer, or zero for the back of a one-sided surface.
 fn facing_normal(n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32> {
     let n = normalize(n_in);
@@ -58,11 +69,7 @@ fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32>
     let v = normalize(camera.position.xyz - x);
     var out = vec3<f32>(0.0);
     for (var k = 0u; k < light_count(); k++) {
-        let directional = light_kind(k) == LIGHT_DIRECTIONAL;
-        let r = length(x - lights.lights[k].position.xyz);
-        // Offset along the normal so a surface does not shadow itself.
-        let offset = 2.0 * select(r, 1.0, directional) / max(lights.lights[k].shadow.z, 1.0);
-        out += shade_light(k, x, n, v, o) * shadow_visibility(k, x + n * offset);
+        out += shade_light_shadowed(k, x, n, v, o);
     }
     return out;
 }
@@ -72,13 +79,28 @@ fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32>
 // the visible point is inside one of that light's shadow volumes.
 override SURFACE_LIGHT: u32 = 0u;
 
+// A rasterised surface point as the shading functions take it.
+struct Seen {
+    x: vec3<f32>,
+    // the normal facing the viewer (zero: the back of a one-sided surface)
+    n: vec3<f32>,
+    // unit direction toward the eye
+    v: vec3<f32>,
+    o: ObjectData,
+    // distance from the eye (m)
+    d: f32,
+};
+
+fn seen(i: VsOut, front: bool) -> Seen {
+    let o = objects[i.object];
+    let to_eye = camera.position.xyz - i.world;
+    return Seen(i.world, facing_normal(i.normal, front, o), normalize(to_eye), o, length(to_eye));
+}
+
 @fragment
 fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let o = objects[i.object];
-    let n = facing_normal(i.normal, front, o);
-    let v = normalize(camera.position.xyz - i.world);
-    let d = length(i.world - camera.position.xyz);
-    let l = shade_light(SURFACE_LIGHT, i.world, n, v, o) * transmittance(medium, d);
+    let s = seen(i, front);
+    let l = shade_light(SURFACE_LIGHT, s.x, s.n, s.v, s.o) * transmittance(medium, s.d);
     return vec4<f32>(-l, 0.0);
 }
 

@@ -1,0 +1,85 @@
+//! The cloud's shadow on surfaces, one pass per light (surface_shadow.wgsl): the scene redrawn
+//! over the surface pass's depth, additively removing that light's contribution times
+//! 1 − e^(−τ), τ from the light's slices. With one light this equals multiplying the surface by
+//! the light's particle transmittance; with several, each light's term gets its own.
+
+use harness::method::AOV_FORMAT;
+
+use super::passes::{COMMON_WGSL, SURFACE_SHADOW_WGSL, StageBuilder};
+use crate::common::gpu_scene::Vertex;
+use crate::common::pipeline::{self, ADDITIVE, Stage, target};
+use crate::common::renderer::SceneRenderer;
+use crate::common::wgsl;
+
+pub struct SurfaceShadow {
+    /// One pipeline per light (`override SURFACE_LIGHT`).
+    pipelines: Vec<wgpu::RenderPipeline>,
+    bind: wgpu::BindGroup,
+}
+
+impl SurfaceShadow {
+    pub(super) fn new(b: &StageBuilder, lights: usize) -> SurfaceShadow {
+        let label = "particle surface shadow";
+        let (bgl, bind) = b.group(label, &[0, 5, 6]);
+        let layout = pipeline::layout(b.device, label, &[&b.renderer.frame_layout, &bgl]);
+        let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
+        shared.extend([COMMON_WGSL, wgsl::SURFACE_PASS]);
+        let module = wgsl::module(
+            b.device,
+            label,
+            &wgsl::compose(&shared, SURFACE_SHADOW_WGSL),
+        );
+        let depth = wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(false),
+            // Exactly the visible surface: the surface pass's vertex stage writes an invariant
+            // position, so the same geometry gives the same depth (a biased LessEqual would
+            // also let hidden surfaces just behind through, subtracting a light twice).
+            depth_compare: Some(wgpu::CompareFunction::Equal),
+            stencil: Default::default(),
+            bias: Default::default(),
+        };
+        let targets = [target(AOV_FORMAT, Some(ADDITIVE))];
+        let pipelines = (0..lights)
+            .map(|k| {
+                let mut constants = b.constants.clone();
+                constants.push(("SURFACE_LIGHT", k as f64));
+                Stage::new(label, "vs")
+                    .vertices(Vertex::LAYOUT)
+                    .fragment("fs_cloud_shadow", &targets)
+                    .depth(depth.clone())
+                    .build(b.device, &layout, &module, &constants)
+            })
+            .collect();
+        SurfaceShadow { pipelines, bind }
+    }
+
+    /// Removes light `k`'s cloud-shadowed part from `surface` (the surface pass's output).
+    pub fn encode(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        surface: &wgpu::TextureView,
+        k: usize,
+    ) {
+        let Some(pipeline) = self.pipelines.get(k) else {
+            return;
+        };
+        let mut pass = renderer.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("particle surface shadow"),
+                color_attachments: &[harness::gpu::color_attachment(surface, wgpu::LoadOp::Load)],
+                depth_stencil_attachment: Some(harness::gpu::depth_attachment(
+                    &renderer.depth_view,
+                    wgpu::LoadOp::Load,
+                )),
+                ..Default::default()
+            },
+        );
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &renderer.frame_bind, &[]);
+        pass.set_bind_group(1, &self.bind, &[]);
+        renderer.gpu_scene.draw(&mut pass);
+    }
+}
