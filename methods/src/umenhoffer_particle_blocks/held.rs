@@ -18,13 +18,37 @@ use super::blocks::{BlockSet, Prim};
 
 /// Each block's own particles as analytic spheres, by block index (`Prim::extra[3]`, set by
 /// [`Members::index`]).
-pub struct Members(Vec<Vec<Prim>>);
+pub struct Members {
+    spheres: Vec<Vec<Prim>>,
+    /// Per primitive, the radius about its centre that bounds both its drawn billboard and its
+    /// own particles (a robust prototype's instance can be smaller than its cluster's outliers).
+    bounds: Vec<f32>,
+}
 
 impl Members {
     /// Every primitive's own particles (`BlockSet::members`: its cluster or declared instance).
     pub fn of(ps: &[Particle], set: &BlockSet) -> Members {
         let spheres = |c: &Vec<usize>| c.iter().map(|&i| sphere(&ps[i])).collect();
-        Members(set.members.iter().map(spheres).collect())
+        let bound = |(p, c): (&Prim, &Vec<usize>)| {
+            let reach = |&i: &usize| (ps[i].center - centre(p)).length() + ps[i].radius;
+            c.iter().map(reach).fold(p.center[3], f32::max)
+        };
+        Members {
+            spheres: set.members.iter().map(spheres).collect(),
+            bounds: set.prims.iter().zip(&set.members).map(bound).collect(),
+        }
+    }
+
+    /// Whether primitive `p` is a block whose bounds hold `x`.
+    pub fn holds(&self, p: &Prim, x: Vec3) -> bool {
+        self.near(p, x, COVERS)
+    }
+
+    /// Whether primitive `p` is a block whose centre is within `factor` times its bounds
+    /// (the larger of its billboard's radius and its particles' reach) of `x`.
+    pub fn near(&self, p: &Prim, x: Vec3, factor: f32) -> bool {
+        let bound = self.bounds[p.extra[3] as usize];
+        p.extra[1] >= 0.0 && (centre(p) - x).length() < factor * bound
     }
 
     /// Numbers the blocks (`extra[3]`), which sorting moves.
@@ -52,21 +76,11 @@ fn centre(p: &Prim) -> Vec3 {
     Vec3::new(p.center[0], p.center[1], p.center[2])
 }
 
-/// Whether primitive `p` is a block (not an analytic sphere) whose bounds hold `x`.
-pub fn holds(p: &Prim, x: Vec3) -> bool {
-    near(p, x, COVERS)
-}
-
-/// Whether primitive `p` is a block whose centre is within `factor` times its radius of `x`.
-pub fn near(p: &Prim, x: Vec3, factor: f32) -> bool {
-    p.extra[1] >= 0.0 && (centre(p) - x).length() < factor * p.center[3]
-}
-
 /// The most spheres the blocks' particles can add to one list.
 pub fn capacity(prims: &[Prim], members: &Members) -> usize {
     prims
         .iter()
-        .zip(&members.0)
+        .zip(&members.spheres)
         .filter(|(p, _)| p.extra[1] >= 0.0)
         .map(|(_, c)| c.len())
         .sum()
@@ -88,7 +102,7 @@ pub fn expand(
             continue;
         }
         let start = out.len();
-        out.extend_from_slice(&members.0[p.extra[3] as usize]);
+        out.extend_from_slice(&members.spheres[p.extra[3] as usize]);
         if back_to_front {
             out[start..].sort_by(|a, b| {
                 (centre(b) - viewer)

@@ -324,7 +324,7 @@ impl State {
             .collect();
         let near = self.near_light;
         let gather = held::expand(&sorted, members, eye, true, |p| {
-            held::holds(p, eye) || local.iter().any(|&lp| held::near(p, lp, near))
+            members.holds(p, eye) || local.iter().any(|&lp| members.near(p, lp, near))
         });
         let lights = frame
             .lights
@@ -332,7 +332,7 @@ impl State {
             .map(|l| match l.position() {
                 Some(lp) if !matches!(l, LightState::Directional { .. }) => {
                     held::expand(&self.set.prims, members, lp, false, |p| {
-                        held::near(p, lp, near.max(held::COVERS))
+                        members.near(p, lp, near.max(held::COVERS))
                     })
                 }
                 _ => self.set.prims.clone(),
