@@ -39,25 +39,28 @@ impl StencilSurfaceShadows {
             "stencil surface shadows",
             &[&renderer.frame_layout],
         );
+        // Where the count is not zero the light is removed once: the stencil is zeroed there, so
+        // a second fragment at the very same depth (coplanar surfaces) cannot remove it again.
         let keep = wgpu::StencilOperation::Keep;
-        let in_shadow = super::stencil::face(wgpu::CompareFunction::NotEqual, keep, keep);
+        let zero = wgpu::StencilOperation::Zero;
+        let in_shadow = super::stencil::face(wgpu::CompareFunction::NotEqual, zero, keep);
         let depth = wgpu::DepthStencilState {
             format: depth_format,
             depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            // Exactly the visible surface: the depth pass and this pass both write an invariant
+            // position computed the same way, under the same depth clipping, so the visible
+            // surface gets the very same depth. A biased LessEqual also let hidden surfaces
+            // just behind the visible one through (the floor under a wall, the sill's top behind
+            // its face) and subtracted their light as well: a line of negative radiance along
+            // every seam and edge where a lit surface continues behind an unlit one.
+            depth_compare: Some(wgpu::CompareFunction::Equal),
             stencil: wgpu::StencilState {
                 front: in_shadow,
                 back: in_shadow,
                 read_mask: 0xff,
-                write_mask: 0,
+                write_mask: 0xff,
             },
-            // Pulled toward the eye so the visible surface passes LessEqual against the depth
-            // another vertex shader wrote.
-            bias: wgpu::DepthBiasState {
-                constant: -8,
-                slope_scale: -1.0,
-                clamp: 0.0,
-            },
+            bias: Default::default(),
         };
         let targets = [pipeline::target(AOV_FORMAT, Some(pipeline::ADDITIVE))];
         let pipelines = (0..lights)
@@ -66,6 +69,7 @@ impl StencilSurfaceShadows {
                     .vertices(Vertex::LAYOUT)
                     .fragment("fs_remove_light", &targets)
                     .depth(depth.clone())
+                    .unclipped_depth(super::stencil::near_plane_safe(&gpu.device))
                     .build(
                         &gpu.device,
                         &layout,
