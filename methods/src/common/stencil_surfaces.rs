@@ -85,7 +85,9 @@ impl StencilSurfaceShadows {
     }
 
     /// Removes light `k`'s contribution from `surface` where the stencil of `depth_stencil` is
-    /// not zero. The depth-stencil buffer must hold the scene depth and light k's volume count.
+    /// not zero. The depth-stencil buffer must hold light k's volume count and the depth of
+    /// `renderer.gpu_scene` — the very meshes drawn here, not a tessellated copy — written by an
+    /// invariant position under `stencil::near_plane_safe` depth clipping (depth test Equal).
     pub fn encode(
         &self,
         enc: &mut wgpu::CommandEncoder,

@@ -53,10 +53,19 @@ impl Passes {
         }
         // §4.3's surface shadows: per light, the count of its volumes around each visible point,
         // then its light removed from the surfaces where the count is not zero.
+        // The removal redraws the renderer's own meshes and must meet their depth exactly, so
+        // with a tessellated copy (eval = vertex) the count and the removal run over the
+        // renderer's meshes' depth, and the copy's depth is drawn again after them.
         if let Some(shadows) = surface_shadows {
+            if self.tess.is_some() {
+                self.encode_depth_of(&f, enc, &renderer.gpu_scene);
+            }
             for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
                 self.encode_count(&f, enc, k, light, "biri-poly surface-shadow count");
                 shadows.encode(enc, renderer, surface, &self.depth_view, k);
+            }
+            if self.tess.is_some() {
+                self.encode_depth(&f, enc);
             }
             report.ran("stencil-surface-shadows");
         }
@@ -155,6 +164,11 @@ impl Passes {
 
     /// Depth of the (tessellated) scene, stencil cleared.
     fn encode_depth(&self, f: &Encoding, enc: &mut wgpu::CommandEncoder) {
+        self.encode_depth_of(f, enc, self.scene(f.renderer));
+    }
+
+    /// Depth of `scene`, stencil cleared.
+    fn encode_depth_of(&self, f: &Encoding, enc: &mut wgpu::CommandEncoder, scene: &GpuScene) {
         let mut pass = f.gpu.render_pass(
             enc,
             &wgpu::RenderPassDescriptor {
@@ -168,7 +182,7 @@ impl Passes {
         pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
         pass.set_bind_group(1, f.bind, &[0]);
         pass.set_pipeline(&self.pipes.depth);
-        self.scene(f.renderer).draw(&mut pass);
+        scene.draw(&mut pass);
     }
 
     /// z-pass count of light k's volumes, the stencil seeded with the eye's count.
