@@ -377,7 +377,7 @@ fn directional_light_matches_reference() {
     assert!(unshadowed < 1e-3, "closed form: {unshadowed}");
     for inside in [false, true] {
         let case = Case::new(sun_scene(inside), 64);
-        let (pixel, pixel99, _) = case.errors(&gpu, &[("crossings", ParamValue::Int(64))], 1);
+        let (pixel, pixel99, _) = case.errors(&gpu, &[], 1);
         let (rules, rules99, _) = case.errors(&gpu, &stencil(true), 1);
         let (every, every99, _) = case.errors(&gpu, &stencil(false), 1);
         let no_planes = compare_unshadowed(&gpu, &case);
