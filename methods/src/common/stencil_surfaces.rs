@@ -7,6 +7,15 @@
 //! correct with the camera inside a shadow), the scene is drawn again over the same depth and
 //! removes the light's contribution wherever the count is not zero. Shadows are therefore exact
 //! per pixel — no shadow-map resolution or bias — and cost one extra scene draw per light.
+//!
+//! The removal must touch the visible surface only, once: it draws the renderer's meshes with
+//! the depth test `Equal` against the depth pass's depth (both write an `@invariant` position
+//! computed the same way, under the same depth clipping, `stencil::near_plane_safe`), and zeroes
+//! the stencil where it removes (a coplanar second fragment then fails). The depth bias this
+//! replaced (`LessEqual`, constant −8, slope −1) also let through hidden surfaces within a
+//! pixel's depth slope behind the visible one — the floor running on under a wall, a sill's lit
+//! top behind its unlit face — and subtracted their light too: lines of negative radiance along
+//! those seams (window-sun surface headline 0.034 at 128², now 1.5e-7).
 
 use harness::Gpu;
 use harness::gpu::PassCounter;
