@@ -16,6 +16,9 @@ use harness::testing::{self, gpu_or_skip as gpu};
 use methods::biri_polynomial::BiriPolynomial;
 use methods::biri_shadow_volumes::BiriShadowVolumes;
 
+/// Knob overrides of one case.
+type Knobs = Vec<(&'static str, ParamValue)>;
+
 /// The smallest radiance of any channel of any pixel.
 fn min_value(img: &Image) -> f32 {
     img.pixels
@@ -46,7 +49,7 @@ fn stencil_surface_shadows_have_no_seams_on_window_sun() {
     let stencil = ("surface_shadows", text("stencil"));
     // biri-polynomial's paper path too: per-vertex Γ on a tessellated copy of the meshes, whose
     // depth the removal (drawing the renderer's own meshes) must not be tested against.
-    let cases: [(&dyn Method, Vec<(&str, ParamValue)>); 3] = [
+    let cases: [(&dyn Method, Knobs); 3] = [
         (&BiriPolynomial, vec![stencil.clone()]),
         (
             &BiriPolynomial,
