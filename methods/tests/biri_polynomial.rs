@@ -728,7 +728,10 @@ fn directional_light_against_reference() {
     let per_pixel = error(&scene, &[]);
     let planes = ("resolve", text("planes"));
     let rules = error(&scene, &[planes.clone()]);
-    let every = error(&scene, &[planes.clone(), ("stencil_rules", ParamValue::Bool(false))]);
+    let every = error(
+        &scene,
+        &[planes.clone(), ("stencil_rules", ParamValue::Bool(false))],
+    );
     let vertex = error(&scene, &[planes, ("eval", text("vertex"))]);
     let mut open = scene.clone();
     for o in &mut open.desc.objects {
