@@ -170,6 +170,7 @@ fn shaders(id: &str) -> Vec<ShaderCheck> {
         ("BLOCKS", flags),
         ("FORWARD_SCATTERING", flags),
         ("EIGHT_SLICES", flags),
+        ("MOMENTS", flags),
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [
@@ -276,6 +277,10 @@ impl State {
             passes::Modes {
                 blocks: blocked_mode.is_some(),
                 forward_scattering,
+                moments: match blocked_mode {
+                    Some(_) => p.knob::<String>("interval")? == "moments",
+                    None => false,
+                },
             },
         );
         if !set.imp.is_empty() {
@@ -509,6 +514,9 @@ impl Method for UmenhofferParticleBlocks {
             Knob::int("impostor_res", 64, 4..=1024)
                 .unit("texels")
                 .meaning("impostor tile resolution (shrunk to fit a 2048² atlas in clusters mode)"),
+            Knob::choice("interval", "moments", &["moments", "bounds"])
+                .sweep(["bounds"])
+                .meaning("a block pixel's uniform-density depth interval: moments = the one with its optical depth's mean and variance in depth (impostor moments, a modernisation); bounds = [front, back], the extreme particle surfaces (the paper)"),
             Knob::float("near_light", 1.5, 0.0..=10.0)
                 .sweep(Vec::<f64>::new())
                 .unit("block radii")
