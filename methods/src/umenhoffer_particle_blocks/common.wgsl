@@ -37,7 +37,8 @@ struct Pb {
     flags: vec4<f32>,
     // x: the primitive lists' stride C (the gathering's list at 0, light k's at (k + 1)·C);
     // y: impostor tiles per light T (light k's tiles are offset by k·T);
-    // z: light-map resolution (texels); w: unused
+    // z: light-map resolution (texels); w: camera tiles per impostor particle K (the
+    // prototype's direction bins, camera_bins.rs; else 1)
     counts: vec4<f32>,
     // rgb: sky radiance
     sky: vec4<f32>,

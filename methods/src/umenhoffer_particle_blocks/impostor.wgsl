@@ -2,9 +2,10 @@
 // into its tile, one pass computing three things with one blend state — front depth (min),
 // back depth (min of its negation) and optical depth Σ τ·chord (additive alpha, the
 // separate-alpha blend) — and, in a second additive target, the optical depth's first two
-// moments in depth (`interval = moments`, a modernisation; common.wgsl, prim_interval). Instance i draws particle i mod M: group i / M = 0 into its camera
-// tile, group k + 1 into light k's tile (the first light's tile index + k·T). Needs PRELUDE and
-// common.wgsl.
+// moments in depth (`interval = moments`, a modernisation; common.wgsl, prim_interval).
+// Instance i draws particle i mod M: groups g = i / M < K into camera tile (its tile + g) — K
+// direction bins of the prototype (camera_bins.rs), else 1 — and group K + k into light k's
+// tile (the first light's tile index + k·T). Needs PRELUDE and common.wgsl.
 
 struct ImpOut {
     @builtin(position) clip: vec4<f32>,
@@ -19,7 +20,11 @@ fn vs_impostor(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -
     let m = u32(pb.atlas.z);
     let e = imp[i % m];
     let g = i / m;
-    let tile = u32(select(e.data.y + f32(g - 1u) * pb.counts.y, e.data.z, g == 0u));
+    // Groups 0 .. K − 1: the camera tiles (K = pb.counts.w, the prototype's direction bins, or
+    // 1); then one group per light.
+    let k = u32(pb.counts.w);
+    let light_tile = e.data.y + f32(g - min(g, k)) * pb.counts.y;
+    let tile = u32(select(light_tile, e.data.z + f32(g), g < k));
     let t = tiles[tile];
     let h = t.right.w;
     let corner = quad_corner(v);

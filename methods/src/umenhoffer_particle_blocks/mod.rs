@@ -89,6 +89,7 @@
 //! error is 2–4× the splat's in-scatter and ~10× its total at defaults; see README.md.
 
 pub mod blocks;
+pub mod camera_bins;
 pub mod held;
 pub mod light_maps;
 pub mod passes;
@@ -132,6 +133,9 @@ pub struct State {
     /// Each block's own particles (None: the splat, or clusters that did not match).
     members: held::Members,
     slices: u32,
+    /// Camera impostor bins per side (knob `camera_bins`; 1: one camera tile, the paper, and
+    /// always for clusters and the splat): the prototype's camera tiles are 1 .. 1 + g².
+    camera_grid: usize,
     blocked: bool,
     sky: Vec3,
     background_scatters: bool,
@@ -246,6 +250,15 @@ impl State {
                 )
             }
         };
+        // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g².
+        let camera_grid = match blocked_mode {
+            Some((_, Instancing::Prototype, ..)) if set.tiles.len() == 2 => {
+                p.knob::<u32>("camera_bins")? as usize
+            }
+            _ => 1,
+        };
+        let cam = set.tiles[..].get(1).copied();
+        set.tiles.extend(cam.into_iter().cycle().take(camera_grid * camera_grid - 1));
         // Each block's own particles, for blocks that hold a viewer (held.rs).
         let members = held::Members::of(ps, &set);
         held::Members::index(&mut set.prims);
@@ -273,6 +286,7 @@ impl State {
                 light_res,
                 slices,
                 lights,
+                camera_tiles: (camera_grid * camera_grid) as u32,
             },
             passes::Modes {
                 blocks: blocked_mode.is_some(),
@@ -302,6 +316,7 @@ impl State {
                 None => 0.0,
             },
             slices,
+            camera_grid,
             sky: particles.sky,
             background_scatters: bg.sigma_s.max_element() > 0.0,
             timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
@@ -346,12 +361,31 @@ impl State {
         (gather, lights)
     }
 
-    /// This frame's impostor tile frames: light k's tiles are the set's tiles framed for light
-    /// k, k·T further on.
-    fn tile_frames(&self, frame: &FrameState) -> Vec<blocks::Tile> {
+    /// With camera bins: each gathered block's camera tile (its bin's) and the set's tiles with
+    /// the camera tiles anchored at their bins (camera_bins.rs); otherwise the set's tiles.
+    fn bin_camera_tiles(&self, eye: Vec3, gather: &mut [Prim]) -> Vec<(blocks::TileView, f32)> {
+        let mut tiles = self.set.tiles.clone();
+        if self.camera_grid < 2 {
+            return tiles;
+        }
+        let blocks: Vec<usize> = (0..gather.len()).filter(|&i| gather[i].extra[1] >= 0.0).collect();
+        let centres: Vec<Vec3> = blocks.iter().map(|&i| Vec3::from_slice(&gather[i].center[..3])).collect();
+        let (bin, anchors) = camera_bins::bins(&centres, eye, self.camera_grid);
+        for (&i, &b) in blocks.iter().zip(&bin) {
+            gather[i].extra[2] = (1 + b) as f32;
+        }
+        for (b, a) in anchors.into_iter().enumerate() {
+            tiles[1 + b].0 = blocks::TileView::Camera(a);
+        }
+        tiles
+    }
+
+    /// This frame's impostor tile frames: light k's tiles are `set` (the set's tiles, camera
+    /// tiles binned) framed for light k, k·T further on.
+    fn tile_frames(&self, frame: &FrameState, set: &[(blocks::TileView, f32)]) -> Vec<blocks::Tile> {
         let eye = frame.camera.position;
         if frame.lights.is_empty() {
-            return blocks::tile_frames(&self.set.tiles, eye, None, None);
+            return blocks::tile_frames(set, eye, None, None);
         }
         let mut tiles = Vec::new();
         for light in &frame.lights {
@@ -359,7 +393,7 @@ impl State {
                 LightState::Directional { direction, .. } => (Some(direction.normalize()), None),
                 l => (None, l.position()),
             };
-            tiles.extend(blocks::tile_frames(&self.set.tiles, eye, ldir, lpos));
+            tiles.extend(blocks::tile_frames(set, eye, ldir, lpos));
         }
         tiles
     }
@@ -406,11 +440,12 @@ impl Prepared for State {
             sz.prims as f32,
             self.set.tiles.len() as f32,
             sz.light_res as f32,
-            0.0,
+            sz.camera_tiles as f32,
         ];
         u.sky = [self.sky.x, self.sky.y, self.sky.z, 0.0];
-        let (gather, light_lists) = self.lists(frame);
-        let tiles = self.tile_frames(frame);
+        let (mut gather, light_lists) = self.lists(frame);
+        let binned = self.bin_camera_tiles(frame.camera.position, &mut gather);
+        let tiles = self.tile_frames(frame, &binned);
         gpu.queue
             .write_buffer(&self.passes.res.uniform, 0, bytemuck::bytes_of(&u));
         // The gathering's list at 0, light k's at (k + 1)·C.
@@ -517,6 +552,10 @@ impl Method for UmenhofferParticleBlocks {
             Knob::choice("interval", "moments", &["moments", "bounds"])
                 .sweep(["bounds"])
                 .meaning("a block pixel's uniform-density depth interval: moments = the one with its optical depth's mean and variance in depth (impostor moments, a modernisation); bounds = [front, back], the extreme particle surfaces (the paper)"),
+            Knob::int("camera_bins", 3, 1..=8)
+                .sweep([1])
+                .unit("bins per side")
+                .meaning("prototype mode: the instances' directions from the eye binned into a g × g grid, each bin its own camera impostor of the prototype (a modernisation); 1 = one camera impostor for every instance (the paper)"),
             Knob::float("near_light", 1.5, 0.0..=10.0)
                 .sweep(Vec::<f64>::new())
                 .unit("block radii")

@@ -83,6 +83,8 @@ pub struct Sizes {
     pub slices: u32,
     /// The scene's lights (each has FACES slice layers).
     pub lights: usize,
+    /// Camera tiles per impostor particle: the prototype's direction bins (1 otherwise).
+    pub camera_tiles: u32,
 }
 
 /// What the shaders compile in (common.wgsl's overrides), beside the scene's light layout.
@@ -500,10 +502,8 @@ impl Passes {
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_impostor, &[]);
         // The camera tiles, then each light's tiles.
-        p.draw(
-            0..6,
-            0..(1 + self.sizes.lights as u32) * self.sizes.imp as u32,
-        );
+        let groups = self.sizes.camera_tiles + self.sizes.lights as u32;
+        p.draw(0..6, 0..groups * self.sizes.imp as u32);
     }
 
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
