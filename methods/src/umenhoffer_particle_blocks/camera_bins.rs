@@ -32,8 +32,12 @@ pub fn bins(centres: &[Vec3], eye: Vec3, g: usize) -> (Vec<usize>, Vec<Vec3>) {
             (d.dot(r) / z, d.dot(u) / z)
         })
         .collect();
-    let lo = plane.iter().fold((f32::MAX, f32::MAX), |a, p| (a.0.min(p.0), a.1.min(p.1)));
-    let hi = plane.iter().fold((f32::MIN, f32::MIN), |a, p| (a.0.max(p.0), a.1.max(p.1)));
+    let lo = plane
+        .iter()
+        .fold((f32::MAX, f32::MAX), |a, p| (a.0.min(p.0), a.1.min(p.1)));
+    let hi = plane
+        .iter()
+        .fold((f32::MIN, f32::MIN), |a, p| (a.0.max(p.0), a.1.max(p.1)));
     let cell = |v: f32, lo: f32, hi: f32| {
         let f = (v - lo) / (hi - lo).max(1e-9);
         ((f * g as f32) as usize).min(g - 1)

@@ -258,7 +258,8 @@ impl State {
             _ => 1,
         };
         let cam = set.tiles[..].get(1).copied();
-        set.tiles.extend(cam.into_iter().cycle().take(camera_grid * camera_grid - 1));
+        set.tiles
+            .extend(cam.into_iter().cycle().take(camera_grid * camera_grid - 1));
         // Each block's own particles, for blocks that hold a viewer (held.rs).
         let members = held::Members::of(ps, &set);
         held::Members::index(&mut set.prims);
@@ -368,8 +369,13 @@ impl State {
         if self.camera_grid < 2 {
             return tiles;
         }
-        let blocks: Vec<usize> = (0..gather.len()).filter(|&i| gather[i].extra[1] >= 0.0).collect();
-        let centres: Vec<Vec3> = blocks.iter().map(|&i| Vec3::from_slice(&gather[i].center[..3])).collect();
+        let blocks: Vec<usize> = (0..gather.len())
+            .filter(|&i| gather[i].extra[1] >= 0.0)
+            .collect();
+        let centres: Vec<Vec3> = blocks
+            .iter()
+            .map(|&i| Vec3::from_slice(&gather[i].center[..3]))
+            .collect();
         let (bin, anchors) = camera_bins::bins(&centres, eye, self.camera_grid);
         for (&i, &b) in blocks.iter().zip(&bin) {
             gather[i].extra[2] = (1 + b) as f32;
@@ -382,7 +388,11 @@ impl State {
 
     /// This frame's impostor tile frames: light k's tiles are `set` (the set's tiles, camera
     /// tiles binned) framed for light k, k·T further on.
-    fn tile_frames(&self, frame: &FrameState, set: &[(blocks::TileView, f32)]) -> Vec<blocks::Tile> {
+    fn tile_frames(
+        &self,
+        frame: &FrameState,
+        set: &[(blocks::TileView, f32)],
+    ) -> Vec<blocks::Tile> {
         let eye = frame.camera.position;
         if frame.lights.is_empty() {
             return blocks::tile_frames(set, eye, None, None);
@@ -556,7 +566,7 @@ impl Method for UmenhofferParticleBlocks {
                 .sweep([1])
                 .unit("bins per side")
                 .meaning("prototype mode: the instances' directions from the eye binned into a g × g grid, each bin its own camera impostor of the prototype (a modernisation); 1 = one camera impostor for every instance (the paper)"),
-            Knob::float("near_light", 1.5, 0.0..=10.0)
+            Knob::float("near_light", 2.0, 0.0..=10.0)
                 .sweep(Vec::<f64>::new())
                 .unit("block radii")
                 .meaning("blocks whose centre is within this many radii of a local light are drawn as their own particles, in the gathering and that light's pass (a block's uniform density and the prototype's shape misweigh the light's 1/r² peak); blocks holding the eye or a light always are"),
