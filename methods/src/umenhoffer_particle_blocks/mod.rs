@@ -67,6 +67,12 @@
 //! Modernised: float targets; optical depth accumulated additively instead of 8-bit opacity
 //! (the same product Π(1 − α_j)); impostors sampled bilinearly at the ray's perpendicular
 //! offset from the block centre (exact for a sphere under perspective); each block pixel's
+//! uniform-density interval matched to the mean and variance in depth of its optical depth
+//! (a second additive impostor target holds the first two moments; knob `interval`, `bounds` =
+//! the paper's [front, back], which fills the gaps between a block's particles and lights and
+//! attenuates the pixel over the block's whole depth); the prototype's camera impostor
+//! rendered once per direction bin of its instances (camera_bins.rs, knob `camera_bins`, 1 =
+//! the paper's one impostor seen along every instance's direction); each block pixel's
 //! light transmittance from the slices at both ends of its depth interval, averaged in closed
 //! form (the paper: one lookup per block pixel); for a local light, the mean of 1/r² over the
 //! block pixel's interval in closed form (Biri's angle variable) instead of its midpoint value;
@@ -76,8 +82,8 @@
 //! lights, the cube of light maps, held blocks drawn as particles, background dimming (above).
 //!
 //! Limits: at most 4 lights (the renderer's); a block is one uniform-density interval per pixel
-//! (gaps between its particles along a ray are filled, overlapping blocks are ordered by
-//! centre), which near a local light inside the cloud weighs the light's 1/r² peak by the
+//! (its mean and spread in depth are right, its clumps are not; overlapping blocks are ordered
+//! by centre), which near a local light inside the cloud weighs the light's 1/r² peak by the
 //! block's mean density; a cube of light maps costs six light passes; the background medium's
 //! in-scatter is marched (32 steps, in the angle variable of the first local light) in the
 //! resolve pass and dimmed by a linear model of the cloud's optical depth inside its span;

@@ -1,4 +1,4 @@
-//! GPU side: the impostor atlas, the light slices (one layer per light map), the gather
+//! GPU side: the impostor atlas (and its depth moments, `interval = moments`), the light slices (one layer per light map), the gather
 //! targets, the four pipelines (impostor, light, gather, resolve) and their bind groups (the
 //! per-light surface-shadow pass is `surface_shadow.rs`). Every pass uses the shared frame bind
 //! group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
