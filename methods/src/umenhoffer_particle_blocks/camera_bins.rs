@@ -9,7 +9,8 @@
 //! coordinates about their mean direction), each bin gets its own camera tile of the prototype,
 //! rendered toward the mean direction of its instances, and each instance reads its bin's tile.
 //! Cost: g² × b impostor splats instead of b (b = particles per block); `camera_tiles = 1` is
-//! the paper. Clusters (`instancing = clusters`) already have one camera tile each.
+//! the paper; g is capped at √blocks (mod.rs). Clusters (`instancing = clusters`) already have
+//! one camera tile each.
 
 use glam::Vec3;
 

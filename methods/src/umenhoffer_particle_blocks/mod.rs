@@ -256,10 +256,12 @@ impl State {
                 )
             }
         };
-        // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g².
+        // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g²;
+        // no more bins than instances (g² ≤ blocks: one block has one direction).
         let camera_grid = match blocked_mode {
             Some((_, Instancing::Prototype, ..)) if set.tiles.len() == 2 => {
-                p.knob::<u32>("camera_bins")? as usize
+                let most = (set.prims.len() as f64).sqrt().floor().max(1.0) as usize;
+                (p.knob::<u32>("camera_bins")? as usize).min(most)
             }
             _ => 1,
         };
