@@ -92,7 +92,9 @@
 //! (226 vs 46 ms, 350 vs 53 ms), short of the paper's 25× — the baseline has no per-particle read-back, block billboards cover
 //! their bounding spheres (total area falls only as b^(−1/3)) and the frame's fixed passes
 //! (shadow map, surface, resolve) are included. With a point light inside the cloud the blocks'
-//! error is 2–4× the splat's in-scatter and ~10× its total at defaults; see README.md.
+//! error is 1.4–1.7× the splat's in-scatter and 6–7× its total at defaults (`near_light` 2, which
+//! costs 1.7–1.9× the splat's time there); on `cloud-blocks` 1.43× its in-scatter at 4.1× its
+//! speed; see README.md.
 
 pub mod blocks;
 pub mod camera_bins;
