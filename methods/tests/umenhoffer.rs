@@ -184,16 +184,9 @@ fn small_cloud_against_the_reference() {
     assert!(splat.0 < clusters.0 && clusters.0 < proto.0, "{errs:?}");
 }
 
-/// A small block-instanced cloud (12 instances of one 40-particle block, `blocks` generator),
-/// 48², 8 slices: with the declared structure (`from_scene`, default) the prototype IS the
-/// block and the instances are the declared ones, so the error is the rendering approximation
-/// alone — below clustering the same particles into 12 blocks and instancing the most typical
-/// cluster (the shape error), and counted as declared. Bounds ~1.3× what this machine measures.
-#[test]
-fn block_instanced_cloud_against_the_reference() {
-    let Some(gpu) = gpu() else { return };
-    let s = scene(
-        r#"{"camera": {"position": [0, 1.6, 6], "look_at": [0, 1.2, 0], "fov_y_deg": 40, "far": 40},
+/// A small block-instanced cloud (12 instances of one 40-particle block) in sunlight over a
+/// floor: the paper's modelling assumption holds, so its error is the rendering approximation.
+const BLOCK_CLOUD: &str = r#"{"camera": {"position": [0, 1.6, 6], "look_at": [0, 1.2, 0], "fov_y_deg": 40, "far": 40},
             "medium": {"kind": "particles",
                        "generators": [{"shape": "blocks",
                                        "block": {"generators": [{"shape": "cloud", "count": 40, "seed": 3, "center": [0, 0, 0],
@@ -204,8 +197,17 @@ fn block_instanced_cloud_against_the_reference() {
                                                      "scale": [0.8, 1.2]}}],
                        "phase": {"kind": "henyey-greenstein", "g": 0.3}, "sky": [0.3, 0.4, 0.6]},
             "lights": [{"kind": "directional", "direction": [-0.3, -1, -0.4], "irradiance": [3, 3, 3]}],
-            "objects": [{"name": "floor", "shape": {"kind": "plane", "size": [20, 20]}, "material": {"albedo": [0.5, 0.5, 0.5]}}]}"#,
-    );
+            "objects": [{"name": "floor", "shape": {"kind": "plane", "size": [20, 20]}, "material": {"albedo": [0.5, 0.5, 0.5]}}]}"#;
+
+/// A small block-instanced cloud (12 instances of one 40-particle block, `blocks` generator),
+/// 48², 8 slices: with the declared structure (`from_scene`, default) the prototype IS the
+/// block and the instances are the declared ones, so the error is the rendering approximation
+/// alone — below clustering the same particles into 12 blocks and instancing the most typical
+/// cluster (the shape error), and counted as declared. Bounds ~1.3× what this machine measures.
+#[test]
+fn block_instanced_cloud_against_the_reference() {
+    let Some(gpu) = gpu() else { return };
+    let s = scene(BLOCK_CLOUD);
     let res = 48;
     let r = reference(&s, res);
     let eight = ("slices", ParamValue::Int(8));
@@ -231,7 +233,8 @@ fn block_instanced_cloud_against_the_reference() {
         errs.push(e);
     }
     let (splat, declared, clustered) = (errs[0], errs[1], errs[2]);
-    // Measured here: splat 0.117 / 0.0031, declared 0.53 / 0.028, clustered 0.94 / 0.084.
+    // Measured here: splat 0.117 / 0.0031, declared 0.53 / 0.028 (0.40 / 0.017 with issue 18's
+    // moments and camera bins), clustered 0.94 / 0.084 (0.86 / 0.083).
     assert!(
         declared.0 < 0.69 && declared.1 < 0.036,
         "declared {declared:?}"
@@ -260,6 +263,50 @@ fn block_instanced_cloud_against_the_reference() {
         (c["declared_blocks"], c["blocks"], c["particles_per_block"]),
         (1.0, 12.0, 40.0),
         "{c:?}"
+    );
+}
+
+/// The block pixel's interval and the prototype's camera impostors (issue 18) on the
+/// block-instanced cloud at 64², 4 slices, against the reference: the defaults (`interval =
+/// moments`, `camera_bins = 3`) beat each paper variant alone (`bounds`; one camera impostor)
+/// and both together (each by a measured margin), within a bound ~1.2× measured. Measured
+/// (headline in-scatter): splat 0.057; defaults 0.134; `bounds` 0.150; one camera impostor
+/// 0.158; both (the paper) 0.171. (The issue's 1.5× of the splat is a 256² `cloud-blocks`
+/// criterion, measured with the CLI: README; on this 12-block cloud the ratio is 2.4×.)
+#[test]
+fn block_moments_and_camera_bins_against_the_reference() {
+    let Some(gpu) = gpu() else { return };
+    let s = scene(BLOCK_CLOUD);
+    let res = 64;
+    let r = reference(&s, res);
+    let bounds = ("interval", ParamValue::Text("bounds".into()));
+    let one = ("camera_bins", ParamValue::Int(1));
+    let mut errs = Vec::new();
+    for (id, list) in [
+        ("particle-splat", vec![]),
+        ("umenhoffer-particle-blocks", vec![]),
+        ("umenhoffer-particle-blocks", vec![bounds.clone()]),
+        ("umenhoffer-particle-blocks", vec![one.clone()]),
+        ("umenhoffer-particle-blocks", vec![bounds, one]),
+    ] {
+        let [ins, _, total] = render(&gpu, id, &s, res, &list);
+        let e = (headline(&ins, &r.inscatter), headline(&total, &r.total));
+        println!(
+            "{id} {list:?}: headline inscatter {:.4}, total {:.4}",
+            e.0, e.1
+        );
+        errs.push(e.0);
+    }
+    let (splat, now, paper) = (errs[0], errs[1], errs[4]);
+    assert!(errs[2..].iter().all(|&e| now < e), "{errs:?}");
+    assert!(now < 0.16, "{errs:?}");
+    assert!(
+        paper > now * 1.2,
+        "the paper's variant is measurably worse: {errs:?}"
+    );
+    assert!(
+        splat < now,
+        "the splat has no block approximation: {errs:?}"
     );
 }
 
@@ -501,7 +548,8 @@ fn inside_a_block(s: &Scene, x: glam::Vec3) -> bool {
 /// cannot see every block, so the light pass renders a cube of six maps (`light_faces` = 6) and
 /// the blocks holding or near the light are drawn as their particles. Headline errors against
 /// the reference (total, in-scatter), bounds ~1.3× measured: splat 0.040 / 0.081, 20 clusters
-/// 0.053 / 0.102, 40 prototype blocks 0.082 / 0.131.
+/// 0.053 / 0.102, 40 prototype blocks 0.082 / 0.131 (with issue 18's moments, camera bins and
+/// `near_light` 2: clusters 0.049 / 0.098, prototype 0.051 / 0.098).
 #[test]
 fn a_light_inside_the_cloud_renders_against_the_reference() {
     let Some(gpu) = gpu() else { return };

@@ -37,7 +37,8 @@ struct Pb {
     flags: vec4<f32>,
     // x: the primitive lists' stride C (the gathering's list at 0, light k's at (k + 1)·C);
     // y: impostor tiles per light T (light k's tiles are offset by k·T);
-    // z: light-map resolution (texels); w: unused
+    // z: light-map resolution (texels); w: camera tiles per impostor particle K (the
+    // prototype's direction bins, camera_bins.rs; else 1)
     counts: vec4<f32>,
     // rgb: sky radiance
     sky: vec4<f32>,
@@ -84,6 +85,9 @@ struct ImpParticle {
 @group(1) @binding(10) var extents: texture_2d<f32>;
 // The shared surface pass's output (mesh shadows, background attenuation; no particle shadows).
 @group(1) @binding(9) var surface_in: texture_2d<f32>;
+// Impostor moments beside the atlas: x = Σ τ·chord·z̄, y = Σ τ·chord·(z̄² + h²/3) (prototype
+// units; impostor.wgsl). Read only with MOMENTS.
+@group(1) @binding(11) var atlas_moments: texture_2d<f32>;
 
 // Corner v (0..5) of a quad of two triangles, in [−1, 1]².
 fn quad_corner(v: u32) -> vec2<f32> {
@@ -130,6 +134,9 @@ override FORWARD_SCATTERING: bool = false;
 override EIGHT_SLICES: bool = false;
 // Primitives are impostor blocks (false: analytic spheres, the splat).
 override BLOCKS: bool = true;
+// A block pixel's interval is the uniform one with its optical depth's mean and variance in
+// depth (knob `interval = moments`); false: [front, back] (the paper).
+override MOMENTS: bool = true;
 
 fn is_perspective(vi: u32) -> bool {
     return pb.views[vi].u.w > 0.5;
@@ -210,6 +217,9 @@ struct TileSample {
     front: f32,
     back: f32,
     tau: f32,
+    // bilinear Σ τ·chord·z̄ and Σ τ·chord·(z̄² + h²/3) (MOMENTS only)
+    m1: f32,
+    m2: f32,
 };
 
 fn sample_tile(tile: u32, q: vec2<f32>) -> TileSample {
@@ -219,7 +229,7 @@ fn sample_tile(tile: u32, q: vec2<f32>) -> TileSample {
     let f = vec2<f32>(0.5 + 0.5 * q.x, 0.5 - 0.5 * q.y) * res - 0.5;
     let i0 = floor(f);
     let w = f - i0;
-    var s = TileSample(1e30, -1e30, 0.0);
+    var s = TileSample(1e30, -1e30, 0.0, 0.0, 0.0);
     for (var k = 0u; k < 4u; k++) {
         let hx = (k & 1u) == 1u;
         let hy = (k >> 1u) == 1u;
@@ -227,6 +237,11 @@ fn sample_tile(tile: u32, q: vec2<f32>) -> TileSample {
         let ij = clamp(i0 + o, vec2<f32>(0.0), vec2<f32>(res - 1.0));
         let t = textureLoad(atlas, vec2<i32>(origin + ij), 0);
         let wk = select(1.0 - w.x, w.x, hx) * select(1.0 - w.y, w.y, hy);
+        if (MOMENTS) {
+            let m = textureLoad(atlas_moments, vec2<i32>(origin + ij), 0).xy;
+            s.m1 += wk * m.x;
+            s.m2 += wk * m.y;
+        }
         if (t.a > 0.0) {
             s.tau += wk * t.a;
             s.front = min(s.front, t.r);
@@ -259,8 +274,21 @@ fn prim_interval(p: Prim, tile: f32, r: Ray) -> Interval {
     if (any(abs(q) > vec2<f32>(1.0))) { return Interval(0.0, 0.0, 0.0, tc, false); }
     let s = sample_tile(u32(tile), q);
     if (s.tau <= 0.0) { return Interval(0.0, 0.0, 0.0, tc, false); }
+    let d = tile_depths(s);
     let scale = p.extra.x;
-    return Interval(tc + s.front * scale, tc + s.back * scale, s.tau * scale * p.albedo.w, tc, true);
+    return Interval(tc + d.x * scale, tc + d.y * scale, s.tau * scale * p.albedo.w, tc, true);
+}
+
+// The depth interval (prototype units) over which a block pixel spreads its optical depth
+// uniformly. The paper: [front, back], the extreme particle surfaces, whatever lies between.
+// MOMENTS (a modernisation): the uniform interval with the same mean m and variance v as the
+// optical depth along the ray, [m − √(3v), m + √(3v)], kept within [front, back] — where the
+// particles actually are, so the light's and the eye's attenuation are taken there.
+fn tile_depths(s: TileSample) -> vec2<f32> {
+    if (!MOMENTS) { return vec2<f32>(s.front, s.back); }
+    let mean = clamp(s.m1 / s.tau, s.front, s.back);
+    let half = sqrt(3.0 * max(s.m2 / s.tau - mean * mean, 0.0));
+    return vec2<f32>(max(s.front, mean - half), max(min(s.back, mean + half), mean));
 }
 
 // The light-map texel values of both slice textures around uv (bilinear, by hand: Rgba32Float

@@ -1,9 +1,11 @@
 // Depth impostors (Umenhoffer et al. §2.1): the particles of a block rendered orthographically
 // into its tile, one pass computing three things with one blend state — front depth (min),
 // back depth (min of its negation) and optical depth Σ τ·chord (additive alpha, the
-// separate-alpha blend). Instance i draws particle i mod M: group i / M = 0 into its camera
-// tile, group k + 1 into light k's tile (the first light's tile index + k·T). Needs PRELUDE and
-// common.wgsl.
+// separate-alpha blend) — and, in a second additive target, the optical depth's first two
+// moments in depth (`interval = moments`, a modernisation; common.wgsl, prim_interval).
+// Instance i draws particle i mod M: groups g = i / M < K into camera tile (its tile + g) — K
+// direction bins of the prototype (camera_bins.rs), else 1 — and group K + k into light k's
+// tile (the first light's tile index + k·T). Needs PRELUDE and common.wgsl.
 
 struct ImpOut {
     @builtin(position) clip: vec4<f32>,
@@ -18,7 +20,11 @@ fn vs_impostor(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -
     let m = u32(pb.atlas.z);
     let e = imp[i % m];
     let g = i / m;
-    let tile = u32(select(e.data.y + f32(g - 1u) * pb.counts.y, e.data.z, g == 0u));
+    // Groups 0 .. K − 1: the camera tiles (K = pb.counts.w, the prototype's direction bins, or
+    // 1); then one group per light.
+    let k = u32(pb.counts.w);
+    let light_tile = e.data.y + f32(g - min(g, k)) * pb.counts.y;
+    let tile = u32(select(light_tile, e.data.z + f32(g), g < k));
     let t = tiles[tile];
     let h = t.right.w;
     let corner = quad_corner(v);
@@ -38,10 +44,22 @@ fn vs_impostor(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -
     return out;
 }
 
+struct ImpTexel {
+    // r: front depth, g: −back depth (min blending); a: τ·chord (additive alpha)
+    @location(0) bounds: vec4<f32>,
+    // x: τ·chord·z̄, y: τ·chord·(z̄² + h²/3) — the chord's first two depth moments (additive)
+    @location(1) moments: vec2<f32>,
+};
+
 @fragment
-fn fs_impostor(in: ImpOut) -> @location(0) vec4<f32> {
+fn fs_impostor(in: ImpOut) -> ImpTexel {
     let rho2 = 1.0 - dot(in.q, in.q);
     if (rho2 <= 0.0) { discard; }
     let hc = in.data.x * sqrt(rho2);
-    return vec4<f32>(in.data.z - hc, -(in.data.z + hc), 0.0, in.data.y * 2.0 * hc);
+    let z = in.data.z;
+    let mass = in.data.y * 2.0 * hc;
+    return ImpTexel(
+        vec4<f32>(z - hc, -(z + hc), 0.0, mass),
+        mass * vec2<f32>(z, z * z + hc * hc / 3.0),
+    );
 }

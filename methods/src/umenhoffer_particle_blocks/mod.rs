@@ -67,6 +67,12 @@
 //! Modernised: float targets; optical depth accumulated additively instead of 8-bit opacity
 //! (the same product Π(1 − α_j)); impostors sampled bilinearly at the ray's perpendicular
 //! offset from the block centre (exact for a sphere under perspective); each block pixel's
+//! uniform-density interval matched to the mean and variance in depth of its optical depth
+//! (a second additive impostor target holds the first two moments; knob `interval`, `bounds` =
+//! the paper's [front, back], which fills the gaps between a block's particles and lights and
+//! attenuates the pixel over the block's whole depth); the prototype's camera impostor
+//! rendered once per direction bin of its instances (camera_bins.rs, knob `camera_bins`, 1 =
+//! the paper's one impostor seen along every instance's direction); each block pixel's
 //! light transmittance from the slices at both ends of its depth interval, averaged in closed
 //! form (the paper: one lookup per block pixel); for a local light, the mean of 1/r² over the
 //! block pixel's interval in closed form (Biri's angle variable) instead of its midpoint value;
@@ -76,8 +82,8 @@
 //! lights, the cube of light maps, held blocks drawn as particles, background dimming (above).
 //!
 //! Limits: at most 4 lights (the renderer's); a block is one uniform-density interval per pixel
-//! (gaps between its particles along a ray are filled, overlapping blocks are ordered by
-//! centre), which near a local light inside the cloud weighs the light's 1/r² peak by the
+//! (its mean and spread in depth are right, its clumps are not; overlapping blocks are ordered
+//! by centre), which near a local light inside the cloud weighs the light's 1/r² peak by the
 //! block's mean density; a cube of light maps costs six light passes; the background medium's
 //! in-scatter is marched (32 steps, in the angle variable of the first local light) in the
 //! resolve pass and dimmed by a linear model of the cloud's optical depth inside its span;
@@ -86,9 +92,12 @@
 //! (226 vs 46 ms, 350 vs 53 ms), short of the paper's 25× — the baseline has no per-particle read-back, block billboards cover
 //! their bounding spheres (total area falls only as b^(−1/3)) and the frame's fixed passes
 //! (shadow map, surface, resolve) are included. With a point light inside the cloud the blocks'
-//! error is 2–4× the splat's in-scatter and ~10× its total at defaults; see README.md.
+//! error is 1.4–1.7× the splat's in-scatter and 6–7× its total at defaults (`near_light` 2, which
+//! costs 1.7–1.9× the splat's time there); on `cloud-blocks` 1.43× its in-scatter at 4.1× its
+//! speed; see README.md.
 
 pub mod blocks;
+pub mod camera_bins;
 pub mod held;
 pub mod light_maps;
 pub mod passes;
@@ -132,6 +141,9 @@ pub struct State {
     /// Each block's own particles (None: the splat, or clusters that did not match).
     members: held::Members,
     slices: u32,
+    /// Camera impostor bins per side (knob `camera_bins`; 1: one camera tile, the paper, and
+    /// always for clusters and the splat): the prototype's camera tiles are 1 .. 1 + g².
+    camera_grid: usize,
     blocked: bool,
     sky: Vec3,
     background_scatters: bool,
@@ -170,6 +182,7 @@ fn shaders(id: &str) -> Vec<ShaderCheck> {
         ("BLOCKS", flags),
         ("FORWARD_SCATTERING", flags),
         ("EIGHT_SLICES", flags),
+        ("MOMENTS", flags),
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [
@@ -245,6 +258,18 @@ impl State {
                 )
             }
         };
+        // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g²;
+        // no more bins than instances (g² ≤ blocks: one block has one direction).
+        let camera_grid = match blocked_mode {
+            Some((_, Instancing::Prototype, ..)) if set.tiles.len() == 2 => {
+                let most = (set.prims.len() as f64).sqrt().floor().max(1.0) as usize;
+                (p.knob::<u32>("camera_bins")? as usize).min(most)
+            }
+            _ => 1,
+        };
+        let cam = set.tiles[..].get(1).copied();
+        set.tiles
+            .extend(cam.into_iter().cycle().take(camera_grid * camera_grid - 1));
         // Each block's own particles, for blocks that hold a viewer (held.rs).
         let members = held::Members::of(ps, &set);
         held::Members::index(&mut set.prims);
@@ -272,10 +297,15 @@ impl State {
                 light_res,
                 slices,
                 lights,
+                camera_tiles: (camera_grid * camera_grid) as u32,
             },
             passes::Modes {
                 blocks: blocked_mode.is_some(),
                 forward_scattering,
+                moments: match blocked_mode {
+                    Some(_) => p.knob::<String>("interval")? == "moments",
+                    None => false,
+                },
             },
         );
         if !set.imp.is_empty() {
@@ -297,6 +327,7 @@ impl State {
                 None => 0.0,
             },
             slices,
+            camera_grid,
             sky: particles.sky,
             background_scatters: bg.sigma_s.max_element() > 0.0,
             timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
@@ -341,12 +372,40 @@ impl State {
         (gather, lights)
     }
 
-    /// This frame's impostor tile frames: light k's tiles are the set's tiles framed for light
-    /// k, k·T further on.
-    fn tile_frames(&self, frame: &FrameState) -> Vec<blocks::Tile> {
+    /// With camera bins: each gathered block's camera tile (its bin's) and the set's tiles with
+    /// the camera tiles anchored at their bins (camera_bins.rs); otherwise the set's tiles.
+    fn bin_camera_tiles(&self, eye: Vec3, gather: &mut [Prim]) -> Vec<(blocks::TileView, f32)> {
+        let mut tiles = self.set.tiles.clone();
+        if self.camera_grid < 2 {
+            return tiles;
+        }
+        let blocks: Vec<usize> = (0..gather.len())
+            .filter(|&i| gather[i].extra[1] >= 0.0)
+            .collect();
+        let centres: Vec<Vec3> = blocks
+            .iter()
+            .map(|&i| Vec3::from_slice(&gather[i].center[..3]))
+            .collect();
+        let (bin, anchors) = camera_bins::bins(&centres, eye, self.camera_grid);
+        for (&i, &b) in blocks.iter().zip(&bin) {
+            gather[i].extra[2] = (1 + b) as f32;
+        }
+        for (b, a) in anchors.into_iter().enumerate() {
+            tiles[1 + b].0 = blocks::TileView::Camera(a);
+        }
+        tiles
+    }
+
+    /// This frame's impostor tile frames: light k's tiles are `set` (the set's tiles, camera
+    /// tiles binned) framed for light k, k·T further on.
+    fn tile_frames(
+        &self,
+        frame: &FrameState,
+        set: &[(blocks::TileView, f32)],
+    ) -> Vec<blocks::Tile> {
         let eye = frame.camera.position;
         if frame.lights.is_empty() {
-            return blocks::tile_frames(&self.set.tiles, eye, None, None);
+            return blocks::tile_frames(set, eye, None, None);
         }
         let mut tiles = Vec::new();
         for light in &frame.lights {
@@ -354,7 +413,7 @@ impl State {
                 LightState::Directional { direction, .. } => (Some(direction.normalize()), None),
                 l => (None, l.position()),
             };
-            tiles.extend(blocks::tile_frames(&self.set.tiles, eye, ldir, lpos));
+            tiles.extend(blocks::tile_frames(set, eye, ldir, lpos));
         }
         tiles
     }
@@ -401,11 +460,12 @@ impl Prepared for State {
             sz.prims as f32,
             self.set.tiles.len() as f32,
             sz.light_res as f32,
-            0.0,
+            sz.camera_tiles as f32,
         ];
         u.sky = [self.sky.x, self.sky.y, self.sky.z, 0.0];
-        let (gather, light_lists) = self.lists(frame);
-        let tiles = self.tile_frames(frame);
+        let (mut gather, light_lists) = self.lists(frame);
+        let binned = self.bin_camera_tiles(frame.camera.position, &mut gather);
+        let tiles = self.tile_frames(frame, &binned);
         gpu.queue
             .write_buffer(&self.passes.res.uniform, 0, bytemuck::bytes_of(&u));
         // The gathering's list at 0, light k's at (k + 1)·C.
@@ -509,7 +569,14 @@ impl Method for UmenhofferParticleBlocks {
             Knob::int("impostor_res", 64, 4..=1024)
                 .unit("texels")
                 .meaning("impostor tile resolution (shrunk to fit a 2048² atlas in clusters mode)"),
-            Knob::float("near_light", 1.5, 0.0..=10.0)
+            Knob::choice("interval", "moments", &["moments", "bounds"])
+                .sweep(["bounds"])
+                .meaning("a block pixel's uniform-density depth interval: moments = the one with its optical depth's mean and variance in depth (impostor moments, a modernisation); bounds = [front, back], the extreme particle surfaces (the paper)"),
+            Knob::int("camera_bins", 3, 1..=8)
+                .sweep([1])
+                .unit("bins per side")
+                .meaning("prototype mode: the instances' directions from the eye binned into a g × g grid, each bin its own camera impostor of the prototype (a modernisation); 1 = one camera impostor for every instance (the paper)"),
+            Knob::float("near_light", 2.0, 0.0..=10.0)
                 .sweep(Vec::<f64>::new())
                 .unit("block radii")
                 .meaning("blocks whose centre is within this many radii of a local light are drawn as their own particles, in the gathering and that light's pass (a block's uniform density and the prototype's shape misweigh the light's 1/r² peak); blocks holding the eye or a light always are"),

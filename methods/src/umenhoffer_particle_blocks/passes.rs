@@ -1,4 +1,4 @@
-//! GPU side: the impostor atlas, the light slices (one layer per light map), the gather
+//! GPU side: the impostor atlas (and its depth moments, `interval = moments`), the light slices (one layer per light map), the gather
 //! targets, the four pipelines (impostor, light, gather, resolve) and their bind groups (the
 //! per-light surface-shadow pass is `surface_shadow.rs`). Every pass uses the shared frame bind
 //! group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
@@ -61,6 +61,8 @@ pub fn source(own: &str) -> String {
 
 /// Impostor atlas texels: min-blendable, and 16-bit floats are ample for depths within a block.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The impostor atlas's depth moments (additive; 32-bit floats: the variance is a difference).
+pub const MOMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Slices and the gather target accumulate many small terms: 32-bit floats.
 pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// The gathered cloud's near and far ray parameters (min blending).
@@ -81,6 +83,8 @@ pub struct Sizes {
     pub slices: u32,
     /// The scene's lights (each has FACES slice layers).
     pub lights: usize,
+    /// Camera tiles per impostor particle: the prototype's direction bins (1 otherwise).
+    pub camera_tiles: u32,
 }
 
 /// What the shaders compile in (common.wgsl's overrides), beside the scene's light layout.
@@ -88,6 +92,8 @@ pub struct Modes {
     /// Primitives are impostor blocks (false: analytic spheres, `particle-splat`).
     pub blocks: bool,
     pub forward_scattering: bool,
+    /// Block pixels' intervals from the impostors' depth moments (knob `interval = moments`).
+    pub moments: bool,
 }
 
 /// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
@@ -97,6 +103,7 @@ pub struct Resources {
     pub tiles: wgpu::Buffer,
     pub imp: wgpu::Buffer,
     atlas_view: wgpu::TextureView,
+    moments_view: wgpu::TextureView,
     /// Both slice textures as arrays (sampled) and one layer of each per view (rendered).
     slice_views: [wgpu::TextureView; 2],
     slice_layers: Vec<[wgpu::TextureView; 2]>,
@@ -228,6 +235,7 @@ impl Resources {
             ),
             // Splat mode has no tiles: a 1×1 atlas keeps the bindings valid.
             atlas_view: tex("impostor atlas", sizes.atlas, sizes.atlas, ATLAS_FORMAT),
+            moments_view: tex("impostor moments", sizes.atlas, sizes.atlas, MOMENT_FORMAT),
             slice_views: [array(&slice_tex[0]), array(&slice_tex[1])],
             slice_layers: (0..layers)
                 .map(|l| [layer(&slice_tex[0], l), layer(&slice_tex[1], l)])
@@ -256,6 +264,7 @@ impl Resources {
             7 => view(distance),
             8 => view(&self.gather_view),
             10 => view(&self.extents_view),
+            11 => view(&self.moments_view),
             _ => view(&self.surface_view),
         }
     }
@@ -352,6 +361,7 @@ impl Passes {
             constants: renderer.specialization.with(&[
                 ("BLOCKS", flag(modes.blocks)),
                 ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
+                ("MOMENTS", flag(modes.moments)),
                 ("EIGHT_SLICES", flag(sizes.slices > 4)),
                 ("COVERS", super::held::COVERS as f64),
             ]),
@@ -370,7 +380,10 @@ impl Passes {
             &[0, 2, 3],
             IMPOSTOR_WGSL,
             ("vs_impostor", "fs_impostor"),
-            &[target(ATLAS_FORMAT, Some(minmax))],
+            &[
+                target(ATLAS_FORMAT, Some(minmax)),
+                target(MOMENT_FORMAT, Some(ADDITIVE)),
+            ],
         );
         let additive = Some(ADDITIVE);
         let eight = sizes.slices > 4;
@@ -380,7 +393,7 @@ impl Passes {
         ];
         let (light, bind_light) = b.stage(
             "particle light pass",
-            &[0, 1, 2, 4],
+            &[0, 1, 2, 4, 11],
             LIGHT_WGSL,
             ("vs_light", if eight { "fs_light8" } else { "fs_light4" }),
             &light_targets[..if eight { 2 } else { 1 }],
@@ -393,7 +406,7 @@ impl Passes {
         };
         let (gather, bind_gather) = b.stage(
             "particle gather",
-            &[0, 1, 2, 4, 5, 6, 7],
+            &[0, 1, 2, 4, 5, 6, 7, 11],
             GATHER_WGSL,
             ("vs_gather", "fs_gather"),
             &[
@@ -469,21 +482,28 @@ impl Passes {
             b: 1e4,
             a: 0.0,
         };
-        let mut p = Self::pass(
-            renderer,
+        // The moments clear to zero (one pass, two clear values: set by hand).
+        let attachments = [
+            color_attachment(&self.res.atlas_view, wgpu::LoadOp::Clear(empty)),
+            color_attachment(
+                &self.res.moments_view,
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ),
+        ];
+        let mut p = renderer.passes.render_pass(
             enc,
-            "particle impostors",
-            &[&self.res.atlas_view],
-            empty,
+            &wgpu::RenderPassDescriptor {
+                label: Some("particle impostors"),
+                color_attachments: &attachments,
+                ..Default::default()
+            },
         );
         p.set_pipeline(&self.impostor);
         p.set_bind_group(0, &renderer.frame_bind, &[]);
         p.set_bind_group(1, &self.bind_impostor, &[]);
         // The camera tiles, then each light's tiles.
-        p.draw(
-            0..6,
-            0..(1 + self.sizes.lights as u32) * self.sizes.imp as u32,
-        );
+        let groups = self.sizes.camera_tiles + self.sizes.lights as u32;
+        p.draw(0..6, 0..groups * self.sizes.imp as u32);
     }
 
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
