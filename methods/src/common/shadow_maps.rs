@@ -13,6 +13,28 @@ use super::gpu_scene::{GpuScene, mesh_pipeline};
 use super::uniforms::ShadowSlot;
 use super::wgsl;
 
+/// A local light's cube faces' axes in layer order (+X, −X, +Y, −Y, +Z, −Z), the order every
+/// cube of faces around a light uses (shadow maps, polygonal-light-volumes' faces,
+/// umenhoffer's light maps).
+pub const CUBE_FACE_AXES: [Vec3; 6] = [
+    Vec3::X,
+    Vec3::NEG_X,
+    Vec3::Y,
+    Vec3::NEG_Y,
+    Vec3::Z,
+    Vec3::NEG_Z,
+];
+
+/// Each shadow-map face's up vector, beside [`CUBE_FACE_AXES`].
+const CUBE_FACE_UPS: [Vec3; 6] = [
+    Vec3::NEG_Y,
+    Vec3::NEG_Y,
+    Vec3::Z,
+    Vec3::NEG_Z,
+    Vec3::NEG_Y,
+    Vec3::NEG_Y,
+];
+
 const FACE_STRIDE: u64 = 256;
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -230,18 +252,10 @@ impl ShadowMaps {
                         near,
                         far,
                     );
-                    let dirs = [
-                        (Vec3::X, -Vec3::Y),
-                        (-Vec3::X, -Vec3::Y),
-                        (Vec3::Y, Vec3::Z),
-                        (-Vec3::Y, -Vec3::Z),
-                        (Vec3::Z, -Vec3::Y),
-                        (-Vec3::Z, -Vec3::Y),
-                    ];
+                    let dirs = CUBE_FACE_AXES.iter().zip(CUBE_FACE_UPS);
                     slot.bias = 1.5;
                     (
-                        dirs.iter()
-                            .map(|(d, u)| proj * glam::camera::rh::view::look_to_mat4(p, *d, *u))
+                        dirs.map(|(d, u)| proj * glam::camera::rh::view::look_to_mat4(p, *d, u))
                             .collect(),
                         p.extend(0.0).to_array(),
                     )

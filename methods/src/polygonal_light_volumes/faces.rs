@@ -6,20 +6,11 @@
 use glam::{Mat4, Vec3};
 use scenes::{FrameState, LightState};
 
+use crate::common::shadow_maps::CUBE_FACE_AXES;
 use crate::common::uniforms::ShadowSlot;
 
 /// Half the angle a cube face spans to its corner: atan(√2) (radians).
 const FACE_CORNER_ANGLE: f32 = 0.955_316_6;
-
-/// The cube faces' axes in `common::shadow_maps` order (+X, −X, +Y, −Y, +Z, −Z).
-const FACE_AXES: [Vec3; 6] = [
-    Vec3::X,
-    Vec3::NEG_X,
-    Vec3::Y,
-    Vec3::NEG_Y,
-    Vec3::Z,
-    Vec3::NEG_Z,
-];
 
 /// One face to draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -121,7 +112,7 @@ pub fn plan(
             let margin = 3.0 * 2.0 / samples as f32;
             let faces = (0..6u32)
                 .filter(|k| {
-                    FACE_AXES[*k as usize]
+                    CUBE_FACE_AXES[*k as usize]
                         .dot(*direction)
                         .clamp(-1.0, 1.0)
                         .acos()

@@ -19,6 +19,7 @@ use scenes::LightState;
 
 use super::blocks::{self, Prim};
 use super::passes::{FACES, PbUniform, ViewUniform};
+use crate::common::shadow_maps::CUBE_FACE_AXES;
 
 /// The widest half-angle (degrees) one perspective light map is used for.
 pub const MAX_HALF_ANGLE_DEG: f32 = 80.0;
@@ -168,21 +169,12 @@ fn single_perspective(
     Some(with_slices(v, dmin.max(0.0), dmax, slices))
 }
 
-/// The cube's face axes, in the order common.wgsl's `view_of` indexes them.
-pub const CUBE_AXES: [Vec3; FACES] = [
-    Vec3::X,
-    Vec3::NEG_X,
-    Vec3::Y,
-    Vec3::NEG_Y,
-    Vec3::Z,
-    Vec3::NEG_Z,
-];
-
 /// Six 90° perspective maps around `lp`; each face's depth range covers the primitives whose
 /// bounding spheres reach into its frustum (a plane test against its four sides).
+// Faces in `CUBE_FACE_AXES` order, the order common.wgsl's `view_of` indexes them.
 fn cube(lp: Vec3, prims: &[Prim], slices: u32) -> Vec<ViewUniform> {
     let side = (1.0 + CUBE_TAN * CUBE_TAN).sqrt();
-    CUBE_AXES
+    CUBE_FACE_AXES
         .iter()
         .map(|&axis| {
             let v = perspective(lp, axis, CUBE_TAN);
