@@ -30,6 +30,25 @@ pub fn target(
     })
 }
 
+/// The depth state of a pass that redraws the scene's surfaces over their own depth and must
+/// touch exactly the visible surface once (removing a light from it): depth test `Equal`, no
+/// depth write. The surface pass's vertex stage writes an `@invariant` position, so the same
+/// meshes under the same depth clipping give the very same depth; a biased `LessEqual` also let
+/// hidden surfaces just behind the visible one through (the floor under a wall, a sill's top
+/// behind its face) and removed their light as well — negative radiance along every seam.
+pub fn visible_surface_depth(
+    format: wgpu::TextureFormat,
+    stencil: wgpu::StencilState,
+) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format,
+        depth_write_enabled: Some(false),
+        depth_compare: Some(wgpu::CompareFunction::Equal),
+        stencil,
+        bias: Default::default(),
+    }
+}
+
 /// A pipeline layout of these bind groups, in order.
 pub fn layout(
     device: &wgpu::Device,

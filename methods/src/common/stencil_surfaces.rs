@@ -53,24 +53,15 @@ impl StencilSurfaceShadows {
         let keep = wgpu::StencilOperation::Keep;
         let zero = wgpu::StencilOperation::Zero;
         let in_shadow = super::stencil::face(wgpu::CompareFunction::NotEqual, zero, keep);
-        let depth = wgpu::DepthStencilState {
-            format: depth_format,
-            depth_write_enabled: Some(false),
-            // Exactly the visible surface: the depth pass and this pass both write an invariant
-            // position computed the same way, under the same depth clipping, so the visible
-            // surface gets the very same depth. A biased LessEqual also let hidden surfaces
-            // just behind the visible one through (the floor under a wall, the sill's top behind
-            // its face) and subtracted their light as well: a line of negative radiance along
-            // every seam and edge where a lit surface continues behind an unlit one.
-            depth_compare: Some(wgpu::CompareFunction::Equal),
-            stencil: wgpu::StencilState {
+        let depth = pipeline::visible_surface_depth(
+            depth_format,
+            wgpu::StencilState {
                 front: in_shadow,
                 back: in_shadow,
                 read_mask: 0xff,
                 write_mask: 0xff,
             },
-            bias: Default::default(),
-        };
+        );
         let targets = [pipeline::target(AOV_FORMAT, Some(pipeline::ADDITIVE))];
         let pipelines = (0..lights)
             .map(|k| {

@@ -29,16 +29,8 @@ impl SurfaceShadow {
             label,
             &wgsl::compose(&shared, SURFACE_SHADOW_WGSL),
         );
-        let depth = wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(false),
-            // Exactly the visible surface: the surface pass's vertex stage writes an invariant
-            // position, so the same geometry gives the same depth (a biased LessEqual would
-            // also let hidden surfaces just behind through, subtracting a light twice).
-            depth_compare: Some(wgpu::CompareFunction::Equal),
-            stencil: Default::default(),
-            bias: Default::default(),
-        };
+        let depth =
+            pipeline::visible_surface_depth(wgpu::TextureFormat::Depth32Float, Default::default());
         let targets = [target(AOV_FORMAT, Some(ADDITIVE))];
         let pipelines = (0..lights)
             .map(|k| {
