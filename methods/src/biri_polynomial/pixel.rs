@@ -8,7 +8,7 @@
 use harness::Gpu;
 
 use crate::common::crossing_lists::CrossingLists;
-use crate::common::pipeline::Stage;
+use crate::common::pipeline::{self, Stage};
 use crate::common::stencil::{self, PipelineBuilder};
 
 pub(super) struct PixelPass {
@@ -56,19 +56,10 @@ impl PixelPass {
                     )),
             )
         };
-        let add = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let targets = [Some(wgpu::ColorTargetState {
-            format: wgpu::TextureFormat::Rgba32Float,
-            blend: Some(wgpu::BlendState {
-                color: add,
-                alpha: add,
-            }),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
+        let targets = [pipeline::target(
+            wgpu::TextureFormat::Rgba32Float,
+            Some(pipeline::ADDITIVE),
+        )];
         let walk = b.build(
             Stage::new("biri-poly crossing walk", "vs_fullscreen")
                 .fragment("fs_walk", &targets)

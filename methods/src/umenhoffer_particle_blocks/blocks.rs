@@ -247,16 +247,18 @@ fn median(v: impl Iterator<Item = f32>) -> f32 {
 /// centre is at 1.26× the median distance.
 pub const OUTLIER_FACTOR: f32 = 2.0;
 
+/// A scene particle as an analytic sphere primitive (exact chord per fragment, no impostor).
+pub fn sphere(p: &Particle) -> Prim {
+    Prim {
+        center: [p.center.x, p.center.y, p.center.z, p.radius],
+        albedo: [p.albedo.x, p.albedo.y, p.albedo.z, p.density],
+        extra: [1.0, -1.0, -1.0, 0.0],
+    }
+}
+
 /// One primitive per particle: the unblocked splat (analytic spheres, no impostors).
 pub fn unblocked(ps: &[Particle]) -> BlockSet {
-    let prims = ps
-        .iter()
-        .map(|p| Prim {
-            center: [p.center.x, p.center.y, p.center.z, p.radius],
-            albedo: [p.albedo.x, p.albedo.y, p.albedo.z, p.density],
-            extra: [1.0, -1.0, -1.0, 0.0],
-        })
-        .collect();
+    let prims = ps.iter().map(sphere).collect();
     BlockSet {
         prims,
         imp: Vec::new(),

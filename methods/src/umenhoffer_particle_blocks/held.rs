@@ -14,7 +14,7 @@
 use glam::Vec3;
 use scenes::particles::Particle;
 
-use super::blocks::{BlockSet, Prim};
+use super::blocks::{BlockSet, Prim, sphere};
 
 /// Each block's own particles as analytic spheres, by block index (`Prim::extra[3]`, set by
 /// [`Members::index`]).
@@ -56,15 +56,6 @@ impl Members {
         for (i, p) in set.iter_mut().enumerate() {
             p.extra[3] = i as f32;
         }
-    }
-}
-
-/// A scene particle as an analytic sphere primitive.
-pub fn sphere(p: &Particle) -> Prim {
-    Prim {
-        center: [p.center.x, p.center.y, p.center.z, p.radius],
-        albedo: [p.albedo.x, p.albedo.y, p.albedo.z, p.density],
-        extra: [1.0, -1.0, -1.0, 0.0],
     }
 }
 
