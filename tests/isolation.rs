@@ -416,6 +416,60 @@ fn killed_parent_resume_and_retry_failed() {
 }
 
 /// The parent of `killed_parent_resume_and_retry_failed`: runs until it is killed.
+/// Issue 29: the light core is scored in the worker as in process. clear-fog has a point light
+/// in view; the worker used to get the reference without its distances, decide that no light
+/// was in view and record a null light core. Both runs use one reference (rendered here).
+fn light_core_through_a_worker_equals_in_process() {
+    let gpu = Gpu::new().expect("a GPU adapter (lavapipe)");
+    let scene = scenes::library::resolve("clear-fog").unwrap();
+    let ids = ["raymarch-brute", "no-scatter"];
+    let work: Vec<WorkItem> = ids
+        .iter()
+        .map(|id| WorkItem {
+            scene: 0,
+            entry: entry(id),
+            params: resolve_params(entry(id), &Params::new()).unwrap(),
+        })
+        .collect();
+    let cache = scratch("light-core-cache");
+    let score = |name: &str, iso: Isolation| {
+        let mut cfg = harness::testing::run_config(scratch(name), 64, 1);
+        cfg.isolation = iso;
+        cfg.cache_dir = Some(cache.clone());
+        run_items(
+            &gpu,
+            std::slice::from_ref(&scene),
+            &work,
+            &cfg,
+            None,
+            &mut |_| {},
+        )
+        .unwrap()
+    };
+    let in_process = score("light-core-off", Isolation::default());
+    let isolated = score(
+        "light-core-on",
+        isolation(&scratch("light-core-gate"), 300.0),
+    );
+    for id in ids {
+        let (a, b) = (record(&in_process, id), record(&isolated, id));
+        assert_eq!(a.status, Status::Ok, "{id}: {:?}", a.reason);
+        assert_eq!(b.status, Status::Ok, "{id}: {:?}", b.reason);
+        let pixels = |r: &Record| r.counters.get("light_core_pixels").copied().unwrap_or(0.0);
+        assert!(pixels(a) > 0.0, "{id}: clear-fog's light is in view");
+        assert_eq!(pixels(a), pixels(b), "{id}: light_core_pixels");
+        for aov in ["inscatter", "total"] {
+            let core = |r: &Record| r.errors.get(aov).and_then(|m| m.light_core);
+            assert!(core(a).is_some(), "{id}.{aov}: in-process light core");
+            assert_eq!(
+                core(a),
+                core(b),
+                "{id}.{aov}: light core in process vs worker"
+            );
+        }
+    }
+}
+
 fn serve_as_parent(out: &Path) -> ! {
     let gate = out.join("gate");
     run(
@@ -600,6 +654,10 @@ const TESTS: &[(&str, fn())] = &[
     (
         "killed_parent_resume_and_retry_failed",
         killed_parent_resume_and_retry_failed,
+    ),
+    (
+        "light_core_through_a_worker_equals_in_process",
+        light_core_through_a_worker_equals_in_process,
     ),
     (
         "every_command_exits_cleanly_on_a_closed_pipe",

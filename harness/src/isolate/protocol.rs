@@ -56,7 +56,9 @@ pub struct SceneHeader {
     pub source: Option<PathBuf>,
     /// Per mesh: (positions, normals, triangles).
     pub meshes: Vec<(usize, usize, usize)>,
-    /// Width and height of the reference images (inscatter, surface, total).
+    /// Width and height of the reference images (inscatter, surface, total, and the
+    /// per-pixel distance to the first surface, which scoring needs to tell whether a light is
+    /// in view: the light core, ARCHITECTURE §4.4).
     pub reference: (u32, u32),
 }
 
@@ -93,6 +95,17 @@ pub fn write_scene(
     scene: &Scene,
     reference: &ReferenceImages,
 ) -> std::io::Result<()> {
+    let pixels = reference.total.width as usize * reference.total.height as usize;
+    if reference.distance.len() != pixels {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "reference of scene '{}': {} distances for {pixels} pixels",
+                scene.name,
+                reference.distance.len()
+            ),
+        ));
+    }
     let header = ToWorker::Scene(SceneHeader {
         name: scene.name.clone(),
         desc: scene.desc.clone(),
@@ -113,11 +126,12 @@ pub fn write_scene(
     for img in [&reference.inscatter, &reference.surface, &reference.total] {
         w.write_all(bytemuck::cast_slice(&img.pixels))?;
     }
+    w.write_all(bytemuck::cast_slice(&reference.distance))?;
     w.flush()
 }
 
-/// Reads the payload announced by `header`: the scene and the reference (without distances
-/// and statistics, which scoring does not use).
+/// Reads the payload announced by `header`: the scene and the reference (without its
+/// statistics, which scoring does not use).
 pub fn read_scene(
     r: &mut impl Read,
     header: SceneHeader,
@@ -148,6 +162,7 @@ pub fn read_scene(
         })
     };
     let (inscatter, surface, total) = (image()?, image()?, image()?);
+    let distance = vec::<f32>(r, width as usize * height as usize)?;
     let scene = Scene {
         name: header.name,
         desc: header.desc,
@@ -158,7 +173,7 @@ pub fn read_scene(
         inscatter,
         surface,
         total,
-        distance: Vec::new(),
+        distance,
         stats: ReferenceStats::default(),
     };
     Ok((scene, reference))
