@@ -27,12 +27,17 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Every GPU adapter wgpu can see (name, backend, driver, type, software or not) with the
+    /// features the suite uses; `--adapter NAME` on the rendering commands picks one.
+    Adapters(cmd::adapters::AdaptersArgs),
     /// Scenes with their features; methods with their params and support.
     List(cmd::list::ListArgs),
     /// Validate scene files: exit 0, or exit 2 listing every problem.
     Validate(cmd::validate::ValidateArgs),
     /// Render the CPU ground truth of a scene (EXR + PNG + a JSON with time and convergence).
     Reference(cmd::reference::ReferenceArgs),
+    /// Fill a reference cache with every frame of scenes at resolutions (for runs and bundles).
+    References(cmd::references::ReferencesArgs),
     /// Write RUN_DIR/report/index.html (images, tables, Pareto plots) from RUN_DIR/results.json.
     Report(cmd::report::ReportArgs),
     /// Run methods on scenes, score them against the reference, write results.json and images.
@@ -64,12 +69,16 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // SAFETY: first thing in main, before any other thread exists.
+    unsafe { harness::gpu::adapters::add_known_drivers() };
     cmd::pipe::exit_quietly_on_closed_output();
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Adapters(a) => cmd::adapters::run(a),
         Command::List(a) => cmd::list::run(a),
         Command::Validate(a) => cmd::validate::run(a),
         Command::Reference(a) => cmd::reference::run(a),
+        Command::References(a) => cmd::references::run(a),
         Command::Report(a) => cmd::report::run(a),
         Command::Run(a) => cmd::run::run(a),
         Command::Stress(a) => cmd::stress::run(a),

@@ -96,6 +96,10 @@ pub struct Record {
     /// static scenes, whose one scored frame is `errors`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub errors_per_frame: Option<ErrorsPerFrame>,
+    /// Under `--validate`: the first messages of the Khronos validation layer while this record
+    /// ran (all are counted in counter `validation_messages`); absent when there were none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub validation: Vec<String>,
 }
 
 /// The errors of each scored frame of a sequence, with their mean and worst.
@@ -250,6 +254,7 @@ impl Record {
             errors: Default::default(),
             images: Default::default(),
             errors_per_frame: None,
+            validation: Vec::new(),
         }
     }
 

@@ -193,6 +193,7 @@ mod tests {
             errors,
             images: BTreeMap::new(),
             errors_per_frame: None,
+            validation: Vec::new(),
         }
     }
 

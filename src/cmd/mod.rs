@@ -1,10 +1,13 @@
 //! One module per subcommand: its arguments (clap) and a `run` that checks them and calls
 //! library code (ARCHITECTURE §8).
 
+pub mod adapters;
+pub mod device;
 pub mod list;
 pub mod merge;
 pub mod pipe;
 pub mod reference;
+pub mod references;
 pub mod report;
 pub mod reproduce;
 pub mod run;
@@ -21,17 +24,4 @@ pub fn write_report(out: &std::path::Path) {
         Ok(index) => println!("report: {}", index.display()),
         Err(e) => eprintln!("warning: the report was not written: {e:#}"),
     }
-}
-
-/// Opens the GPU and says which adapter the numbers will come from.
-pub fn open_gpu() -> anyhow::Result<harness::Gpu> {
-    let gpu = harness::Gpu::new().map_err(|e| anyhow::anyhow!(e))?;
-    eprintln!(
-        "adapter: {} ({}, {})",
-        gpu.summary.adapter, gpu.summary.backend, gpu.summary.driver_info
-    );
-    if gpu.summary.software {
-        eprintln!("note: software adapter — timings compare only as ratios within this run");
-    }
-    Ok(gpu)
 }

@@ -47,7 +47,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         run_id,
         isolation: a.isolate.isolation()?,
     };
-    let gpu = super::open_gpu()?;
+    let gpu = a.isolate.device.open()?;
     eprintln!(
         "{} configurations at {}x{}, {} frames",
         plan.work.len(),

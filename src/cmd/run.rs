@@ -64,7 +64,7 @@ pub fn run(a: RunArgs) -> Result<()> {
         format!("{run_id}-shard-{}-of-{}", shard.index, shard.count)
     });
     args::check_resume(a.resume.resume, &out)?;
-    let gpu = super::open_gpu()?;
+    let gpu = a.isolate.device.open()?;
     let cfg = RunConfig {
         out_dir: out.clone(),
         width: a.size.res.width,

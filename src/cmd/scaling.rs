@@ -66,7 +66,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
         return refuse(why);
     }
     let plan = scaling::plan(&opts)?;
-    let gpu = super::open_gpu()?;
+    let gpu = a.isolate.device.open()?;
     eprintln!(
         "{} methods × ({} triangle variants at {}x{} + {} resolutions), {} frames",
         opts.methods.len(),

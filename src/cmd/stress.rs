@@ -51,7 +51,7 @@ pub fn run(a: StressArgs) -> Result<()> {
     let run_id = harness::results::run_id_now();
     let out = a.output.dir(&format!("stress-{run_id}"));
     args::check_resume(a.resume.resume, &out)?;
-    let mut gpu = super::open_gpu()?;
+    let mut gpu = a.isolate.device.open()?;
     let cfg = StressConfig {
         out_dir: out.clone(),
         width: a.size.res.width,

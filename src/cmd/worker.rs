@@ -1,6 +1,7 @@
 //! Process isolation on the command line: the flags every command that runs records shares
-//! (`--isolate`, `--record-timeout`, `--retry-failed`) and the hidden worker subcommand the
-//! runner starts (`harness::isolate`).
+//! (`--isolate`, `--record-timeout`, `--retry-failed`, and the device's `--adapter`,
+//! `--validate`, which workers inherit) and the hidden worker subcommand the runner starts
+//! (`harness::isolate`).
 
 use std::time::Duration;
 
@@ -37,16 +38,22 @@ pub struct IsolateArgs {
     /// the run itself); the new record replaces the old.
     #[arg(long)]
     pub retry_failed: bool,
+    /// The adapter and validation layer, shared with the workers.
+    #[command(flatten)]
+    pub device: super::device::DeviceArgs,
 }
 
 impl IsolateArgs {
     pub fn isolation(&self) -> Result<Isolation> {
         let record_timeout = self.record_timeout;
-        let (worker, reuse) = match self.isolate {
+        let (mut worker, reuse) = match self.isolate {
             IsolateMode::Off => (None, Reuse::Run),
             IsolateMode::On => (Some(this_worker()?), Reuse::Run),
             IsolateMode::PerRecord => (Some(this_worker()?), Reuse::None),
         };
+        if let Some(w) = &mut worker {
+            w.env.extend(self.device.choice().worker_env());
+        }
         Ok(Isolation {
             worker,
             reuse,

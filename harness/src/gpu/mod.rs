@@ -1,19 +1,23 @@
-//! The GPU context: one headless wgpu device, chosen by `WGPU_BACKEND` / `WGPU_ADAPTER_NAME` or
-//! the best available adapter, with the optional features the methods can use (timestamp
-//! queries, float32 blending) requested when the adapter has them. Every wgpu error the device
-//! raises is collected, so the runner can record a method that caused one as failed.
+//! The GPU context: one headless wgpu device on the adapter a [`DeviceChoice`] names (`--adapter`,
+//! `WGPU_ADAPTER_NAME`, or the best available: [`adapters`]), optionally under the Khronos
+//! validation layer ([`validation`]), with the optional features the methods can use (timestamp
+//! queries, float32 blending, …) requested when the adapter has them. Every wgpu error the
+//! device raises is collected, so the runner can record a method that caused one as failed.
 
+pub mod adapters;
 mod attachments;
 pub mod phases;
 mod readback;
 mod stats;
 mod timer;
+pub mod validation;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
+pub use adapters::{AdapterReport, DeviceChoice, SuiteFeatures};
 pub use attachments::{color_attachment, depth_attachment, depth_stencil_attachment};
 pub use phases::PhaseTimer;
 pub use readback::{map_read, read_r32f, read_rgba32f};
@@ -34,6 +38,8 @@ pub struct AdapterSummary {
 }
 
 pub struct Gpu {
+    /// What chose this device: [`Gpu::reopen`] chooses the same after a device loss.
+    pub choice: DeviceChoice,
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -47,45 +53,33 @@ pub struct Gpu {
 
 /// The fix to print when no adapter is found.
 pub const NO_ADAPTER_HELP: &str = "no GPU adapter found. On a machine without a GPU install Mesa's software Vulkan driver \
-(lavapipe): `apt-get install -y mesa-vulkan-drivers` (Debian/Ubuntu). WGPU_BACKEND=vulkan|gl and WGPU_ADAPTER_NAME=<substring> select an adapter.";
+(lavapipe): `apt-get install -y mesa-vulkan-drivers` (Debian/Ubuntu). WGPU_BACKEND=vulkan|gl and --adapter <substring> \
+(or WGPU_ADAPTER_NAME) select an adapter; `scatterbench adapters` lists them.";
+
+/// The fix to print when validation was asked for and the layer is absent.
+pub const VALIDATION_HELP: &str = "validation was asked for (--validate or WGPU_VALIDATION=1) but the Khronos validation \
+layer (VK_LAYER_KHRONOS_validation) is not installed: `apt-get install -y vulkan-validationlayers` (Debian/Ubuntu).";
 
 impl Gpu {
-    /// Creates the device. Errors (never panics) when no adapter matches.
+    /// Creates the device on the adapter `WGPU_ADAPTER_NAME` names (or the best one), with the
+    /// validation layer when `WGPU_VALIDATION=1` ([`DeviceChoice::from_env`]). Errors (never
+    /// panics) when no adapter matches.
     pub fn new() -> Result<Gpu, String> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
-        if adapters.is_empty() {
-            return Err(NO_ADAPTER_HELP.to_string());
+        Gpu::open(&DeviceChoice::from_env())
+    }
+
+    /// Creates the device a choice names ([`adapters`]). With validation, the validation
+    /// layer must be installed: a run never goes on silently unvalidated.
+    pub fn open(choice: &DeviceChoice) -> Result<Gpu, String> {
+        if choice.validate {
+            validation::install()?;
         }
-        let wanted = std::env::var("WGPU_ADAPTER_NAME")
-            .ok()
-            .map(|s| s.to_lowercase());
-        let rank = |a: &wgpu::Adapter| {
-            let i = a.get_info();
-            let ty = match i.device_type {
-                wgpu::DeviceType::DiscreteGpu => 4,
-                wgpu::DeviceType::IntegratedGpu => 3,
-                wgpu::DeviceType::VirtualGpu => 2,
-                wgpu::DeviceType::Cpu => 1,
-                wgpu::DeviceType::Other => 0,
-            };
-            // Vulkan first: the GL backend lacks float32 blending and stencil read-back.
-            let backend = match i.backend {
-                wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12 => 1,
-                _ => 0,
-            };
-            (ty, backend)
-        };
-        let adapter = match &wanted {
-            Some(w) => adapters
-                .into_iter()
-                .find(|a| a.get_info().name.to_lowercase().contains(w))
-                .ok_or_else(|| {
-                    format!("WGPU_ADAPTER_NAME={w}: no adapter of that name. {NO_ADAPTER_HELP}")
-                })?,
-            None => adapters.into_iter().max_by_key(rank).expect("non-empty"),
-        };
+        let instance = adapters::instance(choice.validate);
+        let ranked = adapters::ranked(&instance);
+        if choice.validate && validation::layer_missing() {
+            return Err(VALIDATION_HELP.to_string());
+        }
+        let adapter = adapters::choose(ranked, choice.adapter.as_deref())?;
         let info = adapter.get_info();
         let optional = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
@@ -118,10 +112,7 @@ impl Gpu {
                 *l = Some(format!("device lost ({reason:?}): {msg}"));
             }
         });
-        let software = info.device_type == wgpu::DeviceType::Cpu
-            || ["llvmpipe", "lavapipe", "swiftshader", "warp"]
-                .iter()
-                .any(|s| info.name.to_lowercase().contains(s));
+        let software = adapters::is_software(&info);
         let summary = AdapterSummary {
             adapter: info.name.clone(),
             backend: format!("{:?}", info.backend).to_lowercase(),
@@ -132,6 +123,7 @@ impl Gpu {
         };
         let counter = PassCounter::new(&device);
         Ok(Gpu {
+            choice: choice.clone(),
             adapter,
             device,
             queue,
@@ -141,6 +133,20 @@ impl Gpu {
             allocated: AtomicU64::new(0),
             counter,
         })
+    }
+
+    /// A fresh device on the same adapter, with the same validation (after a device loss).
+    pub fn reopen(&self) -> Result<Gpu, String> {
+        Gpu::open(&self.choice)
+    }
+
+    /// The validation layer's messages since the last call (none without validation).
+    pub fn take_validation(&self) -> Vec<validation::Message> {
+        if self.choice.validate {
+            validation::take()
+        } else {
+            Vec::new()
+        }
     }
 
     pub fn features(&self) -> wgpu::Features {

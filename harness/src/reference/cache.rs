@@ -1,12 +1,13 @@
 //! The reference cache: images keyed by a SHA-256 of everything that determines them (the
 //! scene description, its meshes, the frame, the resolution, the settings and the renderer's
 //! version). An entry that fails to read back whole is ignored and recomputed, never trusted.
+//! Entries are stored losslessly packed ([`super::pack`]).
 
 use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
-use super::{ReferenceImages, ReferenceStats, Settings};
+use super::{ReferenceImages, ReferenceStats, Settings, pack};
 use crate::image::{Image, io};
 
 /// Bump when the reference's output changes for the same inputs.
@@ -51,11 +52,24 @@ fn entry(dir: &Path, key: &str) -> PathBuf {
     dir.join(key)
 }
 
-/// The cached images, or None if absent or unreadable.
+/// The file holding an entry's images ([`super::pack`]); stats.json beside it.
+const IMAGES: &str = "images.sbref";
+
+/// The cached images, or None if absent or unreadable. Entries written before the packed
+/// format (four EXRs) are still read.
 pub fn load(dir: &Path, key: &str) -> Option<ReferenceImages> {
     let e = entry(dir, key);
     let stats: ReferenceStats =
         serde_json::from_str(&std::fs::read_to_string(e.join("stats.json")).ok()?).ok()?;
+    let images = match std::fs::read(e.join(IMAGES)) {
+        Ok(bytes) => pack::decode(&bytes).ok()?,
+        Err(_) => load_exrs(&e)?,
+    };
+    Some(ReferenceImages { stats, ..images })
+}
+
+/// An entry of the first format: inscatter, surface, total and distance (in R) as EXRs.
+fn load_exrs(e: &Path) -> Option<ReferenceImages> {
     let inscatter = io::read_exr(&e.join("inscatter.exr")).ok()?;
     let surface = io::read_exr(&e.join("surface.exr")).ok()?;
     let total = io::read_exr(&e.join("total.exr")).ok()?;
@@ -69,25 +83,18 @@ pub fn load(dir: &Path, key: &str) -> Option<ReferenceImages> {
         inscatter,
         surface,
         total,
-        stats,
+        stats: ReferenceStats::default(),
     })
 }
 
-/// Stores images under the key (each file written atomically; stats last, so a partial entry
-/// has no stats.json and is never loaded).
+/// Stores images under the key (written atomically; stats last, so a partial entry has no
+/// stats.json and is never loaded).
 pub fn store(dir: &Path, key: &str, r: &ReferenceImages) -> Result<(), String> {
     let e = entry(dir, key);
     std::fs::create_dir_all(&e)
         .map_err(|err| format!("{}: cannot create cache directory: {err}", e.display()))?;
     let _ = std::fs::remove_file(e.join("stats.json"));
-    io::write_exr(&e.join("inscatter.exr"), &r.inscatter)?;
-    io::write_exr(&e.join("surface.exr"), &r.surface)?;
-    io::write_exr(&e.join("total.exr"), &r.total)?;
-    let mut dist = Image::new(r.total.width, r.total.height);
-    for (p, d) in dist.pixels.iter_mut().zip(&r.distance) {
-        *p = [*d; 3];
-    }
-    io::write_exr(&e.join("distance.exr"), &dist)?;
+    crate::fsutil::write_atomic(&e.join(IMAGES), &pack::encode(r)?)?;
     crate::fsutil::write_atomic(
         &e.join("stats.json"),
         serde_json::to_string_pretty(&r.stats)

@@ -16,6 +16,7 @@ pub mod bvh;
 pub mod cache;
 pub mod indirect;
 pub mod integrate;
+pub mod pack;
 mod particle_ray;
 pub mod particles;
 pub mod quadrature;

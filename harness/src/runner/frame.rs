@@ -285,6 +285,7 @@ pub(super) fn measure(
         errors: Default::default(),
         images: Default::default(),
         errors_per_frame: None,
+        validation: Vec::new(),
     };
     Ok((record, images))
 }

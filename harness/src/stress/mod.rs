@@ -220,7 +220,8 @@ pub fn run(
             }
             results.save(&path)?;
             if gpu.is_lost() {
-                *gpu = Gpu::new()
+                *gpu = gpu
+                    .reopen()
                     .map_err(|e| format!("the device was lost and cannot be reopened: {e}"))?;
             }
         }

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Writes a self-contained benchmark bundle to OUT: the stripped release binary, the scene
+# library, the reference cache of the default run (every library scene, every frame) at the
+# bundle's resolutions, and run.sh, which runs the default benchmark on any Linux machine with
+# a Vulkan loader and driver, without a Rust toolchain (docs/ARCHITECTURE.md §7).
+#
+#   scripts/bundle.sh OUT [--res 256,1024] [--scenes all] [--cache-from results/cache]
+#                         [--binary PATH] [--max-mb 60]
+#
+# --res          resolutions whose references are shipped (default 256,1024)
+# --scenes       scenes whose references are shipped (default all: the library)
+# --cache-from   a reference cache to copy entries from before rendering missing ones
+# --binary       use this scatterbench binary instead of building one (it is stripped in OUT)
+# --max-mb       refuse (exit 1) a bundle larger than this many MB (default 60)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+[ $# -ge 1 ] || usage
+out=$1; shift
+res=256,1024; scenes=all; cache_from=results/cache; binary=""; max_mb=60
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --res) res=$2; shift 2 ;;
+        --scenes) scenes=$2; shift 2 ;;
+        --cache-from) cache_from=$2; shift 2 ;;
+        --binary) binary=$2; shift 2 ;;
+        --max-mb) max_mb=$2; shift 2 ;;
+        *) echo "bundle.sh: unknown argument '$1'" >&2; usage ;;
+    esac
+done
+case "$max_mb" in ''|*[!0-9]*) echo "bundle.sh: --max-mb '$max_mb' is not a whole number of MB" >&2; exit 2 ;; esac
+if [ -e "$out" ] && [ -n "$(ls -A "$out" 2>/dev/null)" ]; then
+    echo "bundle.sh: $out exists and is not empty" >&2; exit 2
+fi
+
+if [ -z "$binary" ]; then
+    cargo build --release --bin scatterbench
+    binary=target/release/scatterbench
+fi
+[ -x "$binary" ] || { echo "bundle.sh: --binary $binary is not an executable" >&2; exit 2; }
+
+mkdir -p "$out/bin" "$out/cache"
+cp "$binary" "$out/bin/scatterbench"
+strip "$out/bin/scatterbench"
+cp -r scenes/library "$out/scenes"
+cp scripts/bundle/run.sh "$out/run.sh"
+cp scripts/bundle/README.md "$out/README.md"
+chmod +x "$out/run.sh"
+git rev-parse HEAD >"$out/COMMIT" 2>/dev/null || echo unknown >"$out/COMMIT"
+
+copy=()
+[ -d "$cache_from" ] && copy=(--copy-from "$cache_from")
+NODEVICE_SELECT=1 "$out/bin/scatterbench" references --scenes "$scenes" --res "$res" \
+    --cache "$out/cache" "${copy[@]}"
+
+size_kb=$(du -sk "$out" | cut -f1)
+echo "bundle: $out, $((size_kb / 1024)) MB ($(du -sh "$out/bin" | cut -f1) binary, $(du -sh "$out/cache" | cut -f1) references)"
+if [ "$size_kb" -gt $((max_mb * 1024)) ]; then
+    echo "bundle.sh: the bundle is $((size_kb / 1024)) MB, over the limit of $max_mb MB" >&2
+    exit 1
+fi

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Runs scatterbench's default benchmark (every library scene × every method at default knobs)
+# from this bundle, on this machine's first hardware adapter, or on the one --adapter names.
+# Writes results.json, images and the HTML report; references come from the bundle's cache.
+#
+#   ./run.sh [--adapter NAME] [--res 256] [--out DIR] [other `scatterbench run` arguments]
+#
+# Needs a Vulkan loader (libvulkan.so.1) and a driver; no Rust toolchain. `bin/scatterbench
+# adapters` lists what the loader finds.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+bin="$here/bin/scatterbench"
+adapter=""; res=256; out=""; rest=()
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --adapter) adapter=$2; shift 2 ;;
+        --res) res=$2; shift 2 ;;
+        --out) out=$2; shift 2 ;;
+        -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *) rest+=("$1"); shift ;;
+    esac
+done
+"$bin" adapters
+if [ -z "$adapter" ]; then
+    adapter=$("$bin" adapters --first-hardware) || {
+        echo "run.sh: no hardware adapter found; name one with --adapter (e.g. --adapter llvmpipe)" >&2
+        exit 1
+    }
+fi
+[ -n "$out" ] || out="$here/results/$(date -u +%Y-%m-%dT%H-%M-%SZ)-${res}"
+"$bin" run --scenes all --methods all --res "$res" --adapter "$adapter" \
+    --cache "$here/cache" --out "$out" "${rest[@]}"
+echo "results: $out/results.json"
