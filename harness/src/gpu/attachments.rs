@@ -1,4 +1,5 @@
-//! Render-pass attachments as every pass writes them: loaded or cleared, always stored.
+//! Render-pass attachments as every pass writes them: loaded or cleared, stored — except a
+//! depth buffer a pass only tests against and nothing reads after it ([`depth_scratch_attachment`]).
 
 /// A colour attachment of `view`: `load` (e.g. `LoadOp::Load`, or a clear), stored.
 pub fn color_attachment(
@@ -26,6 +27,22 @@ pub fn depth_attachment(
         depth_ops: Some(wgpu::Operations {
             load: depth,
             store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
+/// A depth attachment of `view` (a format without stencil) that only serves this pass's depth
+/// test: loaded or cleared, then discarded (nothing reads it after the pass).
+pub fn depth_scratch_attachment(
+    view: &wgpu::TextureView,
+    depth: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: depth,
+            store: wgpu::StoreOp::Discard,
         }),
         stencil_ops: None,
     }

@@ -3,6 +3,7 @@
 
 pub mod counters;
 pub mod crossing_lists;
+pub mod gamma;
 pub mod gpu_scene;
 pub mod knobs;
 pub mod layouts;
@@ -14,6 +15,7 @@ pub mod shadow_maps;
 pub mod shadow_planes;
 pub mod silhouette;
 pub mod specialize;
+pub mod sphere_cone;
 pub mod stencil;
 pub mod stencil_surfaces;
 pub mod tables;

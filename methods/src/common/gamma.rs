@@ -12,7 +12,11 @@
 //! integrand p · e^(−λ s) · 2/((1 − w)² + w²) is smooth up to γ = π/2, where the paper's linear γ
 //! axis bends sharply (rays pointing away from the light); and the shader gets w without an atan:
 //! with y the signed distance along the ray from the foot, s = (r + y)/h.
+//!
+//! Shared by biri-shadow-volumes (eq. 7 itself) and polygonal-light-volumes (the unshadowed
+//! in-scatter of its light volumes); the shader side is `wgsl::LDSS` (`wgsl/ldss.wgsl`).
 
+use harness::Gpu;
 use scenes::Phase;
 
 /// Γ sampled on a `lambda_res` × `w_res` grid: row i holds λ_i = u_i/(1 − u_i), u_i = i/lambda_res
@@ -112,6 +116,11 @@ impl GammaTable {
         }
     }
 
+    /// The table as an R32Float texture (w along x, λ along y), as `wgsl::LDSS` reads it.
+    pub fn upload(&self, gpu: &Gpu, label: &str) -> wgpu::Texture {
+        super::tables::r32_table(gpu, label, self.w_res, self.lambda_res, &self.data)
+    }
+
     /// Bilinear lookup (what the shader does), λ ≥ 0, w ∈ [0, 1].
     pub fn lookup(&self, lambda: f64, w: f64) -> f64 {
         let (m, n) = (self.lambda_res as usize, self.w_res as usize);
@@ -155,6 +164,9 @@ mod tests {
     /// such rays see the light almost head-on through ≥ 50 optical depths, so their in-scatter is
     /// negligible). Bound 5e-3 over the whole domain and 5e-4 for λ ≤ 7. A Γ with the paper's
     /// 1/4π left in, or the exponent's sign or an axis map wrong, is ≥ 100% off.
+    /// Just inside ±π/2, where eq. 6's integrand is still finite.
+    const EDGE: f64 = std::f64::consts::FRAC_PI_2 - 1e-4;
+
     #[test]
     fn table_matches_direct_quadrature() {
         for phase in [
@@ -166,11 +178,11 @@ mod tests {
             let mut worst: f64 = 0.0;
             let mut worst_small: f64 = 0.0;
             for &lambda in &[0.0, 0.01, 0.1, 0.37, 1.0, 2.5, 7.0, 20.0, 50.0] {
-                let scale = gamma_direct(&phase, lambda, -1.5707).abs()
-                    + gamma_direct(&phase, lambda, 1.5707).abs();
+                let scale = gamma_direct(&phase, lambda, -EDGE).abs()
+                    + gamma_direct(&phase, lambda, EDGE).abs();
                 for k in 0..=40 {
-                    let g = -1.5707 + 3.1414 * k as f64 / 40.0 + 0.013;
-                    let g = g.min(1.5707);
+                    let g = -EDGE + 2.0 * EDGE * k as f64 / 40.0 + 0.013;
+                    let g = g.min(EDGE);
                     let exact = gamma_direct(&phase, lambda, g);
                     let err = (t.lookup(lambda, w_of_gamma(g)) - exact).abs() / scale;
                     worst = worst.max(err);
