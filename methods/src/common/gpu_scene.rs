@@ -168,35 +168,9 @@ pub fn mesh_pipeline(
         stencil: Default::default(),
         bias: Default::default(),
     };
-    mesh_pipeline_with(
-        device,
-        label,
-        layout,
-        module,
-        Vertex::LAYOUT,
-        Some(depth),
-        targets,
-        constants,
-    )
-}
-
-/// An uncull'd triangle-list pipeline with `vs`/`fs` of `module`, any vertex layout and depth state.
-pub fn mesh_pipeline_with(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    vertices: wgpu::VertexBufferLayout,
-    depth: Option<wgpu::DepthStencilState>,
-    targets: &[Option<wgpu::ColorTargetState>],
-    constants: &[(&str, f64)],
-) -> wgpu::RenderPipeline {
-    let stage = crate::common::pipeline::Stage::new(label, "vs")
-        .vertices(vertices)
-        .fragment("fs", targets);
-    match depth {
-        Some(depth) => stage.depth(depth),
-        None => stage,
-    }
-    .build(device, layout, module, constants)
+    crate::common::pipeline::Stage::new(label, "vs")
+        .vertices(Vertex::LAYOUT)
+        .fragment("fs", targets)
+        .depth(depth)
+        .build(device, layout, module, constants)
 }

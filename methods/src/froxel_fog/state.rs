@@ -3,7 +3,7 @@
 //! voxelise, extinction, inject, temporal, integrate, particle-surface, apply).
 
 use anyhow::Result;
-use harness::gpu::PhaseTimer;
+use harness::gpu::{PhaseTimer, phases};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, KnobRead, Prepared, Targets};
 use scenes::FrameState;
@@ -11,11 +11,11 @@ use scenes::FrameState;
 use super::grid::{FroxelUniform, Temporal};
 use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared};
 use super::passes::{Buffers, Dims, Modes, VolumePasses};
-use super::{APPLY_WGSL, GRID_WGSL, LOOKUP_WGSL, reach};
+use super::reach;
+use super::shaders::apply_wgsl;
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::ResolvePass;
 use crate::common::uniforms::MAX_LIGHTS;
-use crate::common::wgsl;
 
 /// The prepared method.
 pub struct State {
@@ -46,8 +46,8 @@ struct Timer {
 impl Timer {
     /// Starts phase `phase` of the frame, if there is a timer.
     fn mark(&mut self, enc: &mut wgpu::CommandEncoder, phase: &'static str) {
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, phase);
+        phases::mark(&mut self.timer, enc, phase);
+        if self.timer.is_some() {
             enc.clear_buffer(&self.fence, 0, None);
         }
     }
@@ -143,7 +143,7 @@ impl State {
             gpu,
             &renderer,
             "froxel apply",
-            &wgsl::compose(&[GRID_WGSL, LOOKUP_WGSL], APPLY_WGSL),
+            &apply_wgsl(),
             Some(std::mem::size_of::<FroxelUniform>() as u64),
             1,
         );
@@ -290,9 +290,7 @@ impl Prepared for State {
         self.apply
             .encode_with(gpu, enc, &self.renderer, targets, &[&self.volume_view]);
         report.ran("apply");
-        if let Some(t) = self.timer.timer.as_mut() {
-            t.finish(enc);
-        }
+        phases::finish(&mut self.timer.timer, enc);
         report.count("froxels", g.froxels() as f64);
         report.count("lights_injected", active.len() as f64);
         Ok(report)

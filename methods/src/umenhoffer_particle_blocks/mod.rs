@@ -101,10 +101,12 @@ pub mod camera_bins;
 pub mod held;
 pub mod light_maps;
 pub mod passes;
+mod shaders;
 pub mod surface_shadow;
 
 use anyhow::{Result, bail};
 use glam::Vec3;
+use harness::gpu::{PhaseTimer, phases};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
@@ -148,7 +150,7 @@ pub struct State {
     sky: Vec3,
     background_scatters: bool,
     /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
-    timer: Option<harness::gpu::PhaseTimer>,
+    timer: Option<PhaseTimer>,
 }
 
 /// Knobs shared by both ids.
@@ -176,7 +178,7 @@ fn shared_knobs() -> Vec<Knob> {
 }
 
 /// Every composed WGSL module of both ids, for each value of the overrides their knobs set.
-fn shaders(id: &str) -> Vec<ShaderCheck> {
+fn shader_checks(id: &str) -> Vec<ShaderCheck> {
     let flags: &[f64] = &[0.0, 1.0];
     let axes = [
         ("BLOCKS", flags),
@@ -186,27 +188,25 @@ fn shaders(id: &str) -> Vec<ShaderCheck> {
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [
-        ("impostor", passes::IMPOSTOR_WGSL),
-        ("light", passes::LIGHT_WGSL),
-        ("gather", passes::GATHER_WGSL),
-        ("resolve", passes::RESOLVE_WGSL),
+        ("impostor", shaders::IMPOSTOR_WGSL),
+        ("light", shaders::LIGHT_WGSL),
+        ("gather", shaders::GATHER_WGSL),
+        ("resolve", shaders::RESOLVE_WGSL),
     ] {
         out.extend(ShaderCheck::combinations(
             &format!("{id}/{name}"),
-            &passes::source(wgsl),
+            &shaders::source(wgsl),
             &axes,
         ));
     }
-    let mut shared: Vec<&str> = crate::common::wgsl::PRELUDE.to_vec();
-    shared.extend([passes::COMMON_WGSL, crate::common::wgsl::SURFACE_PASS]);
     out.extend(ShaderCheck::combinations(
         &format!("{id}/surface_shadow"),
-        &crate::common::wgsl::compose(&shared, passes::SURFACE_SHADOW_WGSL),
+        &shaders::surface_shadow_source(),
         &axes,
     ));
     out.extend(ShaderCheck::combinations(
         &format!("{id}/total"),
-        &crate::common::wgsl::compose(&[crate::common::wgsl::FULLSCREEN], passes::TOTAL_WGSL),
+        &shaders::total_source(),
         &[],
     ));
     out
@@ -330,7 +330,7 @@ impl State {
             camera_grid,
             sky: particles.sky,
             background_scatters: bg.sigma_s.max_element() > 0.0,
-            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
+            timer: PhaseTimer::new(ctx.gpu, 6),
         })
     }
 }
@@ -481,13 +481,7 @@ impl Prepared for State {
             gpu.queue
                 .write_buffer(&self.passes.res.tiles, 0, bytemuck::cast_slice(&tiles));
         }
-        let mark =
-            |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
-                if let Some(t) = timer.as_mut() {
-                    t.mark(enc, name);
-                }
-            };
-        mark(&mut self.timer, enc, "surfaces");
+        phases::mark(&mut self.timer, enc, "surfaces");
         self.renderer.encode_shadows(enc, &mut report);
         let surface_targets = Targets {
             inscatter: targets.inscatter,
@@ -499,13 +493,13 @@ impl Prepared for State {
         self.renderer
             .encode_surface(enc, &surface_targets, &mut report);
         if self.blocked {
-            mark(&mut self.timer, enc, "impostors");
+            phases::mark(&mut self.timer, enc, "impostors");
             self.passes.encode_impostors(enc, &self.renderer);
             report.ran("impostors");
             let groups = 1 + self.passes.sizes.lights;
             report.count("impostor_splats", (groups * self.set.imp.len()) as f64);
         }
-        mark(&mut self.timer, enc, "light");
+        phases::mark(&mut self.timer, enc, "light");
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
         self.passes
             .encode_light(enc, &self.renderer, &views, &lengths);
@@ -517,16 +511,14 @@ impl Prepared for State {
             report.skip("surface-shadows", "no light or no particles");
         }
         report.count("light_faces", views.iter().sum::<u32>() as f64);
-        mark(&mut self.timer, enc, "gather");
+        phases::mark(&mut self.timer, enc, "gather");
         self.passes.encode_gather(enc, &self.renderer, gather.len());
         report.ran("gather");
-        mark(&mut self.timer, enc, "resolve");
+        phases::mark(&mut self.timer, enc, "resolve");
         self.passes
             .encode_resolve(gpu, enc, &self.renderer, targets);
         report.ran("resolve");
-        if let Some(t) = self.timer.as_mut() {
-            t.finish(enc);
-        }
+        phases::finish(&mut self.timer, enc);
         report.count("blocks", self.set.prims.len() as f64);
         // Spheres standing in for blocks that hold the eye or a light, over every list.
         let listed = gather.len() + lengths.iter().sum::<usize>();
@@ -537,7 +529,7 @@ impl Prepared for State {
         Ok(report)
     }
 
-    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+    fn phase_timer(&self) -> Option<&PhaseTimer> {
         self.timer.as_ref()
     }
 }
@@ -605,7 +597,7 @@ impl Method for UmenhofferParticleBlocks {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        shaders(self.id())
+        shader_checks(self.id())
     }
 
     /// Bounds ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe: 0.075 at the
@@ -644,7 +636,7 @@ impl Method for ParticleSplat {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        shaders(self.id())
+        shader_checks(self.id())
     }
 
     /// Bound ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe (0.035).
