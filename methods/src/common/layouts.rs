@@ -77,11 +77,27 @@ pub fn float_texture_array(
     binding: u32,
     visibility: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
+    texture_array(binding, visibility, false)
+}
+
+/// A filterable float 2-D array texture, sampled by `visibility` (spot-pattern layers).
+pub fn filterable_texture_array(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    texture_array(binding, visibility, true)
+}
+
+fn texture_array(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    filterable: bool,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,
         ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            sample_type: wgpu::TextureSampleType::Float { filterable },
             view_dimension: wgpu::TextureViewDimension::D2Array,
             multisampled: false,
         },

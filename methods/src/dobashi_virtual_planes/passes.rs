@@ -5,7 +5,8 @@
 use harness::gpu::color_attachment;
 use harness::{Gpu, Targets};
 
-use crate::common::pipeline::{self, Stage};
+use crate::common::layouts::{float_texture, storage_buffer, uniform_buffer};
+use crate::common::pipeline::{self, ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::wgsl;
@@ -54,40 +55,9 @@ pub const FLAG_CLIP_LAST: u32 = 4;
 const ALL: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
 
-fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: ALL,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    // Writable storage is compute-only (vertex-stage writes need VERTEX_WRITABLE_STORAGE).
-    let writable = matches!(ty, wgpu::BufferBindingType::Storage { read_only: false });
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: if writable {
-            wgpu::ShaderStages::COMPUTE
-        } else {
-            ALL
-        },
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn storage(read_only: bool) -> wgpu::BufferBindingType {
-    wgpu::BufferBindingType::Storage { read_only }
+/// Writable storage is compute-only (vertex-stage writes need VERTEX_WRITABLE_STORAGE).
+fn writable_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    storage_buffer(binding, wgpu::ShaderStages::COMPUTE, false)
 }
 
 fn layout(gpu: &Gpu, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
@@ -136,15 +106,12 @@ fn compute_pipeline(
     source: &str,
 ) -> wgpu::ComputePipeline {
     let module = wgsl::module(&gpu.device, label, source);
-    gpu.device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: Some(&pipeline_layout(gpu, label, renderer, own)),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: renderer.specialization.options(),
-            cache: None,
-        })
+    ComputeStage::new(label, "main").build(
+        &gpu.device,
+        &pipeline_layout(gpu, label, renderer, own),
+        &module,
+        renderer.specialization.constants(),
+    )
 }
 
 /// Every pipeline and resource of the method's own passes.
@@ -192,7 +159,7 @@ impl Passes {
         let far_layout = layout(
             gpu,
             "dobashi far",
-            &[texture_entry(0), buffer_entry(1, storage(false))],
+            &[float_texture(0, ALL), writable_storage(1)],
         );
         let far_pipeline =
             compute_pipeline(gpu, "dobashi far", renderer, &far_layout, &far_source());
@@ -208,9 +175,9 @@ impl Passes {
             gpu,
             "dobashi planes",
             &[
-                texture_entry(0),
-                buffer_entry(1, wgpu::BufferBindingType::Uniform),
-                buffer_entry(2, storage(true)),
+                float_texture(0, ALL),
+                uniform_buffer(1, ALL),
+                storage_buffer(2, ALL, true),
             ],
         );
         let planes_bind = bind(
@@ -357,10 +324,7 @@ pub fn probe_light_map(
     let own = layout(
         gpu,
         "dobashi probe",
-        &[
-            buffer_entry(0, storage(true)),
-            buffer_entry(1, storage(false)),
-        ],
+        &[storage_buffer(0, ALL, true), writable_storage(1)],
     );
     let pipeline = compute_pipeline(gpu, "dobashi probe", renderer, &own, &probe_source());
     let size = std::mem::size_of_val(points) as u64;

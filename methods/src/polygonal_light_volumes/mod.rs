@@ -65,7 +65,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::gamma::GammaTable;
 use crate::common::renderer::{SceneRenderer, unsupported};
-use crate::common::resolve::{self, ResolvePass};
+use crate::common::resolve::{self, Bindings, ResolvePass};
 pub use shaders::{resolve_wgsl, volume_source};
 
 /// Pattern texture size for spot patterns (texels per side).
@@ -153,9 +153,11 @@ impl State {
             &renderer,
             "plv resolve",
             &resolve_wgsl(),
-            Some(std::mem::size_of::<ConfigUniform>() as u64),
-            2,
-            0,
+            Bindings {
+                uniform: Some(std::mem::size_of::<ConfigUniform>() as u64),
+                textures: 2,
+                counters: 0,
+            },
             &constants,
         );
         Ok(State {

@@ -44,7 +44,7 @@ use scenes::{FrameState, Scene, SceneFeatures};
 use crate::common::counters::CounterReadback;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
-use crate::common::resolve::{self, ResolvePass};
+use crate::common::resolve::{self, Bindings, ResolvePass};
 use crate::common::tables::r32_table;
 use crate::common::uniforms::MAX_LIGHTS;
 use airlight::FTable;
@@ -153,9 +153,11 @@ impl FPrime {
             renderer,
             "F' table",
             &fprime_wgsl(),
-            Some(std::mem::size_of::<HybridUniform>() as u64),
-            3,
-            0,
+            Bindings {
+                uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
+                textures: 3,
+                counters: 0,
+            },
             &[],
         );
         FPrime {
@@ -299,9 +301,11 @@ impl State {
             &renderer,
             "hybrid",
             &hybrid_wgsl(),
-            Some(std::mem::size_of::<HybridUniform>() as u64),
-            4,
-            2,
+            Bindings {
+                uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
+                textures: 4,
+                counters: 2,
+            },
             &[("AIRLIGHT", flag(analytic)), ("FPRIME", flag(use_fprime))],
         );
         let fprime = use_fprime.then(|| FPrime::new(gpu, &renderer));
