@@ -17,7 +17,7 @@ use super::pixel::PixelPass;
 use super::shaders::passes_source;
 use super::spot_rays::{self, SpotRays};
 use super::types::{Accumulate, Config, Eval, PolyUniform, Resolve, SLOT};
-use crate::common::gpu_scene::GpuScene;
+use crate::common::gpu_scene::{GpuScene, write_vertices};
 use crate::common::layouts::{
     dynamic_uniform, float_texture_array, fragment_texture, storage_buffer,
 };
@@ -220,20 +220,7 @@ impl Passes {
             return;
         }
         let bytes: &[u8] = bytemuck::cast_slice(&verts);
-        if self
-            .vertices
-            .as_ref()
-            .is_none_or(|b| b.size() < bytes.len() as u64)
-        {
-            self.vertices = Some(gpu.buffer(&wgpu::BufferDescriptor {
-                label: Some("biri-poly planes"),
-                size: bytes.len().next_power_of_two() as u64,
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
-        }
-        gpu.queue
-            .write_buffer(self.vertices.as_ref().expect("allocated"), 0, bytes);
+        write_vertices(gpu, &mut self.vertices, "biri-poly planes", bytes);
     }
 }
 
@@ -246,7 +233,7 @@ fn specialization(
     let kinds = &ctx.scene.features().light_kinds;
     let flag = crate::common::specialize::flag;
     renderer.specialization.with(&[
-        ("ANY_SPOT", flag(kinds.iter().any(|k| *k == "spot"))),
+        ("ANY_SPOT", flag(kinds.contains(&"spot"))),
         (
             "ALL_SPOT",
             flag(!kinds.is_empty() && kinds.iter().all(|k| *k == "spot")),

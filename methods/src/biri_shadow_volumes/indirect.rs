@@ -35,9 +35,10 @@ use harness::gpu::{color_attachment, depth_attachment};
 use harness::method::{AOV_FORMAT, PrepareContext};
 use scenes::Phase;
 
-use crate::common::gamma::{gauss, lambda_of_u};
+use crate::common::gamma::lambda_of_u;
 use crate::common::layouts::{buffer_entry, fragment_texture, uniform_buffer, view_entry};
 use crate::common::pipeline::{self, Stage};
+use crate::common::quadrature::gauss;
 use crate::common::renderer::{SceneRenderer, surface_source};
 use crate::common::tables::r32_table;
 

@@ -32,10 +32,14 @@ pub struct PixelPass {
     height: u32,
 }
 
-/// What the per-pixel passes draw with: the plane vertices, group 1 (`bind_group`) and the
-/// scene depth the planes are tested against.
+/// What the per-pixel passes of a frame draw with: the plane vertices and each light's range of
+/// them, group 0 (the renderer's) and group 1 (`bind_group`), and the scene depth the planes are
+/// tested against.
 pub struct Draw<'a> {
+    pub gpu: &'a Gpu,
+    pub renderer: &'a SceneRenderer,
     pub vertices: Option<&'a wgpu::Buffer>,
+    pub ranges: &'a [LightRange],
     pub bind: &'a wgpu::BindGroup,
     pub depth: &'a wgpu::TextureView,
 }
@@ -144,23 +148,20 @@ impl PixelPass {
 
     /// Per light: count its crossings into `pre` (then submitted, the pool sized), gather them
     /// and walk them into `enc`. `out` (in group 1): the Rgba32Float running sum over lights.
-    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,
-        gpu: &Gpu,
         mut pre: wgpu::CommandEncoder,
         enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
         draw: Draw,
-        ranges: &[LightRange],
         report: &mut FrameReport,
     ) -> anyhow::Result<()> {
-        for (k, r) in ranges.iter().enumerate() {
-            self.draw_planes(gpu, &mut pre, renderer, &draw, r, k, &self.count);
+        let gpu = draw.gpu;
+        for k in 0..draw.ranges.len() {
+            self.draw_planes(&mut pre, &draw, k, &self.count);
         }
         self.lists.size_pool(gpu, pre, report)?;
-        for (k, r) in ranges.iter().enumerate() {
-            self.draw_planes(gpu, enc, renderer, &draw, r, k, &self.gather);
+        for k in 0..draw.ranges.len() {
+            self.draw_planes(enc, &draw, k, &self.gather);
             let mut pass = gpu.compute_pass(
                 enc,
                 &wgpu::ComputePassDescriptor {
@@ -169,7 +170,7 @@ impl PixelPass {
                 },
             );
             pass.set_pipeline(&self.walk);
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
+            pass.set_bind_group(0, &draw.renderer.frame_bind, &[]);
             pass.set_bind_group(1, draw.bind, &slot_offset(k));
             pass.set_bind_group(GROUP, self.lists.bind_group(), &self.lists.slot(k));
             pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
@@ -178,22 +179,19 @@ impl PixelPass {
         Ok(())
     }
 
-    /// Light k's planes (range r) with `pipe` (count or gather), depth-tested, no colour.
-    #[allow(clippy::too_many_arguments)]
+    /// Light k's planes with `pipe` (count or gather), depth-tested, no colour.
     fn draw_planes(
         &self,
-        gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
         draw: &Draw,
-        r: &LightRange,
         k: usize,
         pipe: &wgpu::RenderPipeline,
     ) {
+        let r = &draw.ranges[k];
         let Some(v) = draw.vertices.filter(|_| r.end > r.first) else {
             return;
         };
-        let mut pass = gpu.render_pass(
+        let mut pass = draw.gpu.render_pass(
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some("biri crossing lists"),
@@ -206,7 +204,7 @@ impl PixelPass {
             },
         );
         pass.set_pipeline(pipe);
-        pass.set_bind_group(0, &renderer.frame_bind, &[]);
+        pass.set_bind_group(0, &draw.renderer.frame_bind, &[]);
         pass.set_bind_group(1, draw.bind, &slot_offset(k));
         pass.set_bind_group(GROUP, self.lists.bind_group(), &self.lists.slot(k));
         pass.set_vertex_buffer(0, v.slice(..));

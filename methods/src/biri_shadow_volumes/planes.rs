@@ -10,6 +10,7 @@ use harness::{FrameReport, Gpu};
 use scenes::FrameState;
 
 use crate::common::crossing_lists;
+use crate::common::gpu_scene::write_vertices;
 use crate::common::layouts::{dynamic_uniform, fragment_texture, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
@@ -183,20 +184,7 @@ impl Planes {
         report.count("shadow_planes", (verts.len() / 6) as f64);
         if !verts.is_empty() {
             let bytes: &[u8] = bytemuck::cast_slice(&verts);
-            if !self
-                .vertices
-                .as_ref()
-                .is_some_and(|b| b.size() >= bytes.len() as u64)
-            {
-                self.vertices = Some(gpu.buffer(&wgpu::BufferDescriptor {
-                    label: Some("biri planes"),
-                    size: bytes.len().next_power_of_two() as u64,
-                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }));
-            }
-            gpu.queue
-                .write_buffer(self.vertices.as_ref().expect("allocated"), 0, bytes);
+            write_vertices(gpu, &mut self.vertices, "biri planes", bytes);
         }
         eye_lit
     }
@@ -337,11 +325,14 @@ impl Planes {
         phases::mark(timer, enc, VOLUMES);
         let pixel_bind = pixel.bind_group(f.gpu, f.renderer, table, &self.uniform, &self.acc_view);
         let draw = Draw {
+            gpu: f.gpu,
+            renderer: f.renderer,
             vertices: self.vertices.as_ref(),
+            ranges: &self.ranges,
             bind: &pixel_bind,
             depth: &self.depth_view,
         };
-        pixel.encode(f.gpu, pre, enc, f.renderer, draw, &self.ranges, report)
+        pixel.encode(pre, enc, draw, report)
     }
 
     /// A pass over the accumulation target (`load`: cleared or kept) and the depth-stencil

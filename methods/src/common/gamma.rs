@@ -19,6 +19,8 @@
 use harness::Gpu;
 use scenes::Phase;
 
+use super::quadrature::gauss;
+
 /// Γ sampled on a `lambda_res` × `w_res` grid: row i holds λ_i = u_i/(1 − u_i), u_i = i/lambda_res
 /// (the last row is λ = lambda_res − 1; larger λ clamp to it); column j holds w_j = j/(w_res − 1).
 #[derive(Clone, Debug)]
@@ -62,33 +64,6 @@ fn integrand_w(phase: &Phase, lambda: f64, w: f64) -> f64 {
     let s = w / (1.0 - w);
     let sin_a = (s * s - 1.0) / (s * s + 1.0);
     phase.eval(-sin_a) * (-lambda * s).exp() * jac
-}
-
-/// 8-point Gauss–Legendre nodes and weights on [−1, 1].
-const GL8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
-];
-
-/// ∫_a^b f by Gauss–Legendre on `n` equal pieces.
-pub fn gauss(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
-    let h = (b - a) / n as f64;
-    (0..n)
-        .map(|k| {
-            let m = a + (k as f64 + 0.5) * h;
-            GL8.iter()
-                .map(|(x, wt)| wt * f(m + 0.5 * h * x))
-                .sum::<f64>()
-                * 0.5
-                * h
-        })
-        .sum()
 }
 
 impl GammaTable {

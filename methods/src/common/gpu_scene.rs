@@ -174,3 +174,22 @@ pub fn mesh_pipeline(
         .depth(depth)
         .build(device, layout, module, constants)
 }
+
+/// Writes `bytes` to the vertex buffer in `slot`, first replacing it with one of the next power
+/// of two in size when it is missing or too small: for vertices rebuilt on the CPU per frame
+/// (shadow planes, shadow-volume quads), so a buffer is allocated only when a frame outgrows it.
+pub fn write_vertices(gpu: &Gpu, slot: &mut Option<wgpu::Buffer>, label: &str, bytes: &[u8]) {
+    let fits = slot
+        .as_ref()
+        .is_some_and(|b| b.size() >= bytes.len() as u64);
+    if !fits {
+        *slot = Some(gpu.buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: (bytes.len() as u64).next_power_of_two(),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }));
+    }
+    let buffer = slot.as_ref().expect("allocated above");
+    gpu.queue.write_buffer(buffer, 0, bytes);
+}

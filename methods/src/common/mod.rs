@@ -9,6 +9,7 @@ pub mod knobs;
 pub mod layouts;
 pub mod patterns;
 pub mod pipeline;
+pub mod quadrature;
 pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;

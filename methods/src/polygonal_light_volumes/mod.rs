@@ -344,7 +344,7 @@ mod tests {
             ("table", ParamValue::Int(8)),
             ("panels", ParamValue::Int(0)),
         ] {
-            let refused = params(&[bad.clone()]).and_then(|p| knobs(&p).map(|_| ()));
+            let refused = params(std::slice::from_ref(&bad)).and_then(|p| knobs(&p).map(|_| ()));
             let e = refused.expect_err(bad.0).to_string();
             assert!(e.contains(bad.0), "{e}");
         }

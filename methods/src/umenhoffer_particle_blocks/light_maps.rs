@@ -17,8 +17,8 @@
 use glam::{Vec2, Vec3};
 use scenes::LightState;
 
-use super::blocks::{self, Prim};
 use super::passes::{FACES, PbUniform, ViewUniform};
+use super::primitives::{Prim, basis_of};
 use crate::common::shadow_maps::CUBE_FACE_AXES;
 use crate::common::sphere_cone::{SphereSeen, cone_reaches_sphere};
 
@@ -103,7 +103,7 @@ fn with_slices(mut v: ViewUniform, dmin: f32, dmax: f32, slices: u32) -> ViewUni
 }
 
 fn directional(l: Vec3, prims: &[Prim], slices: u32) -> ViewUniform {
-    let (r, up) = blocks::basis_of(l);
+    let (r, up) = basis_of(l);
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
     let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
     for p in prims {
@@ -130,7 +130,7 @@ fn directional(l: Vec3, prims: &[Prim], slices: u32) -> ViewUniform {
 
 /// A perspective map with axis `axis` and half-angle tangent `tan` at `lp`.
 fn perspective(lp: Vec3, axis: Vec3, tan: f32) -> ViewUniform {
-    let (r, up) = blocks::basis_of(axis);
+    let (r, up) = basis_of(axis);
     ViewUniform {
         u: [r.x, r.y, r.z, 1.0],
         v: [up.x, up.y, up.z, 0.0],
@@ -173,7 +173,7 @@ fn cube(lp: Vec3, prims: &[Prim], slices: u32) -> Vec<ViewUniform> {
         .iter()
         .map(|&axis| {
             let v = perspective(lp, axis, CUBE_TAN);
-            let (r, up) = blocks::basis_of(axis);
+            let (r, up) = basis_of(axis);
             let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
             for p in prims {
                 let q = centre(p) - lp;

@@ -98,9 +98,11 @@
 
 pub mod blocks;
 pub mod camera_bins;
+pub mod clusters;
 pub mod held;
 pub mod light_maps;
 pub mod passes;
+pub mod primitives;
 mod shaders;
 pub mod surface_shadow;
 
@@ -116,8 +118,9 @@ use scenes::{FrameState, LightState, SceneFeatures};
 
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, renderer_limits};
-use blocks::{BlockSet, Instancing, Prim};
+use blocks::Instancing;
 use passes::{Passes, PbUniform, Sizes};
+use primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
 
 /// The largest atlas side (texels); tiles shrink to fit when there are many blocks.
 const ATLAS_MAX: u32 = 2048;
@@ -374,7 +377,7 @@ impl State {
 
     /// With camera bins: each gathered block's camera tile (its bin's) and the set's tiles with
     /// the camera tiles anchored at their bins (camera_bins.rs); otherwise the set's tiles.
-    fn bin_camera_tiles(&self, eye: Vec3, gather: &mut [Prim]) -> Vec<(blocks::TileView, f32)> {
+    fn bin_camera_tiles(&self, eye: Vec3, gather: &mut [Prim]) -> Vec<(TileView, f32)> {
         let mut tiles = self.set.tiles.clone();
         if self.camera_grid < 2 {
             return tiles;
@@ -391,21 +394,17 @@ impl State {
             gather[i].extra[2] = (1 + b) as f32;
         }
         for (b, a) in anchors.into_iter().enumerate() {
-            tiles[1 + b].0 = blocks::TileView::Camera(a);
+            tiles[1 + b].0 = TileView::Camera(a);
         }
         tiles
     }
 
     /// This frame's impostor tile frames: light k's tiles are `set` (the set's tiles, camera
     /// tiles binned) framed for light k, k·T further on.
-    fn tile_frames(
-        &self,
-        frame: &FrameState,
-        set: &[(blocks::TileView, f32)],
-    ) -> Vec<blocks::Tile> {
+    fn tile_frames(&self, frame: &FrameState, set: &[(TileView, f32)]) -> Vec<Tile> {
         let eye = frame.camera.position;
         if frame.lights.is_empty() {
-            return blocks::tile_frames(set, eye, None, None);
+            return tile_frames(set, eye, None, None);
         }
         let mut tiles = Vec::new();
         for light in &frame.lights {
@@ -413,7 +412,7 @@ impl State {
                 LightState::Directional { direction, .. } => (Some(direction.normalize()), None),
                 l => (None, l.position()),
             };
-            tiles.extend(blocks::tile_frames(set, eye, ldir, lpos));
+            tiles.extend(tile_frames(set, eye, ldir, lpos));
         }
         tiles
     }

@@ -8,7 +8,7 @@ use harness::gpu::{Counted, color_attachment};
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
-use super::blocks::{ImpParticle, Prim, Tile};
+use super::primitives::{ImpParticle, Prim, Tile};
 use super::shaders::{GATHER_WGSL, IMPOSTOR_WGSL, LIGHT_WGSL, RESOLVE_WGSL, source, total_source};
 use super::surface_shadow::SurfaceShadow;
 use crate::common::layouts::{

@@ -10,6 +10,7 @@ use harness::{FrameReport, Gpu};
 use scenes::{FrameState, LightState};
 
 use super::shaders::volumes_source;
+use crate::common::gpu_scene::write_vertices;
 use crate::common::pipeline::{self, MAX, MIN, Stage, both, target};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{ShadowCasters, light_pos};
@@ -122,20 +123,7 @@ impl ShadowVolumes {
             return;
         }
         let bytes: &[u8] = bytemuck::cast_slice(&verts);
-        let fits = self
-            .vertex_buffer
-            .as_ref()
-            .is_some_and(|b| b.size() >= bytes.len() as u64);
-        if !fits {
-            self.vertex_buffer = Some(gpu.buffer(&wgpu::BufferDescriptor {
-                label: Some("shadow-volume quads"),
-                size: (bytes.len() as u64).next_power_of_two(),
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
-        }
-        let buffer = self.vertex_buffer.as_ref().expect("allocated above");
-        gpu.queue.write_buffer(buffer, 0, bytes);
+        write_vertices(gpu, &mut self.vertex_buffer, "shadow-volume quads", bytes);
     }
 
     /// The nearest and farthest polygon distances per pixel (targets cleared even without
