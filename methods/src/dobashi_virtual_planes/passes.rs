@@ -9,6 +9,7 @@ use crate::common::layouts::{float_texture, storage_buffer, uniform_buffer};
 use crate::common::pipeline::{self, ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::specialize::flag;
 use crate::common::wgsl;
 
 pub const DOBASHI_WGSL: &str = include_str!("dobashi.wgsl");
@@ -114,6 +115,40 @@ fn compute_pipeline(
     )
 }
 
+/// The virtual planes: instanced lattices blended additively into the accumulation target
+/// (`accum`), ξ per fragment or per vertex. Planes end at the surfaces by a test against the
+/// surface pass's distance in the fragment shader (it also needs the distance to shorten the
+/// last slab): no depth.
+fn planes_pipeline(
+    gpu: &Gpu,
+    renderer: &SceneRenderer,
+    own: &wgpu::BindGroupLayout,
+    accum: wgpu::TextureFormat,
+    xi_per_fragment: bool,
+) -> wgpu::RenderPipeline {
+    let constants = renderer
+        .specialization
+        .with(&[("XI_PER_FRAGMENT", flag(xi_per_fragment))]);
+    let module = wgsl::module(&gpu.device, "dobashi planes", &planes_source());
+    let layout = pipeline_layout(gpu, "dobashi planes", renderer, own);
+    let targets = [pipeline::target(accum, Some(pipeline::ADDITIVE))];
+    Stage::new("dobashi planes", "vs")
+        .fragment("fs", &targets)
+        .build(&gpu.device, &layout, &module, &constants)
+}
+
+/// Two triangles per cell of an `nu` × `nv` lattice of points, row by row.
+fn lattice_indices((nu, nv): (u32, u32)) -> Vec<u32> {
+    let mut idx = Vec::with_capacity(((nu - 1) * (nv - 1) * 6) as usize);
+    for j in 0..nv - 1 {
+        for i in 0..nu - 1 {
+            let a = j * nu + i;
+            idx.extend([a, a + 1, a + nu, a + 1, a + nu + 1, a + nu]);
+        }
+    }
+    idx
+}
+
 /// Every pipeline and resource of the method's own passes.
 pub struct Passes {
     uniform: wgpu::Buffer,
@@ -138,9 +173,6 @@ impl Passes {
         accum: wgpu::TextureFormat,
         xi_per_fragment: bool,
     ) -> Passes {
-        let plane_constants = renderer
-            .specialization
-            .with(&[("XI_PER_FRAGMENT", if xi_per_fragment { 1.0 } else { 0.0 })]);
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("dobashi planes"),
             size: std::mem::size_of::<PlanesUniform>() as u64,
@@ -190,22 +222,9 @@ impl Passes {
                 far_bits.as_entire_binding(),
             ],
         );
-        let module = wgsl::module(&gpu.device, "dobashi planes", &planes_source());
-        let layout = pipeline_layout(gpu, "dobashi planes", renderer, &planes_layout);
-        let targets = [pipeline::target(accum, Some(pipeline::ADDITIVE))];
-        // Planes end at the surfaces by a test against the surface pass's distance in the
-        // fragment shader (it also needs the distance to shorten the last slab): no depth.
-        let planes_pipeline = Stage::new("dobashi planes", "vs")
-            .fragment("fs", &targets)
-            .build(&gpu.device, &layout, &module, &plane_constants);
-        let (nu, nv) = lattice;
-        let mut idx = Vec::with_capacity(((nu - 1) * (nv - 1) * 6) as usize);
-        for j in 0..nv - 1 {
-            for i in 0..nu - 1 {
-                let a = j * nu + i;
-                idx.extend([a, a + 1, a + nu, a + 1, a + nu + 1, a + nu]);
-            }
-        }
+        let planes_pipeline =
+            planes_pipeline(gpu, renderer, &planes_layout, accum, xi_per_fragment);
+        let idx = lattice_indices(lattice);
         let lattice_buf = gpu.buffer_init(
             "dobashi lattice",
             bytemuck::cast_slice(&idx),

@@ -44,6 +44,19 @@ struct Timer {
 }
 
 impl Timer {
+    /// Room for the frame's eight phases, where the device has timestamps inside encoders.
+    fn new(gpu: &Gpu) -> Timer {
+        Timer {
+            timer: PhaseTimer::new(gpu, 8),
+            fence: gpu.buffer(&wgpu::BufferDescriptor {
+                label: Some("froxel phase fence"),
+                size: 16,
+                usage: wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
     /// Starts phase `phase` of the frame, if there is a timer.
     fn mark(&mut self, enc: &mut wgpu::CommandEncoder, phase: &'static str) {
         phases::mark(&mut self.timer, enc, phase);
@@ -118,27 +131,20 @@ impl State {
             shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
         };
         let volume_passes = VolumePasses::new(gpu, &renderer, buffers, modes);
-        let particles = if is_particles {
-            let shared = Shared {
-                froxel: &uniform,
-                medium: &medium,
-            };
-            let g = Grid {
-                columns: (grid.grid_x, grid.grid_y),
-                pixel_size: grid.pixel_size,
-                image: (ctx.width, ctx.height),
-            };
-            Some(ParticlePasses::new(
-                gpu,
-                &renderer,
-                shared,
-                g,
-                n,
-                ctx.no_skip,
-            )?)
-        } else {
-            None
-        };
+        let particles = is_particles
+            .then(|| {
+                let shared = Shared {
+                    froxel: &uniform,
+                    medium: &medium,
+                };
+                let g = Grid {
+                    columns: (grid.grid_x, grid.grid_y),
+                    pixel_size: grid.pixel_size,
+                    image: (ctx.width, ctx.height),
+                };
+                ParticlePasses::new(gpu, &renderer, shared, g, n, ctx.no_skip)
+            })
+            .transpose()?;
         let apply = ResolvePass::with_textures(
             gpu,
             &renderer,
@@ -162,15 +168,7 @@ impl State {
                 rendered: 0,
                 previous: None,
             },
-            timer: Timer {
-                timer: PhaseTimer::new(gpu, 8),
-                fence: gpu.buffer(&wgpu::BufferDescriptor {
-                    label: Some("froxel phase fence"),
-                    size: 16,
-                    usage: wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }),
-            },
+            timer: Timer::new(gpu),
         })
     }
 
