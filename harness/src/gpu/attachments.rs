@@ -22,14 +22,7 @@ pub fn depth_attachment(
     view: &wgpu::TextureView,
     depth: wgpu::LoadOp<f32>,
 ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-    wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(wgpu::Operations {
-            load: depth,
-            store: wgpu::StoreOp::Store,
-        }),
-        stencil_ops: None,
-    }
+    depth_only(view, depth, wgpu::StoreOp::Store)
 }
 
 /// A depth attachment of `view` (a format without stencil) that only serves this pass's depth
@@ -38,12 +31,17 @@ pub fn depth_scratch_attachment(
     view: &wgpu::TextureView,
     depth: wgpu::LoadOp<f32>,
 ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    depth_only(view, depth, wgpu::StoreOp::Discard)
+}
+
+fn depth_only(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+    store: wgpu::StoreOp,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
     wgpu::RenderPassDepthStencilAttachment {
         view,
-        depth_ops: Some(wgpu::Operations {
-            load: depth,
-            store: wgpu::StoreOp::Discard,
-        }),
+        depth_ops: Some(wgpu::Operations { load, store }),
         stencil_ops: None,
     }
 }
