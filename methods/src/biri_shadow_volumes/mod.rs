@@ -42,8 +42,8 @@
 //! every pixel's order along the ray; long extruded planes of different casters interleave (e.g.
 //! `overlap-point`, with the eye in a shadow), so there the per-pixel resolve is the exact one.
 //! Lights beyond the paper (modernised; the paper's point-light path is unchanged): both
-//! resolves evaluate every lit interval through ONE function, `lit_between` (`ldss.wgsl`),
-//! dispatched on the light's kind — point lights by eq. 7's Γ lookups; directional light in
+//! resolves evaluate every lit interval through ONE function, `lit_between`
+//! (`common/wgsl/ldss.wgsl`, shared with polygonal-light-volumes), dispatched on the light's kind — point lights by eq. 7's Γ lookups; directional light in
 //! closed form, σ_s E p(θ) (e^(−σ_t a) − e^(−σ_t b))/σ_t (the scattering angle is constant along
 //! the ray; the paper: directional lights "are easier to handle ... and will not be a problem"),
 //! its shadow planes extruded along the direction; spot lights (falloff and projected pattern)
