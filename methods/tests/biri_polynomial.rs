@@ -571,7 +571,7 @@ fn every_homogeneous_scene_is_supported() {
         if f.medium != "homogeneous" {
             continue; // refused for the medium
         }
-        directional += f.light_kinds.iter().any(|k| *k == "directional") as u32;
+        directional += f.light_kinds.contains(&"directional") as u32;
         match BiriPolynomial.support(&f, wgpu::Features::empty()) {
             Support::Full => assert!(!f.indirect_single_scattering, "{name}"),
             Support::Partial(parts) => {
@@ -727,7 +727,7 @@ fn directional_light_against_reference() {
     };
     let per_pixel = error(&scene, &[]);
     let planes = ("resolve", text("planes"));
-    let rules = error(&scene, &[planes.clone()]);
+    let rules = error(&scene, std::slice::from_ref(&planes));
     let every = error(
         &scene,
         &[planes.clone(), ("stencil_rules", ParamValue::Bool(false))],

@@ -474,7 +474,7 @@ fn mixed_light_kinds_match_reference() {
     let scene = testing::scene_text(include_str!("scenes/mixed-lights.json"), "mixed-lights");
     let case = Case::new(scene, 48);
     let panels = ("spot_panels", ParamValue::Int(64));
-    let pixel = case.error(&gpu, &[panels.clone()]);
+    let pixel = case.error(&gpu, std::slice::from_ref(&panels));
     let mut list = stencil(true);
     list.push(panels);
     let rules = case.error(&gpu, &list);

@@ -139,7 +139,7 @@ fn temporal_accumulation_lowers_the_error_of_a_static_scene() {
     let Some(gpu) = gpu() else { return };
     let scene = library("fence-spot");
     let grid = ("columns", ParamValue::Int(16));
-    let off = headline_after(&gpu, &scene, 128, &[grid.clone()], &[0]);
+    let off = headline_after(&gpu, &scene, 128, std::slice::from_ref(&grid), &[0]);
     let on = headline_after(
         &gpu,
         &scene,
@@ -168,7 +168,7 @@ fn temporal_reprojection_follows_a_moving_camera() {
     scene.desc.frames = 8;
     let order: Vec<u32> = (0..8).rev().collect();
     let grid = ("columns", ParamValue::Int(16));
-    let off = headline_after(&gpu, &scene, 128, &[grid.clone()], &order);
+    let off = headline_after(&gpu, &scene, 128, std::slice::from_ref(&grid), &order);
     let on = headline_after(
         &gpu,
         &scene,

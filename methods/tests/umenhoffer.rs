@@ -58,7 +58,10 @@ fn render_counted(
     (out, timing.report)
 }
 
-fn blocks(n: i64, mode: &str) -> Vec<(&'static str, ParamValue)> {
+/// Knob overrides of one run.
+type Knobs = Vec<(&'static str, ParamValue)>;
+
+fn blocks(n: i64, mode: &str) -> Knobs {
     vec![
         ("blocks", ParamValue::Int(n)),
         ("instancing", ParamValue::Text(mode.into())),
@@ -80,7 +83,7 @@ fn impostor_opacity_of_one_sphere_matches_the_analytic_chord() {
     ));
     let res = 48;
     let rays = s.frame(0).camera.rays(res, res);
-    let cases: [(&str, Vec<(&str, ParamValue)>, f64, f64); 3] = [
+    let cases: [(&str, Knobs, f64, f64); 3] = [
         // One block of one particle: the opacity goes through a 64² depth impostor.
         // (f16 texels: ~1e-3; measured max 1.5e-3, mean 1.2e-3.)
         (

@@ -1,4 +1,5 @@
-//! Render-pass attachments as every pass writes them: loaded or cleared, always stored.
+//! Render-pass attachments as every pass writes them: loaded or cleared, stored — except a
+//! depth buffer a pass only tests against and nothing reads after it ([`depth_scratch_attachment`]).
 
 /// A colour attachment of `view`: `load` (e.g. `LoadOp::Load`, or a clear), stored.
 pub fn color_attachment(
@@ -21,12 +22,26 @@ pub fn depth_attachment(
     view: &wgpu::TextureView,
     depth: wgpu::LoadOp<f32>,
 ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    depth_only(view, depth, wgpu::StoreOp::Store)
+}
+
+/// A depth attachment of `view` (a format without stencil) that only serves this pass's depth
+/// test: loaded or cleared, then discarded (nothing reads it after the pass).
+pub fn depth_scratch_attachment(
+    view: &wgpu::TextureView,
+    depth: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    depth_only(view, depth, wgpu::StoreOp::Discard)
+}
+
+fn depth_only(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+    store: wgpu::StoreOp,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
     wgpu::RenderPassDepthStencilAttachment {
         view,
-        depth_ops: Some(wgpu::Operations {
-            load: depth,
-            store: wgpu::StoreOp::Store,
-        }),
+        depth_ops: Some(wgpu::Operations { load, store }),
         stencil_ops: None,
     }
 }

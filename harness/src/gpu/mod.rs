@@ -18,7 +18,9 @@ use std::sync::{Arc, Mutex};
 use serde::{Deserialize, Serialize};
 
 pub use adapters::{AdapterReport, DeviceChoice, SuiteFeatures};
-pub use attachments::{color_attachment, depth_attachment, depth_stencil_attachment};
+pub use attachments::{
+    color_attachment, depth_attachment, depth_scratch_attachment, depth_stencil_attachment,
+};
 pub use phases::PhaseTimer;
 pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use stats::{Counted, FrameWork, PassCounter, StatsQuery, WORK_COUNTERS};

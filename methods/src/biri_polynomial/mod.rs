@@ -75,7 +75,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
-use crate::common::resolve::{self, ResolvePass};
+use crate::common::resolve::ResolvePass;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 
 pub mod geometry;
@@ -87,28 +87,17 @@ mod pixel;
 pub mod poly;
 #[cfg(test)]
 mod poly_tests;
+mod shaders;
 pub mod spot;
 mod spot_rays;
 mod spot_tables;
 #[cfg(test)]
 mod spot_tests;
+mod types;
 
-pub use passes::{Accumulate, Eval, Resolve};
-
-/// The WGSL kernel library (Λ, Taylor and Chebyshev segment integrals); the including module
-/// supplies `biri_phase(cos) -> f32`.
-pub const KERNEL_WGSL: &str = include_str!("kernel.wgsl");
-const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
-
-/// The composed WGSL of the surface and shadow-plane passes.
-pub fn passes_source() -> String {
-    passes::source()
-}
-
-/// The composed WGSL of the last (resolve) pass.
-pub fn resolve_source() -> String {
-    resolve::source(RESOLVE_WGSL)
-}
+pub use shaders::{KERNEL_WGSL, passes_source, resolve_source};
+use types::Config;
+pub use types::{Accumulate, Eval, Resolve};
 
 /// `mode` in resolve.wgsl, field for field.
 #[repr(C)]
@@ -131,7 +120,7 @@ pub struct State {
 }
 
 /// The knobs, parsed and checked.
-fn config(ctx: &PrepareContext) -> Result<passes::Config> {
+fn config(ctx: &PrepareContext) -> Result<Config> {
     let p = ctx.params;
     let order: u32 = p.knob("order")?;
     let fit = poly::Fit::parse(&p.knob::<String>("fit")?).map_err(anyhow::Error::msg)?;
@@ -170,7 +159,7 @@ fn config(ctx: &PrepareContext) -> Result<passes::Config> {
     {
         *s = v as f32;
     }
-    Ok(passes::Config {
+    Ok(Config {
         resolve,
         eval,
         accumulate,
@@ -325,7 +314,7 @@ impl State {
             StencilSurfaceShadows::new(
                 ctx.gpu,
                 &renderer,
-                passes::DEPTH,
+                crate::common::stencil::DEPTH_STENCIL,
                 ctx.scene.features().lights,
             )
         });
@@ -333,7 +322,7 @@ impl State {
             ctx.gpu,
             &renderer,
             "biri-poly resolve",
-            RESOLVE_WGSL,
+            shaders::RESOLVE_WGSL,
             Some(std::mem::size_of::<ResolveUniform>() as u64),
             1,
         );

@@ -14,96 +14,20 @@ use scenes::{FrameState, Scene};
 use super::geometry::{faces_eye, far_grid, light_order_key, mesh_quad};
 use super::pipelines::Pipelines;
 use super::pixel::PixelPass;
+use super::shaders::passes_source;
 use super::spot_rays::{self, SpotRays};
-use crate::common::crossing_lists;
-use crate::common::gpu_scene::GpuScene;
+use super::types::{Accumulate, Config, Eval, PolyUniform, Resolve, SLOT};
+use crate::common::gpu_scene::{GpuScene, write_vertices};
+use crate::common::layouts::{
+    dynamic_uniform, float_texture_array, fragment_texture, storage_buffer,
+};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
+use crate::common::stencil::DEPTH_STENCIL;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
 mod encode;
-
-pub use crate::common::stencil::DEPTH_STENCIL as DEPTH;
-/// Uniform slot stride (wgpu's guaranteed minimum dynamic-offset alignment).
-const SLOT: u64 = 256;
-
-/// The composed WGSL of the passes.
-pub fn source() -> String {
-    wgsl::compose(
-        &[wgsl::PRELUDE, &[wgsl::FULLSCREEN, wgsl::LIGHT_SEGMENTS]].concat(),
-        &format!(
-            "{}\n{}\n{}\n{}\n{}\n{}\n{}",
-            super::KERNEL_WGSL,
-            include_str!("passes.wgsl"),
-            include_str!("spot.wgsl"),
-            include_str!("spot_rays.wgsl"),
-            crossing_lists::WGSL,
-            crossing_lists::PASSES_WGSL,
-            include_str!("pixel.wgsl")
-        ),
-    )
-}
-
-/// Where Γ is evaluated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Eval {
-    /// Per vertex, Gouraud-interpolated (the paper).
-    Vertex,
-    /// Per fragment (the modern variant).
-    Fragment,
-}
-
-/// How the plane crossings become in-scatter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Resolve {
-    /// Per-pixel crossing lists sorted and walked (`pixel.rs`; modern, exact shadow in shadow).
-    PerPixel,
-    /// The paper's: planes front to back in eq. 13/14's order under §4.4's stencil rules.
-    Planes,
-}
-
-/// The accumulation target.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Accumulate {
-    /// Rgba32Float, signed sums: exact up to f32 rounding.
-    Float,
-    /// Rgba8Unorm as on the paper's GeForce 2: total radiance clamped to [0, 1] after every
-    /// blend and quantised to 1/255 (§5.2's quantization problem).
-    Unorm8,
-}
-
-/// The knobs the passes depend on.
-#[derive(Clone, Copy, Debug)]
-pub struct Config {
-    pub resolve: Resolve,
-    pub eval: Eval,
-    pub accumulate: Accumulate,
-    /// Subdivision levels of the surfaces (vertex evaluation only).
-    pub tessellation: u32,
-    /// Strips per shadow plane (vertex evaluation only).
-    pub plane_segments: u32,
-    /// §4.4's stencil rules; false counts every crossing (exact for disjoint shadow volumes).
-    pub stencil_rules: bool,
-    /// The per-light uniform: [order, fit, _, _] and the phase series.
-    pub order: u32,
-    pub fit: u32,
-    pub series: [f32; 12],
-    /// Spots (eq. 7): half circles per unit of the plane-normal grid (n_u = N, n_φ = 2N).
-    pub half_circles: u32,
-}
-
-/// `poly` in passes.wgsl, field for field (order and fit are the overrides ORDER and FIT).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct PolyUniform {
-    light: u32,
-    signed_output: u32,
-    _pad: [u32; 2],
-    series: [f32; 12],
-    spot: [u32; 4],
-    spot_f: [f32; 4],
-}
 
 /// One light's planes in the vertex buffer: (vertex range, faces the eye), in drawing order.
 struct LightDraws {
@@ -167,7 +91,7 @@ impl Passes {
             |label, format, usage| gpu.texture_2d(label, ctx.width, ctx.height, format, usage);
         let depth = tex(
             "biri-poly depth-stencil",
-            DEPTH,
+            DEPTH_STENCIL,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let acc = tex(
@@ -183,7 +107,7 @@ impl Passes {
             bytemuck::cast_slice(&spots.data),
             wgpu::BufferUsages::STORAGE,
         );
-        let module = wgsl::module(&gpu.device, "biri-poly passes", &source());
+        let module = wgsl::module(&gpu.device, "biri-poly passes", &passes_source());
         let is_spot: Vec<bool> = match cfg.eval {
             Eval::Vertex => vec![],
             Eval::Fragment => spots.slots.iter().map(|s| s.1[1] > 0.5).collect(),
@@ -296,20 +220,7 @@ impl Passes {
             return;
         }
         let bytes: &[u8] = bytemuck::cast_slice(&verts);
-        if self
-            .vertices
-            .as_ref()
-            .is_none_or(|b| b.size() < bytes.len() as u64)
-        {
-            self.vertices = Some(gpu.buffer(&wgpu::BufferDescriptor {
-                label: Some("biri-poly planes"),
-                size: bytes.len().next_power_of_two() as u64,
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
-        }
-        gpu.queue
-            .write_buffer(self.vertices.as_ref().expect("allocated"), 0, bytes);
+        write_vertices(gpu, &mut self.vertices, "biri-poly planes", bytes);
     }
 }
 
@@ -322,7 +233,7 @@ fn specialization(
     let kinds = &ctx.scene.features().light_kinds;
     let flag = crate::common::specialize::flag;
     renderer.specialization.with(&[
-        ("ANY_SPOT", flag(kinds.iter().any(|k| *k == "spot"))),
+        ("ANY_SPOT", flag(kinds.contains(&"spot"))),
         (
             "ALL_SPOT",
             flag(!kinds.is_empty() && kinds.iter().all(|k| *k == "spot")),
@@ -334,36 +245,16 @@ fn specialization(
 
 /// Group 1's layout (see `Passes::bind_group`).
 fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let texture_entry = crate::common::layouts::fragment_texture;
     let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    let slot = std::mem::size_of::<PolyUniform>() as u64;
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("biri-poly passes"),
         entries: &[
-            texture_entry(0),
-            wgpu::BindGroupLayoutEntry {
-                binding: 1,
-                visibility: both,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(
-                        std::mem::size_of::<PolyUniform>() as u64
-                    ),
-                },
-                count: None,
-            },
-            texture_entry(2),
-            crate::common::layouts::storage_buffer(3, both, true),
-            wgpu::BindGroupLayoutEntry {
-                binding: 4,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2Array,
-                    multisampled: false,
-                },
-                count: None,
-            },
+            fragment_texture(0),
+            dynamic_uniform(1, both, slot),
+            fragment_texture(2),
+            storage_buffer(3, both, true),
+            float_texture_array(4, wgpu::ShaderStages::FRAGMENT),
         ],
     })
 }

@@ -4,9 +4,9 @@
 
 use wgpu::{CompareFunction as C, StencilOperation as S};
 
-use super::passes::{Accumulate, Config, Eval};
+use super::types::{Accumulate, Config, Eval};
 use crate::common::gpu_scene::Vertex;
-use crate::common::pipeline::Stage;
+use crate::common::pipeline::{ADDITIVE, REVERSE_SUBTRACT, Stage, both};
 use crate::common::stencil::{self, PipelineBuilder};
 
 pub(super) struct Pipelines {
@@ -23,15 +23,6 @@ pub(super) struct Pipelines {
 struct Builder<'a> {
     inner: PipelineBuilder<'a>,
     acc_format: wgpu::TextureFormat,
-}
-
-fn blend(operation: wgpu::BlendOperation) -> wgpu::BlendState {
-    let c = wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::One,
-        dst_factor: wgpu::BlendFactor::One,
-        operation,
-    };
-    wgpu::BlendState { color: c, alpha: c }
 }
 
 impl Builder<'_> {
@@ -76,7 +67,7 @@ impl Pipelines {
         };
         let ds = stencil::depth_stencil;
         let keep = stencil::face(C::Always, S::Keep, S::Keep);
-        let add = blend(wgpu::BlendOperation::Add);
+        let add = ADDITIVE;
         // z-pass count: entering a volume (front face) +1, leaving (back face) −1.
         let count_faces = (
             stencil::face(C::Always, S::IncrementWrap, S::IncrementWrap),
@@ -114,7 +105,7 @@ impl Pipelines {
 /// Lit points: stencil == reference 0; Γ per vertex of the tessellated scene or per fragment.
 fn surface(b: &Builder, eval: Eval) -> wgpu::RenderPipeline {
     let lit = stencil::face(C::Equal, S::Keep, S::Keep);
-    let add = blend(wgpu::BlendOperation::Add);
+    let add = ADDITIVE;
     match eval {
         Eval::Vertex => b.pipe(
             "biri-poly surfaces (vertex)",
@@ -145,7 +136,7 @@ fn grid(b: &Builder) -> wgpu::RenderPipeline {
         "biri-poly far grid",
         "vs_far_grid",
         Some(grid_layout),
-        Some(("fs_gouraud", blend(wgpu::BlendOperation::Add))),
+        Some(("fs_gouraud", ADDITIVE)),
         stencil::depth_stencil(C::LessEqual, false, lit, lit),
     )
 }
@@ -169,7 +160,7 @@ fn planes(b: &Builder, cfg: &Config) -> Vec<wgpu::RenderPipeline> {
         Eval::Fragment => ("vs_plane", "fs_plane_frag"),
     };
     let ds = stencil::depth_stencil;
-    let add = blend(wgpu::BlendOperation::Add);
+    let add = ADDITIVE;
     let layout = || Some(stencil::PLANE_LAYOUT);
     match cfg.accumulate {
         Accumulate::Float => vec![b.pipe(
@@ -193,7 +184,7 @@ fn planes(b: &Builder, cfg: &Config) -> Vec<wgpu::RenderPipeline> {
                 "biri-poly leaving planes",
                 vs,
                 layout(),
-                Some((fs, blend(wgpu::BlendOperation::ReverseSubtract))),
+                Some((fs, both(REVERSE_SUBTRACT))),
                 ds(C::Less, false, leave, leave),
             ),
         ],

@@ -26,6 +26,7 @@
 //! are narrower; `HalfCircles::new` refuses it). The re-expansion in δ uses monomials around
 //! δ = 0: fine in f64, ill-conditioned in f32 for short segments far from δ = 0.
 
+// Series and table recurrences read best with explicit indices.
 #![allow(clippy::needless_range_loop)]
 
 use std::f64::consts::{FRAC_PI_2, PI};

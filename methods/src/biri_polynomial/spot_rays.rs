@@ -4,7 +4,12 @@
 
 use harness::Gpu;
 
-use super::passes::PolyUniform;
+use super::types::PolyUniform;
+use crate::common::layouts::{
+    buffer_entry, dynamic_uniform, rgba32f_storage_array_write, slot_entry, storage_buffer,
+    view_entry,
+};
+use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
 
 pub(super) struct SpotRays {
@@ -79,73 +84,36 @@ fn pipeline(
     rays: &wgpu::TextureView,
 ) -> (wgpu::ComputePipeline, wgpu::BindGroup) {
     let compute = wgpu::ShaderStages::COMPUTE;
-    let uniform_size = wgpu::BufferSize::new(std::mem::size_of::<PolyUniform>() as u64);
+    let slot = std::mem::size_of::<PolyUniform>() as u64;
     let layout = gpu
         .device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("biri-poly spot rays"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: compute,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: true,
-                        min_binding_size: uniform_size,
-                    },
-                    count: None,
-                },
-                crate::common::layouts::storage_buffer(3, compute, true),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 5,
-                    visibility: compute,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: wgpu::TextureFormat::Rgba32Float,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                    },
-                    count: None,
-                },
+                dynamic_uniform(1, compute, slot),
+                storage_buffer(3, compute, true),
+                rgba32f_storage_array_write(5, compute),
             ],
         });
     let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("biri-poly spot rays"),
         layout: &layout,
         entries: &[
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: inputs.uniform,
-                    offset: 0,
-                    size: uniform_size,
-                }),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: inputs.delta.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: wgpu::BindingResource::TextureView(rays),
-            },
+            slot_entry(1, inputs.uniform, slot),
+            buffer_entry(3, inputs.delta),
+            view_entry(5, rays),
         ],
     });
-    let pl = gpu
-        .device
-        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("biri-poly spot rays"),
-            bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-            immediate_size: 0,
-        });
-    let pipeline = gpu
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("biri-poly spot rays"),
-            layout: Some(&pl),
-            module: inputs.module,
-            entry_point: Some("cs_spot_rays"),
-            compilation_options: crate::common::specialize::compile_options(inputs.constants),
-            cache: None,
-        });
+    let pl = pipeline::layout(
+        &gpu.device,
+        "biri-poly spot rays",
+        &[&renderer.frame_layout, &layout],
+    );
+    let pipeline = ComputeStage::new("biri-poly spot rays", "cs_spot_rays").build(
+        &gpu.device,
+        &pl,
+        inputs.module,
+        inputs.constants,
+    );
     (pipeline, bind)
 }

@@ -31,12 +31,14 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
 use harness::Targets;
-use harness::gpu::color_attachment;
+use harness::gpu::{color_attachment, depth_attachment};
 use harness::method::{AOV_FORMAT, PrepareContext};
 use scenes::Phase;
 
-use super::gamma::{gauss, lambda_of_u};
+use crate::common::gamma::lambda_of_u;
+use crate::common::layouts::{buffer_entry, fragment_texture, uniform_buffer, view_entry};
 use crate::common::pipeline::{self, Stage};
+use crate::common::quadrature::gauss;
 use crate::common::renderer::{SceneRenderer, surface_source};
 use crate::common::tables::r32_table;
 
@@ -248,24 +250,14 @@ impl IndirectPass {
             }),
             wgpu::BufferUsages::UNIFORM,
         );
-        let tex = crate::common::layouts::fragment_texture;
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("biri iss"),
                 entries: &[
-                    tex(0),
-                    tex(1),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 2,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
+                    fragment_texture(0),
+                    fragment_texture(1),
+                    uniform_buffer(2, wgpu::ShaderStages::FRAGMENT),
                 ],
             });
         let views = [&lambert, &phong].map(|t| t.create_view(&Default::default()));
@@ -273,28 +265,13 @@ impl IndirectPass {
             label: Some("biri iss"),
             layout: &layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&views[0]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&views[1]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: uniform.as_entire_binding(),
-                },
+                view_entry(0, &views[0]),
+                view_entry(1, &views[1]),
+                buffer_entry(2, &uniform),
             ],
         });
         let module = crate::common::wgsl::module(&gpu.device, "biri iss", &source());
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("biri iss"),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-                immediate_size: 0,
-            });
+        let pl = pipeline::layout(&gpu.device, "biri iss", &[&renderer.frame_layout, &layout]);
         let targets = [pipeline::target(AOV_FORMAT, Some(pipeline::ADDITIVE))];
         let pipeline = Stage::new("biri iss", "vs")
             .vertices(crate::common::gpu_scene::Vertex::LAYOUT)
@@ -326,14 +303,10 @@ impl IndirectPass {
             &wgpu::RenderPassDescriptor {
                 label: Some("biri iss"),
                 color_attachments: &[color_attachment(targets.surface, wgpu::LoadOp::Load)],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &renderer.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(depth_attachment(
+                    &renderer.depth_view,
+                    wgpu::LoadOp::Load,
+                )),
                 ..Default::default()
             },
         );

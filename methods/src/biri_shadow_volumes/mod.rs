@@ -42,8 +42,8 @@
 //! every pixel's order along the ray; long extruded planes of different casters interleave (e.g.
 //! `overlap-point`, with the eye in a shadow), so there the per-pixel resolve is the exact one.
 //! Lights beyond the paper (modernised; the paper's point-light path is unchanged): both
-//! resolves evaluate every lit interval through ONE function, `lit_between` (`ldss.wgsl`),
-//! dispatched on the light's kind — point lights by eq. 7's Γ lookups; directional light in
+//! resolves evaluate every lit interval through ONE function, `lit_between`
+//! (`common/wgsl/ldss.wgsl`, shared with polygonal-light-volumes), dispatched on the light's kind — point lights by eq. 7's Γ lookups; directional light in
 //! closed form, σ_s E p(θ) (e^(−σ_t a) − e^(−σ_t b))/σ_t (the scattering angle is constant along
 //! the ray; the paper: directional lights "are easier to handle ... and will not be a problem"),
 //! its shadow planes extruded along the direction; spot lights (falloff and projected pattern)
@@ -60,16 +60,15 @@
 //! paper's full-sphere version is 1-D) and Γ_P(λ, ψ_s) per shininess, and a second draw of the
 //! scene over the surface pass's depth adds the term to the `surface` AOV.
 
-mod gamma;
 pub mod indirect;
 mod pixel;
 mod planes;
 mod stencil_pipes;
-
-pub use gamma::{GammaTable, gamma_direct, gamma_of_w, w_of_gamma};
+mod types;
 
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
+use harness::gpu::{PhaseTimer, phases};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
@@ -77,24 +76,25 @@ use harness::{
 };
 use scenes::{FrameState, SceneFeatures};
 
+use crate::common::gamma::GammaTable;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::stencil::DEPTH_STENCIL;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::wgsl;
+use types::{Options, Resolve};
 
-/// L_dss (Γ lookups) and the one per-interval function `lit_between` of every light kind, with
-/// the shared directional closed form and spot quadrature it dispatches to
-/// (`common::wgsl::LIGHT_SEGMENTS`, composed first). Needs PRELUDE.
-pub const LDSS_WGSL: &str = concat!(
-    include_str!("../common/wgsl/light_segments.wgsl"),
-    "\n",
-    include_str!("ldss.wgsl")
-);
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
+
+/// The full-screen L_dss pass's own WGSL (composed by `common::resolve`).
+fn resolve_wgsl() -> String {
+    format!("{}\n{RESOLVE_WGSL}", wgsl::LDSS)
+}
 
 /// The composed WGSL of the full-screen L_dss pass.
 pub fn resolve_source() -> String {
-    resolve::source(&format!("{LDSS_WGSL}\n{RESOLVE_WGSL}"))
+    resolve::source(&resolve_wgsl())
 }
 
 /// The composed WGSL of the shadow-plane passes.
@@ -126,14 +126,9 @@ pub struct State {
     _table: wgpu::Texture,
     table_view: wgpu::TextureView,
     /// GPU time per phase (Table 1's breakdown), when the device has timestamps in encoders.
-    timer: Option<harness::gpu::PhaseTimer>,
+    timer: Option<PhaseTimer>,
     /// Knob `spot_panels` (the spot quadrature of `lit_between`).
     spot_panels: u32,
-}
-
-/// Uploads a Γ table as an R32Float texture (w along x, λ along y).
-fn upload(gpu: &Gpu, t: &GammaTable) -> wgpu::Texture {
-    crate::common::tables::r32_table(gpu, "biri gamma", t.w_res, t.lambda_res, &t.data)
 }
 
 impl Method for BiriShadowVolumes {
@@ -235,7 +230,7 @@ impl State {
             anyhow::bail!(why);
         }
         let table = GammaTable::build(&ctx.scene.medium().background().phase, res, res);
-        let texture = upload(ctx.gpu, &table);
+        let texture = table.upload(ctx.gpu, "biri gamma");
         let table_view = texture.create_view(&Default::default());
         let stencil_shadows = p.knob::<String>("surface_shadows")? == "stencil";
         let renderer = SceneRenderer::with_shadow_maps(
@@ -245,27 +240,27 @@ impl State {
             !stencil_shadows,
         )?;
         let surface_shadows = stencil_shadows.then(|| {
-            StencilSurfaceShadows::new(ctx.gpu, &renderer, planes::DEPTH, features.lights)
+            StencilSurfaceShadows::new(ctx.gpu, &renderer, DEPTH_STENCIL, features.lights)
         });
         let resolve = ResolvePass::with_textures(
             ctx.gpu,
             &renderer,
             "biri ldss",
-            &format!("{LDSS_WGSL}\n{RESOLVE_WGSL}"),
+            &resolve_wgsl(),
             Some(std::mem::size_of::<ConfigUniform>() as u64),
             2,
         );
         let mode = match p.knob::<String>("resolve")?.as_str() {
-            "stencil" => planes::Resolve::Stencil,
-            _ => planes::Resolve::PerPixel,
+            "stencil" => Resolve::Stencil,
+            _ => Resolve::PerPixel,
         };
         let unorm8 = p.knob::<String>("accumulate")? == "unorm8";
-        if unorm8 && mode != planes::Resolve::Stencil {
+        if unorm8 && mode != Resolve::Stencil {
             anyhow::bail!(
                 "accumulate = unorm8 is the paper's blended stencil target: it needs resolve = stencil"
             );
         }
-        let options = planes::Options {
+        let options = Options {
             resolve: mode,
             rules: p.knob("stencil_rules")?,
             unorm8,
@@ -285,7 +280,7 @@ impl State {
             surface_shadows,
             _table: texture,
             table_view,
-            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 5 + 3 * features.lights as u32),
+            timer: PhaseTimer::new(ctx.gpu, 5 + 3 * features.lights as u32),
             spot_panels: p.knob("spot_panels")?,
         })
     }
@@ -319,9 +314,7 @@ impl Prepared for State {
                 }),
             );
         }
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "first_pass");
-        }
+        phases::mark(&mut self.timer, enc, "first_pass");
         self.renderer.encode_shadows(enc, &mut report);
         self.renderer.encode_surface(enc, targets, &mut report);
         match &self.indirect {
@@ -345,9 +338,7 @@ impl Prepared for State {
             )?;
             report.ran("shadow-planes");
             if let Some(shadows) = &self.surface_shadows {
-                if let Some(t) = self.timer.as_mut() {
-                    t.mark(enc, "first_pass");
-                }
+                phases::mark(&mut self.timer, enc, "first_pass");
                 self.planes.encode_surface_shadows(
                     gpu,
                     enc,
@@ -361,9 +352,7 @@ impl Prepared for State {
         } else {
             report.skip("shadow-planes", "no object casts a volumetric shadow");
         }
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "resolve");
-        }
+        phases::mark(&mut self.timer, enc, "resolve");
         self.resolve.encode_with(
             gpu,
             enc,
@@ -371,14 +360,12 @@ impl Prepared for State {
             targets,
             &[&self.table_view, &self.planes.acc_view],
         );
-        if let Some(t) = self.timer.as_mut() {
-            t.finish(enc);
-        }
+        phases::finish(&mut self.timer, enc);
         report.ran("ldss");
         Ok(report)
     }
 
-    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+    fn phase_timer(&self) -> Option<&PhaseTimer> {
         self.timer.as_ref()
     }
 }

@@ -11,11 +11,15 @@ use harness::gpu::depth_stencil_attachment;
 use harness::{FrameReport, Gpu};
 
 use crate::common::crossing_lists::{CrossingLists, GROUP};
-use crate::common::layouts::storage_buffer;
-use crate::common::pipeline::Stage;
+use crate::common::layouts::{
+    buffer_entry, dynamic_uniform, float_texture, rgba32f_storage_write, slot_entry,
+    storage_buffer, view_entry,
+};
+use crate::common::pipeline::{ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
+use crate::common::stencil::{DEPTH_STENCIL, PLANE_LAYOUT};
 
-use super::planes::{DEPTH, LightRange, SLOT};
+use super::types::{LightRange, SLOT_BYTES, slot_offset};
 
 pub struct PixelPass {
     layout: wgpu::BindGroupLayout,
@@ -28,10 +32,14 @@ pub struct PixelPass {
     height: u32,
 }
 
-/// What the per-pixel passes draw with: the plane vertices, group 1 (`bind_group`) and the
-/// scene depth the planes are tested against.
+/// What the per-pixel passes of a frame draw with: the plane vertices and each light's range of
+/// them, group 0 (the renderer's) and group 1 (`bind_group`), and the scene depth the planes are
+/// tested against.
 pub struct Draw<'a> {
+    pub gpu: &'a Gpu,
+    pub renderer: &'a SceneRenderer,
     pub vertices: Option<&'a wgpu::Buffer>,
+    pub ranges: &'a [LightRange],
     pub bind: &'a wgpu::BindGroup,
     pub depth: &'a wgpu::TextureView,
 }
@@ -46,35 +54,16 @@ impl PixelPass {
         lights: u32,
     ) -> PixelPass {
         let vis = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
-        let texture = |binding| crate::common::layouts::float_texture(binding, vis);
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("biri per-pixel"),
                 entries: &[
-                    texture(0),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: vis,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: true,
-                            min_binding_size: wgpu::BufferSize::new(16),
-                        },
-                        count: None,
-                    },
-                    texture(2),
+                    float_texture(0, vis),
+                    dynamic_uniform(1, vis, SLOT_BYTES),
+                    float_texture(2, vis),
                     storage_buffer(5, vis, false),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 6,
-                        visibility: wgpu::ShaderStages::COMPUTE,
-                        ty: wgpu::BindingType::StorageTexture {
-                            access: wgpu::StorageTextureAccess::WriteOnly,
-                            format: wgpu::TextureFormat::Rgba32Float,
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                        },
-                        count: None,
-                    },
+                    rgba32f_storage_write(6, wgpu::ShaderStages::COMPUTE),
                 ],
             });
         let lists = CrossingLists::new(gpu, width, height, lights, vis);
@@ -88,12 +77,12 @@ impl PixelPass {
         // so they rasterise the same fragments.
         let planes = |label, entry| {
             Stage::new(label, "vs_plane")
-                .vertices(super::planes::PLANE_LAYOUT)
+                .vertices(PLANE_LAYOUT)
                 .front_face(wgpu::FrontFace::Cw)
                 .unclipped_depth(crate::common::stencil::near_plane_safe(&gpu.device))
                 .fragment(entry, &[])
                 .depth(wgpu::DepthStencilState {
-                    format: DEPTH,
+                    format: DEPTH_STENCIL,
                     depth_write_enabled: Some(false),
                     depth_compare: Some(wgpu::CompareFunction::Less),
                     stencil: Default::default(),
@@ -101,16 +90,12 @@ impl PixelPass {
                 })
                 .build(&gpu.device, &pl, module, &[])
         };
-        let walk = gpu
-            .device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("biri crossing walk"),
-                layout: Some(&pl),
-                module,
-                entry_point: Some("cs_walk"),
-                compilation_options: renderer.specialization.options(),
-                cache: None,
-            });
+        let walk = ComputeStage::new("biri crossing walk", "cs_walk").build(
+            &gpu.device,
+            &pl,
+            module,
+            renderer.specialization.constants(),
+        );
         PixelPass {
             layout,
             count: planes("biri crossing count", "fs_crossing_count"),
@@ -137,26 +122,15 @@ impl PixelPass {
         uniform: &wgpu::Buffer,
         out: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
-        let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("biri per-pixel"),
             layout: &self.layout,
             entries: &[
-                entry(0, wgpu::BindingResource::TextureView(table)),
-                entry(
-                    1,
-                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: uniform,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(16),
-                    }),
-                ),
-                entry(
-                    2,
-                    wgpu::BindingResource::TextureView(&renderer.distance_view),
-                ),
-                entry(5, self.sum.as_entire_binding()),
-                entry(6, wgpu::BindingResource::TextureView(out)),
+                view_entry(0, table),
+                slot_entry(1, uniform, SLOT_BYTES),
+                view_entry(2, &renderer.distance_view),
+                buffer_entry(5, &self.sum),
+                view_entry(6, out),
             ],
         })
     }
@@ -174,23 +148,20 @@ impl PixelPass {
 
     /// Per light: count its crossings into `pre` (then submitted, the pool sized), gather them
     /// and walk them into `enc`. `out` (in group 1): the Rgba32Float running sum over lights.
-    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,
-        gpu: &Gpu,
         mut pre: wgpu::CommandEncoder,
         enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
         draw: Draw,
-        ranges: &[LightRange],
         report: &mut FrameReport,
     ) -> anyhow::Result<()> {
-        for (k, r) in ranges.iter().enumerate() {
-            self.draw_planes(gpu, &mut pre, renderer, &draw, r, k, &self.count);
+        let gpu = draw.gpu;
+        for k in 0..draw.ranges.len() {
+            self.draw_planes(&mut pre, &draw, k, &self.count);
         }
         self.lists.size_pool(gpu, pre, report)?;
-        for (k, r) in ranges.iter().enumerate() {
-            self.draw_planes(gpu, enc, renderer, &draw, r, k, &self.gather);
+        for k in 0..draw.ranges.len() {
+            self.draw_planes(enc, &draw, k, &self.gather);
             let mut pass = gpu.compute_pass(
                 enc,
                 &wgpu::ComputePassDescriptor {
@@ -199,8 +170,8 @@ impl PixelPass {
                 },
             );
             pass.set_pipeline(&self.walk);
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
-            pass.set_bind_group(1, draw.bind, &[(k as u64 * SLOT) as u32]);
+            pass.set_bind_group(0, &draw.renderer.frame_bind, &[]);
+            pass.set_bind_group(1, draw.bind, &slot_offset(k));
             pass.set_bind_group(GROUP, self.lists.bind_group(), &self.lists.slot(k));
             pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
         }
@@ -208,22 +179,19 @@ impl PixelPass {
         Ok(())
     }
 
-    /// Light k's planes (range r) with `pipe` (count or gather), depth-tested, no colour.
-    #[allow(clippy::too_many_arguments)]
+    /// Light k's planes with `pipe` (count or gather), depth-tested, no colour.
     fn draw_planes(
         &self,
-        gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
         draw: &Draw,
-        r: &LightRange,
         k: usize,
         pipe: &wgpu::RenderPipeline,
     ) {
+        let r = &draw.ranges[k];
         let Some(v) = draw.vertices.filter(|_| r.end > r.first) else {
             return;
         };
-        let mut pass = gpu.render_pass(
+        let mut pass = draw.gpu.render_pass(
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some("biri crossing lists"),
@@ -236,8 +204,8 @@ impl PixelPass {
             },
         );
         pass.set_pipeline(pipe);
-        pass.set_bind_group(0, &renderer.frame_bind, &[]);
-        pass.set_bind_group(1, draw.bind, &[(k as u64 * SLOT) as u32]);
+        pass.set_bind_group(0, &draw.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, draw.bind, &slot_offset(k));
         pass.set_bind_group(GROUP, self.lists.bind_group(), &self.lists.slot(k));
         pass.set_vertex_buffer(0, v.slice(..));
         pass.draw(r.first..r.end, 0..1);

@@ -4,20 +4,24 @@
 //! planes one by one under step 5's rules, in float or the paper's unorm8) or the per-pixel
 //! resolve (`pixel.rs`), into `acc_view`.
 
-use harness::gpu::{PhaseTimer, color_attachment, depth_stencil_attachment};
+use harness::gpu::{PhaseTimer, color_attachment, depth_stencil_attachment, phases};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
 use scenes::FrameState;
 
 use crate::common::crossing_lists;
+use crate::common::gpu_scene::write_vertices;
+use crate::common::layouts::{dynamic_uniform, fragment_texture, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
-use crate::common::stencil::PipelineBuilder;
+use crate::common::stencil::{DEPTH_STENCIL, PipelineBuilder};
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
 use super::pixel::{Draw, PixelPass};
 use super::stencil_pipes::{StencilPipes, depth_pipe};
+use super::types::{LightRange, Options, Resolve, SLOT, SLOT_BYTES, slot_offset};
 
 /// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
 /// need), and the shadow planes (stencil count and plane passes, or the per-pixel passes).
@@ -26,9 +30,6 @@ pub const VOLUMES: &str = "second_pass_volumes";
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
-pub(super) use crate::common::stencil::{DEPTH_STENCIL as DEPTH, PLANE_LAYOUT};
-/// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
-pub(super) const SLOT: u64 = 256;
 
 /// The composed WGSL of the plane passes (stencil and per-pixel).
 pub fn source() -> String {
@@ -36,40 +37,18 @@ pub fn source() -> String {
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
             "{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
-            super::LDSS_WGSL,
+            wgsl::LDSS,
             crossing_lists::WGSL,
             crossing_lists::PASSES_WGSL
         ),
     )
 }
 
-/// How the plane crossings become in-scatter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Resolve {
-    /// Steps 4–5: planes sorted on the CPU, drawn with stencil counting.
-    Stencil,
-    /// Per-pixel crossing lists sorted and walked on the GPU (`pixel.rs`).
-    PerPixel,
-}
-
-/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`).
-#[derive(Clone, Copy, Debug)]
-pub struct Options {
-    pub resolve: Resolve,
-    /// Step 5's stencil rules (stencil resolve only).
-    pub rules: bool,
-    /// The paper's 8-bit target with reverse-subtract blending (stencil resolve only).
-    pub unorm8: bool,
-    /// Knob `spot_panels` (the spot quadrature of `lit_between`).
-    pub spot_panels: u32,
-}
-
-/// One light's planes in the vertex buffer and the eye's shadow count.
-#[derive(Clone, Copy, Debug)]
-pub struct LightRange {
-    pub first: u32,
-    pub end: u32,
-    pub eye_count: u32,
+/// What every plane pass of a frame binds: group 0 (the renderer's) and group 1.
+struct Frame<'a> {
+    gpu: &'a Gpu,
+    renderer: &'a SceneRenderer,
+    bind: wgpu::BindGroup,
 }
 
 pub struct Planes {
@@ -96,7 +75,7 @@ impl Planes {
             |label, format, usage| gpu.texture_2d(label, ctx.width, ctx.height, format, usage);
         let depth = tex(
             "biri depth-stencil",
-            DEPTH,
+            DEPTH_STENCIL,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let acc_format = if opts.unorm8 {
@@ -114,29 +93,19 @@ impl Planes {
             acc_format,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | storage,
         );
-        let texture_entry = crate::common::layouts::fragment_texture;
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("biri planes"),
                 entries: &[
-                    texture_entry(0),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: true,
-                            min_binding_size: wgpu::BufferSize::new(16),
-                        },
-                        count: None,
-                    },
-                    texture_entry(2),
+                    fragment_texture(0),
+                    dynamic_uniform(1, wgpu::ShaderStages::FRAGMENT, SLOT_BYTES),
+                    fragment_texture(2),
                 ],
             });
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("biri planes"),
-            size: SLOT * crate::common::uniforms::MAX_LIGHTS as u64,
+            size: SLOT * MAX_LIGHTS as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -193,7 +162,7 @@ impl Planes {
         let mut verts: Vec<[f32; 3]> = Vec::new();
         self.ranges.clear();
         let mut eye_lit = 0u32;
-        let mut slots = vec![0u8; SLOT as usize * crate::common::uniforms::MAX_LIGHTS];
+        let mut slots = vec![0u8; SLOT as usize * MAX_LIGHTS];
         for (k, light) in planes.iter().enumerate() {
             let first = verts.len() as u32;
             verts.extend(light.quads.iter().flat_map(|q| q.map(|p| p.to_array())));
@@ -205,35 +174,21 @@ impl Planes {
                 end: verts.len() as u32,
                 eye_count: light.eye_count,
             });
-            if k < crate::common::uniforms::MAX_LIGHTS {
+            if k < MAX_LIGHTS {
                 let cfg = [k as u32, light.eye_count, 0, self.opts.spot_panels];
-                slots[k * SLOT as usize..][..16].copy_from_slice(bytemuck::cast_slice(&cfg));
+                slots[k * SLOT as usize..][..SLOT_BYTES as usize]
+                    .copy_from_slice(bytemuck::cast_slice(&cfg));
             }
         }
         gpu.queue.write_buffer(&self.uniform, 0, &slots);
         report.count("shadow_planes", (verts.len() / 6) as f64);
         if !verts.is_empty() {
             let bytes: &[u8] = bytemuck::cast_slice(&verts);
-            if !self
-                .vertices
-                .as_ref()
-                .is_some_and(|b| b.size() >= bytes.len() as u64)
-            {
-                self.vertices = Some(gpu.buffer(&wgpu::BufferDescriptor {
-                    label: Some("biri planes"),
-                    size: bytes.len().next_power_of_two() as u64,
-                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }));
-            }
-            gpu.queue
-                .write_buffer(self.vertices.as_ref().expect("allocated"), 0, bytes);
+            write_vertices(gpu, &mut self.vertices, "biri planes", bytes);
         }
         eye_lit
     }
 
-    /// The scene depth pass, then per light either the stencil passes (count, lit surfaces,
-    /// planes) or the per-pixel gather and walk, into `acc_view`.
     /// Group 1 of the plane passes: the Γ table, the per-light uniform slots, the ray distances.
     fn bind_group(
         &self,
@@ -245,22 +200,9 @@ impl Planes {
             label: Some("biri planes"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(table),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.uniform,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(16),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
-                },
+                view_entry(0, table),
+                slot_entry(1, &self.uniform, SLOT_BYTES),
+                view_entry(2, &renderer.distance_view),
             ],
         })
     }
@@ -279,33 +221,55 @@ impl Planes {
         shadows: &StencilSurfaceShadows,
     ) {
         let bind = self.bind_group(gpu, renderer, table);
+        let f = Frame {
+            gpu,
+            renderer,
+            bind,
+        };
         for (k, r) in self.ranges.iter().enumerate() {
-            let offset = [(k as u64 * SLOT) as u32];
-            {
-                let mut pass = gpu.render_pass(
-                    enc,
-                    &wgpu::RenderPassDescriptor {
-                        label: Some("biri surface-shadow count"),
-                        depth_stencil_attachment: Some(depth_stencil_attachment(
-                            &self.depth_view,
-                            wgpu::LoadOp::Load,
-                            wgpu::LoadOp::Clear(r.eye_count),
-                        )),
-                        ..Default::default()
-                    },
-                );
-                if let Some(v) = self.vertices.as_ref().filter(|_| r.end > r.first) {
-                    pass.set_pipeline(&self.stencil.count);
-                    pass.set_bind_group(0, &renderer.frame_bind, &[]);
-                    pass.set_bind_group(1, &bind, &offset);
-                    pass.set_vertex_buffer(0, v.slice(..));
-                    pass.draw(r.first..r.end, 0..1);
-                }
-            }
+            self.encode_count(&f, enc, "biri surface-shadow count", k, r);
             shadows.encode(enc, renderer, surface, &self.depth_view, k);
         }
     }
 
+    /// Light k's z-pass count of its volumes at each visible point, seeded with the eye's count
+    /// (`r.eye_count`), into the stencil over the scene depth.
+    fn encode_count(
+        &self,
+        f: &Frame,
+        enc: &mut wgpu::CommandEncoder,
+        label: &str,
+        k: usize,
+        r: &LightRange,
+    ) {
+        let mut pass = f.gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some(label),
+                depth_stencil_attachment: Some(depth_stencil_attachment(
+                    &self.depth_view,
+                    wgpu::LoadOp::Load,
+                    wgpu::LoadOp::Clear(r.eye_count),
+                )),
+                ..Default::default()
+            },
+        );
+        if let Some(v) = self.planes_of(r) {
+            pass.set_pipeline(&self.stencil.count);
+            pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+            pass.set_bind_group(1, &f.bind, &slot_offset(k));
+            pass.set_vertex_buffer(0, v.slice(..));
+            pass.draw(r.first..r.end, 0..1);
+        }
+    }
+
+    /// The vertex buffer, if light range `r` has planes to draw.
+    fn planes_of(&self, r: &LightRange) -> Option<&wgpu::Buffer> {
+        self.vertices.as_ref().filter(|_| r.end > r.first)
+    }
+
+    /// The scene depth pass, then per light either the stencil passes (count, lit surfaces,
+    /// planes) or the per-pixel gather and walk, into `acc_view`.
     pub fn encode(
         &mut self,
         gpu: &Gpu,
@@ -315,159 +279,146 @@ impl Planes {
         report: &mut FrameReport,
         timer: &mut Option<PhaseTimer>,
     ) -> anyhow::Result<()> {
-        let mut mark = |enc: &mut wgpu::CommandEncoder, phase| {
-            if let Some(t) = timer.as_mut() {
-                t.mark(enc, phase);
-            }
-        };
-        mark(enc, SURFACES);
-        let bind = self.bind_group(gpu, renderer, table);
-        let ds = |view, depth: wgpu::LoadOp<f32>, stencil: wgpu::LoadOp<u32>| {
-            wgpu::RenderPassDepthStencilAttachment {
-                view,
-                depth_ops: Some(wgpu::Operations {
-                    load: depth,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: stencil,
-                    store: wgpu::StoreOp::Store,
-                }),
-            }
-        };
-        if let Some(pixel) = self.pixel.as_mut() {
-            // The lists are sized before the frame goes on: depth and counts in their own
-            // submission (`common::crossing_lists`).
-            let mut pre = pixel.begin(gpu, &self.ranges, report);
-            encode_depth(
-                &self.depth_pipe,
-                gpu,
-                &mut pre,
-                renderer,
-                &self.depth_view,
-                &bind,
-            );
-            mark(enc, VOLUMES);
-            let pixel_bind = pixel.bind_group(gpu, renderer, table, &self.uniform, &self.acc_view);
-            let draw = Draw {
-                vertices: self.vertices.as_ref(),
-                bind: &pixel_bind,
-                depth: &self.depth_view,
-            };
-            return pixel.encode(gpu, pre, enc, renderer, draw, &self.ranges, report);
-        }
-        encode_depth(
-            &self.depth_pipe,
+        phases::mark(timer, enc, SURFACES);
+        let f = Frame {
             gpu,
-            enc,
             renderer,
-            &self.depth_view,
-            &bind,
-        );
-        let st = &self.stencil;
-        let per_plane = self.opts.rules || self.opts.unorm8;
-        let mut first_color = true;
+            bind: self.bind_group(gpu, renderer, table),
+        };
+        if self.pixel.is_some() {
+            return self.encode_per_pixel(&f, enc, table, report, timer);
+        }
+        encode_depth(&self.depth_pipe, &f, enc, &self.depth_view);
         for (k, r) in self.ranges.iter().enumerate() {
-            let offset = [(k as u64 * SLOT) as u32];
-            let planes = self.vertices.as_ref().filter(|_| r.end > r.first);
-            mark(enc, VOLUMES);
-            {
-                let mut pass = gpu.render_pass(
-                    enc,
-                    &wgpu::RenderPassDescriptor {
-                        label: Some("biri plane count"),
-                        depth_stencil_attachment: Some(ds(
-                            &self.depth_view,
-                            wgpu::LoadOp::Load,
-                            wgpu::LoadOp::Clear(r.eye_count),
-                        )),
-                        ..Default::default()
-                    },
-                );
-                if let Some(v) = planes {
-                    pass.set_pipeline(&st.count);
-                    pass.set_bind_group(0, &renderer.frame_bind, &[]);
-                    pass.set_bind_group(1, &bind, &offset);
-                    pass.set_vertex_buffer(0, v.slice(..));
-                    pass.draw(r.first..r.end, 0..1);
-                }
-            }
-            let load = if first_color {
+            // The first light's lit surfaces clear the accumulation target.
+            let load = if k == 0 {
                 wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
             } else {
                 wgpu::LoadOp::Load
             };
-            first_color = false;
-            let acc_view = &self.acc_view;
-            let depth_view = &self.depth_view;
-            let begin = |enc: &mut wgpu::CommandEncoder, label, load| {
-                let color = [color_attachment(acc_view, load)];
-                renderer
-                    .passes
-                    .render_pass(
-                        enc,
-                        &wgpu::RenderPassDescriptor {
-                            label: Some(label),
-                            color_attachments: &color,
-                            depth_stencil_attachment: Some(ds(
-                                depth_view,
-                                wgpu::LoadOp::Load,
-                                wgpu::LoadOp::Load,
-                            )),
-                            ..Default::default()
-                        },
-                    )
-                    .forget_lifetime()
-            };
+            phases::mark(timer, enc, VOLUMES);
+            self.encode_count(&f, enc, "biri plane count", k, r);
             // Step 3 (lit surfaces) in its own pass so the phase timer can tell it apart.
-            mark(enc, SURFACES);
-            {
-                let mut pass = begin(enc, "biri lit surfaces", load);
-                pass.set_bind_group(0, &renderer.frame_bind, &[]);
-                pass.set_bind_group(1, &bind, &offset);
-                pass.set_pipeline(&st.surface);
-                pass.set_stencil_reference(0);
-                pass.draw(0..3, 0..1);
-            }
-            let Some(v) = planes else { continue };
-            mark(enc, VOLUMES);
-            let mut pass = begin(enc, "biri ldss planes", wgpu::LoadOp::Load);
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
-            pass.set_bind_group(1, &bind, &offset);
-            pass.set_stencil_reference(1);
-            pass.set_vertex_buffer(0, v.slice(..));
-            if !per_plane {
-                pass.set_pipeline(&st.all);
-                pass.draw(r.first..r.end, 0..1);
-                continue;
-            }
-            // Back to front, one plane at a time: its colour under the stencil test, then its
-            // stencil step, so each plane sees the stencil the planes behind it left.
-            for q in (r.first..r.end).step_by(6) {
-                for c in &st.color {
-                    pass.set_pipeline(c);
-                    pass.draw(q..q + 6, 0..1);
-                }
-                if let Some(step) = &st.step {
-                    pass.set_pipeline(step);
-                    pass.draw(q..q + 6, 0..1);
-                }
+            phases::mark(timer, enc, SURFACES);
+            self.encode_lit_surfaces(&f, enc, k, load);
+            if let Some(v) = self.planes_of(r) {
+                phases::mark(timer, enc, VOLUMES);
+                self.encode_planes(&f, enc, v, k, r);
             }
         }
         Ok(())
+    }
+
+    /// `resolve = per-pixel`: the lists are sized before the frame goes on — the scene depth and
+    /// the counts in their own submission (`common::crossing_lists`) — then gathered and walked.
+    fn encode_per_pixel(
+        &mut self,
+        f: &Frame,
+        enc: &mut wgpu::CommandEncoder,
+        table: &wgpu::TextureView,
+        report: &mut FrameReport,
+        timer: &mut Option<PhaseTimer>,
+    ) -> anyhow::Result<()> {
+        let pixel = self.pixel.as_mut().expect("resolve = per-pixel");
+        let mut pre = pixel.begin(f.gpu, &self.ranges, report);
+        encode_depth(&self.depth_pipe, f, &mut pre, &self.depth_view);
+        phases::mark(timer, enc, VOLUMES);
+        let pixel_bind = pixel.bind_group(f.gpu, f.renderer, table, &self.uniform, &self.acc_view);
+        let draw = Draw {
+            gpu: f.gpu,
+            renderer: f.renderer,
+            vertices: self.vertices.as_ref(),
+            ranges: &self.ranges,
+            bind: &pixel_bind,
+            depth: &self.depth_view,
+        };
+        pixel.encode(pre, enc, draw, report)
+    }
+
+    /// A pass over the accumulation target (`load`: cleared or kept) and the depth-stencil
+    /// buffer (both kept), with both groups bound at light k's slot.
+    fn begin_accumulation<'e>(
+        &self,
+        f: &Frame,
+        enc: &'e mut wgpu::CommandEncoder,
+        label: &str,
+        k: usize,
+        load: wgpu::LoadOp<wgpu::Color>,
+    ) -> harness::gpu::Counted<wgpu::RenderPass<'e>> {
+        let color = [color_attachment(&self.acc_view, load)];
+        let mut pass = f.renderer.passes.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &color,
+                depth_stencil_attachment: Some(depth_stencil_attachment(
+                    &self.depth_view,
+                    wgpu::LoadOp::Load,
+                    wgpu::LoadOp::Load,
+                )),
+                ..Default::default()
+            },
+        );
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, &f.bind, &slot_offset(k));
+        pass
+    }
+
+    /// Step 3: light k's term at the visible points its count left lit (stencil 0).
+    fn encode_lit_surfaces(
+        &self,
+        f: &Frame,
+        enc: &mut wgpu::CommandEncoder,
+        k: usize,
+        load: wgpu::LoadOp<wgpu::Color>,
+    ) {
+        let mut pass = self.begin_accumulation(f, enc, "biri lit surfaces", k, load);
+        pass.set_pipeline(&self.stencil.surface);
+        pass.set_stencil_reference(0);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Steps 4–5: light k's planes (range `r` of `vertices`), all at once without the rules,
+    /// otherwise back to front, one plane at a time: its colour under the stencil test, then its
+    /// stencil step, so each plane sees the stencil the planes behind it left.
+    fn encode_planes(
+        &self,
+        f: &Frame,
+        enc: &mut wgpu::CommandEncoder,
+        vertices: &wgpu::Buffer,
+        k: usize,
+        r: &LightRange,
+    ) {
+        let st = &self.stencil;
+        let mut pass = self.begin_accumulation(f, enc, "biri ldss planes", k, wgpu::LoadOp::Load);
+        pass.set_stencil_reference(1);
+        pass.set_vertex_buffer(0, vertices.slice(..));
+        if !(self.opts.rules || self.opts.unorm8) {
+            pass.set_pipeline(&st.all);
+            pass.draw(r.first..r.end, 0..1);
+            return;
+        }
+        for q in (r.first..r.end).step_by(6) {
+            for c in &st.color {
+                pass.set_pipeline(c);
+                pass.draw(q..q + 6, 0..1);
+            }
+            if let Some(step) = &st.step {
+                pass.set_pipeline(step);
+                pass.draw(q..q + 6, 0..1);
+            }
+        }
     }
 }
 
 /// The scene depth the planes are tested against (stencil cleared).
 fn encode_depth(
     pipe: &wgpu::RenderPipeline,
-    gpu: &Gpu,
+    f: &Frame,
     enc: &mut wgpu::CommandEncoder,
-    renderer: &SceneRenderer,
     depth: &wgpu::TextureView,
-    bind: &wgpu::BindGroup,
 ) {
-    let mut pass = gpu.render_pass(
+    let mut pass = f.gpu.render_pass(
         enc,
         &wgpu::RenderPassDescriptor {
             label: Some("biri scene depth"),
@@ -480,7 +431,7 @@ fn encode_depth(
         },
     );
     pass.set_pipeline(pipe);
-    pass.set_bind_group(0, &renderer.frame_bind, &[]);
-    pass.set_bind_group(1, bind, &[0]);
-    renderer.gpu_scene.draw(&mut pass);
+    pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+    pass.set_bind_group(1, &f.bind, &[0]);
+    f.renderer.gpu_scene.draw(&mut pass);
 }

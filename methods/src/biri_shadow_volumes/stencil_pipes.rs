@@ -2,11 +2,11 @@
 //! (z-pass count, lit surfaces, planes under step 5's rules in float or the paper's unorm8, the
 //! stencil step after each plane).
 
-use wgpu::{BlendOperation as B, CompareFunction as C, StencilOperation as S};
+use wgpu::{CompareFunction as C, StencilOperation as S};
 
-use super::planes::Options;
+use super::types::Options;
 use crate::common::gpu_scene::Vertex;
-use crate::common::pipeline::Stage;
+use crate::common::pipeline::{ADD, REVERSE_SUBTRACT, Stage, color_only};
 use crate::common::stencil::{self, PLANE_LAYOUT, PipelineBuilder};
 
 /// The plane pipelines of the stencil resolve.
@@ -21,23 +21,15 @@ pub(super) struct StencilPipes {
     pub step: Option<wgpu::RenderPipeline>,
 }
 
-/// Additive colour (alpha replaced) into the accumulation target.
+/// Colour blended by `component` (alpha replaced) into the accumulation target.
 fn color(
     format: wgpu::TextureFormat,
-    operation: B,
+    component: wgpu::BlendComponent,
     writes: wgpu::ColorWrites,
 ) -> [Option<wgpu::ColorTargetState>; 1] {
-    let blend = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation,
-        },
-        alpha: wgpu::BlendComponent::REPLACE,
-    };
     [Some(wgpu::ColorTargetState {
         format,
-        blend: Some(blend),
+        blend: Some(color_only(component)),
         write_mask: writes,
     })]
 }
@@ -74,7 +66,7 @@ impl StencilPipes {
         let ds = stencil::depth_stencil;
         let keep = stencil::face(C::Always, S::Keep, S::Keep);
         let all_writes = wgpu::ColorWrites::ALL;
-        let add = color(acc_format, B::Add, all_writes);
+        let add = color(acc_format, ADD, all_writes);
         // z-pass count: entering a volume (front face) +1, leaving (back face) −1.
         let count = b.build(plane(
             "biri plane count",
@@ -136,12 +128,12 @@ fn color_pipes(
     };
     let tested = stencil::depth_stencil(C::Less, false, test(C::Equal), test(C::Greater));
     let all_writes = wgpu::ColorWrites::ALL;
-    let add = color(acc_format, B::Add, all_writes);
+    let add = color(acc_format, ADD, all_writes);
     if !opts.unorm8 {
         return vec![b.build(plane("biri planes", Some(("fs_plane", &add)), None, tested))];
     }
     // The paper's blending: front faces add, back faces reverse-subtract, L_dss from the eye.
-    let subtract = color(acc_format, B::ReverseSubtract, all_writes);
+    let subtract = color(acc_format, REVERSE_SUBTRACT, all_writes);
     vec![
         b.build(plane(
             "biri planes front",
@@ -161,7 +153,7 @@ fn color_pipes(
 /// Walking from the visible point towards the eye: a front face leaves a volume (−1), a back
 /// face enters one (+1); planes behind the visible point fail the depth test. No colour written.
 fn step_pipe(b: &PipelineBuilder, acc_format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
-    let none = color(acc_format, B::Add, wgpu::ColorWrites::empty());
+    let none = color(acc_format, ADD, wgpu::ColorWrites::empty());
     b.build(plane(
         "biri plane stencil step",
         Some(("fs_plane", &none)),

@@ -33,7 +33,8 @@
 use harness::{FrameReport, Gpu};
 
 use super::counters::CounterReadback;
-use super::layouts::storage_buffer;
+use super::layouts::{buffer_entry, dynamic_uniform, slot_entry, storage_buffer};
+use super::pipeline::ComputeStage;
 
 /// The shared WGSL: bindings, count, append, scan, sort.
 pub const WGSL: &str = include_str!("wgsl/crossing_lists.wgsl");
@@ -103,16 +104,7 @@ impl CrossingLists {
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("crossing lists"),
                 entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: vis,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: true,
-                            min_binding_size: wgpu::BufferSize::new(UNIFORM_SIZE),
-                        },
-                        count: None,
-                    },
+                    dynamic_uniform(0, vis, UNIFORM_SIZE),
                     storage_buffer(1, vis, false),
                     storage_buffer(2, vis, false),
                     storage_buffer(3, vis, false),
@@ -160,16 +152,12 @@ impl CrossingLists {
                 entries: &[],
             });
         let pl = super::pipeline::layout(&gpu.device, "crossing scan", &[&empty, &empty, &layout]);
-        let scan = gpu
-            .device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("crossing scan"),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some("cs_crossing_scan"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+        let scan = ComputeStage::new("crossing scan", "cs_crossing_scan").build(
+            &gpu.device,
+            &pl,
+            &module,
+            &[],
+        );
         let bind = bind_group(gpu, &layout, [&uniform, &counts, &offsets, &pool, &stats]);
         CrossingLists {
             layout,
@@ -286,23 +274,16 @@ impl CrossingLists {
     }
 }
 
+/// Group 2: the uniform slot (0) and the four storage buffers (1–4).
 fn bind_group(gpu: &Gpu, layout: &wgpu::BindGroupLayout, b: [&wgpu::Buffer; 5]) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = b
-        .iter()
-        .enumerate()
-        .map(|(i, buf)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: if i == 0 {
-                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: buf,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(UNIFORM_SIZE),
-                })
-            } else {
-                buf.as_entire_binding()
-            },
-        })
-        .collect();
+    let [uniform, storage @ ..] = b;
+    let mut entries = vec![slot_entry(0, uniform, UNIFORM_SIZE)];
+    entries.extend(
+        storage
+            .iter()
+            .enumerate()
+            .map(|(i, buf)| buffer_entry(1 + i as u32, buf)),
+    );
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("crossing lists"),
         layout,

@@ -168,35 +168,28 @@ pub fn mesh_pipeline(
         stencil: Default::default(),
         bias: Default::default(),
     };
-    mesh_pipeline_with(
-        device,
-        label,
-        layout,
-        module,
-        Vertex::LAYOUT,
-        Some(depth),
-        targets,
-        constants,
-    )
+    crate::common::pipeline::Stage::new(label, "vs")
+        .vertices(Vertex::LAYOUT)
+        .fragment("fs", targets)
+        .depth(depth)
+        .build(device, layout, module, constants)
 }
 
-/// An uncull'd triangle-list pipeline with `vs`/`fs` of `module`, any vertex layout and depth state.
-pub fn mesh_pipeline_with(
-    device: &wgpu::Device,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    vertices: wgpu::VertexBufferLayout,
-    depth: Option<wgpu::DepthStencilState>,
-    targets: &[Option<wgpu::ColorTargetState>],
-    constants: &[(&str, f64)],
-) -> wgpu::RenderPipeline {
-    let stage = crate::common::pipeline::Stage::new(label, "vs")
-        .vertices(vertices)
-        .fragment("fs", targets);
-    match depth {
-        Some(depth) => stage.depth(depth),
-        None => stage,
+/// Writes `bytes` to the vertex buffer in `slot`, first replacing it with one of the next power
+/// of two in size when it is missing or too small: for vertices rebuilt on the CPU per frame
+/// (shadow planes, shadow-volume quads), so a buffer is allocated only when a frame outgrows it.
+pub fn write_vertices(gpu: &Gpu, slot: &mut Option<wgpu::Buffer>, label: &str, bytes: &[u8]) {
+    let fits = slot
+        .as_ref()
+        .is_some_and(|b| b.size() >= bytes.len() as u64);
+    if !fits {
+        *slot = Some(gpu.buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: (bytes.len() as u64).next_power_of_two(),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }));
     }
-    .build(device, layout, module, constants)
+    let buffer = slot.as_ref().expect("allocated above");
+    gpu.queue.write_buffer(buffer, 0, bytes);
 }

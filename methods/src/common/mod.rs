@@ -3,17 +3,20 @@
 
 pub mod counters;
 pub mod crossing_lists;
+pub mod gamma;
 pub mod gpu_scene;
 pub mod knobs;
 pub mod layouts;
 pub mod patterns;
 pub mod pipeline;
+pub mod quadrature;
 pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;
 pub mod shadow_planes;
 pub mod silhouette;
 pub mod specialize;
+pub mod sphere_cone;
 pub mod stencil;
 pub mod stencil_surfaces;
 pub mod tables;

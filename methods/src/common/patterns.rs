@@ -32,7 +32,7 @@ impl PatternTextures {
                                 (x as f64 + 0.5) / size as f64,
                                 (y as f64 + 0.5) / size as f64,
                             );
-                            data.extend([v.x, v.y, v.z, 1.0].map(|c| half::f16::from_f64(c)));
+                            data.extend([v.x, v.y, v.z, 1.0].map(half::f16::from_f64));
                         }
                     }
                 }

@@ -1,22 +1,53 @@
 //! One description of a render pipeline for every pass of every method: a vertex entry, an
 //! optional vertex layout, an optional fragment entry with its targets, the primitive state and
 //! an optional depth-stencil state, compiled with the pass's WGSL overrides
-//! (`specialize::compile_options`) on both stages.
+//! (`specialize::compile_options`) on both stages; its compute twin [`ComputeStage`]; and the
+//! blend states the passes accumulate with.
 
 use crate::common::specialize::compile_options;
 
-/// src + dst, for colour and alpha alike.
-pub const ADD: wgpu::BlendComponent = wgpu::BlendComponent {
+/// `operation` over source and destination at full weight (both factors One).
+pub const fn one_one(operation: wgpu::BlendOperation) -> wgpu::BlendComponent {
+    wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation,
+    }
+}
+
+/// src + dst.
+pub const ADD: wgpu::BlendComponent = one_one(wgpu::BlendOperation::Add);
+/// dst − src: subtracting a term from what is accumulated.
+pub const REVERSE_SUBTRACT: wgpu::BlendComponent = one_one(wgpu::BlendOperation::ReverseSubtract);
+/// min(src, dst): the nearest of several depths.
+pub const MIN: wgpu::BlendComponent = one_one(wgpu::BlendOperation::Min);
+/// max(src, dst): the farthest of several depths.
+pub const MAX: wgpu::BlendComponent = one_one(wgpu::BlendOperation::Max);
+/// Premultiplied "over": src + (1 − src.a)·dst, for compositing back to front.
+pub const OVER: wgpu::BlendComponent = wgpu::BlendComponent {
     src_factor: wgpu::BlendFactor::One,
-    dst_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
     operation: wgpu::BlendOperation::Add,
 };
 
+/// The same blending of colour and alpha.
+pub const fn both(component: wgpu::BlendComponent) -> wgpu::BlendState {
+    wgpu::BlendState {
+        color: component,
+        alpha: component,
+    }
+}
+
+/// Colour blended by `component`, alpha replaced by the source's.
+pub const fn color_only(component: wgpu::BlendComponent) -> wgpu::BlendState {
+    wgpu::BlendState {
+        color: component,
+        alpha: wgpu::BlendComponent::REPLACE,
+    }
+}
+
 /// Additive blending of colour and alpha: what accumulating passes use.
-pub const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
-    color: ADD,
-    alpha: ADD,
-};
+pub const ADDITIVE: wgpu::BlendState = both(ADD);
 
 /// A colour target writing every channel.
 pub fn target(
@@ -155,6 +186,38 @@ impl<'a> Stage<'a> {
                 targets,
             }),
             multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// One compute pass's pipeline, described: the compute twin of [`Stage`].
+pub struct ComputeStage<'a> {
+    pub label: &'a str,
+    pub entry: &'a str,
+}
+
+impl<'a> ComputeStage<'a> {
+    /// Entry point `entry`, labelled `label`.
+    pub fn new(label: &'a str, entry: &'a str) -> Self {
+        ComputeStage { label, entry }
+    }
+
+    /// The pipeline, from `module` under `layout`, with `constants` (zeroed workgroup memory, as
+    /// every stage here).
+    pub fn build(
+        self,
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        constants: &[(&str, f64)],
+    ) -> wgpu::ComputePipeline {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(self.label),
+            layout: Some(layout),
+            module,
+            entry_point: Some(self.entry),
+            compilation_options: compile_options(constants),
             cache: None,
         })
     }

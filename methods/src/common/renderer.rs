@@ -6,19 +6,31 @@
 //! Pass-level skipping (DESIGN §2): without shadow casters the shadow-map passes are skipped
 //! (and lights carry no shadow map) unless `no_skip`.
 
-use harness::gpu::{PassCounter, color_attachment};
+use harness::gpu::{PassCounter, color_attachment, depth_attachment};
 use harness::method::{AOV_FORMAT, PrepareContext};
 use harness::{FrameReport, Gpu, Targets};
 use scenes::{FrameState, Scene};
 
 use super::gpu_scene::{GpuScene, mesh_pipeline};
+use super::layouts::{
+    buffer_entry, filterable_texture_array, float_texture_array, storage_buffer, uniform_buffer,
+    view_entry,
+};
 use super::patterns::PatternTextures;
+use super::pipeline;
 use super::shadow_maps::ShadowMaps;
 use super::specialize::Specialization;
 use super::uniforms::{CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform};
 use super::wgsl;
 
 pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// The ray distance where the ray hits nothing.
+const NO_HIT: wgpu::Color = wgpu::Color {
+    r: -1.0,
+    g: 0.0,
+    b: 0.0,
+    a: 0.0,
+};
 
 pub struct SceneRenderer {
     pub scene: Scene,
@@ -133,73 +145,16 @@ impl SceneRenderer {
         let medium = uniform("medium", std::mem::size_of::<MediumUniform>());
         let lights = uniform("lights", std::mem::size_of::<LightsUniform>());
         let frame_layout = frame_layout(&gpu.device);
-        let frame_bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &frame_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: camera.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: medium.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: lights.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: gpu_scene.objects.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&shadows.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::TextureView(&patterns.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::Sampler(&linear_clamp(&gpu.device)),
-                },
-            ],
-        });
-        let module = wgsl::module(&gpu.device, "surface pass", &surface_source());
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("surface"),
-                bind_group_layouts: &[Some(&frame_layout)],
-                immediate_size: 0,
-            });
-        let specialization = Specialization::of(&scene);
-        let surface_pipeline = mesh_pipeline(
+        let frame_bind = frame_bind_group(
             &gpu.device,
-            "surface",
-            &pl,
-            &module,
-            &[Some(AOV_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
-            specialization.constants(),
+            &frame_layout,
+            [&camera, &medium, &lights, &gpu_scene.objects],
+            &shadows.view,
+            &patterns.view,
         );
-        let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
-            gpu.texture_2d(label, ctx.width, ctx.height, format, usage)
-        };
-        let depth = target(
-            "camera depth",
-            wgpu::TextureFormat::Depth32Float,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
-        let distance = target(
-            "ray distance",
-            DISTANCE_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth_view = depth.create_view(&Default::default());
+        let specialization = Specialization::of(&scene);
+        let surface_pipeline = surface_pipeline(&gpu.device, &frame_layout, &specialization);
+        let (depth_view, distance) = camera_targets(gpu, ctx.width, ctx.height);
         let distance_view = distance.create_view(&Default::default());
         gpu.queue.write_buffer(
             &medium,
@@ -324,29 +279,12 @@ impl SceneRenderer {
                         targets.surface,
                         wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
                     ),
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: &self.distance_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: -1.0,
-                                g: 0.0,
-                                b: 0.0,
-                                a: 0.0,
-                            }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    }),
+                    color_attachment(&self.distance_view, wgpu::LoadOp::Clear(NO_HIT)),
                 ],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(depth_attachment(
+                    &self.depth_view,
+                    wgpu::LoadOp::Clear(1.0),
+                )),
                 ..Default::default()
             },
         );
@@ -361,39 +299,88 @@ pub fn surface_source() -> String {
     wgsl::compose(wgsl::PRELUDE, wgsl::SURFACE_PASS)
 }
 
+/// Group 0 (`frame_layout`): the camera, medium, lights and objects buffers, the shadow maps,
+/// the spot patterns and a linear clamping sampler.
+fn frame_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    buffers: [&wgpu::Buffer; 4],
+    shadows: &wgpu::TextureView,
+    patterns: &wgpu::TextureView,
+) -> wgpu::BindGroup {
+    let [camera, medium, lights, objects] = buffers;
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("frame"),
+        layout,
+        entries: &[
+            buffer_entry(0, camera),
+            buffer_entry(1, medium),
+            buffer_entry(2, lights),
+            buffer_entry(3, objects),
+            view_entry(4, shadows),
+            view_entry(5, patterns),
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: wgpu::BindingResource::Sampler(&linear_clamp(device)),
+            },
+        ],
+    })
+}
+
+/// The surface pass's depth (as a view: later passes test against it) and the ray-distance
+/// texture, `width` × `height`.
+fn camera_targets(gpu: &Gpu, width: u32, height: u32) -> (wgpu::TextureView, wgpu::Texture) {
+    let depth = gpu.texture_2d(
+        "camera depth",
+        width,
+        height,
+        wgpu::TextureFormat::Depth32Float,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let distance = gpu.texture_2d(
+        "ray distance",
+        width,
+        height,
+        DISTANCE_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+    );
+    (depth.create_view(&Default::default()), distance)
+}
+
+/// The forward surface pass writing the `surface` AOV and the ray distance, with the scene's
+/// constants.
+fn surface_pipeline(
+    device: &wgpu::Device,
+    frame_layout: &wgpu::BindGroupLayout,
+    specialization: &Specialization,
+) -> wgpu::RenderPipeline {
+    let module = wgsl::module(device, "surface pass", &surface_source());
+    let pl = pipeline::layout(device, "surface", &[frame_layout]);
+    mesh_pipeline(
+        device,
+        "surface",
+        &pl,
+        &module,
+        &[Some(AOV_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
+        specialization.constants(),
+    )
+}
+
 /// Group 0 of every pass: camera, medium, lights, objects, shadow maps, spot patterns, sampler.
 fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let buf =
-        |b: u32, vis: wgpu::ShaderStages, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding: b,
-            visibility: vis,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-    let tex = |b: u32, filterable: bool| wgpu::BindGroupLayoutEntry {
-        binding: b,
-        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable },
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-            multisampled: false,
-        },
-        count: None,
-    };
     let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    let textures = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("frame"),
         entries: &[
-            buf(0, all, wgpu::BufferBindingType::Uniform),
-            buf(1, all, wgpu::BufferBindingType::Uniform),
-            buf(2, all, wgpu::BufferBindingType::Uniform),
-            buf(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
-            tex(4, false),
-            tex(5, true),
+            uniform_buffer(0, all),
+            uniform_buffer(1, all),
+            uniform_buffer(2, all),
+            storage_buffer(3, all, true),
+            float_texture_array(4, textures),
+            filterable_texture_array(5, textures),
             wgpu::BindGroupLayoutEntry {
                 binding: 6,
                 visibility: all,

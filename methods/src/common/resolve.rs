@@ -3,10 +3,14 @@
 //! 2-D textures at bindings 3, 4, …) and writes `inscatter` and `total`. The last pass of every
 //! method built on [`SceneRenderer`].
 
+use harness::gpu::color_attachment;
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
+use super::layouts::{buffer_entry, fragment_texture, storage_buffer, uniform_buffer, view_entry};
+use super::pipeline::{self, ADD, color_only};
 use super::renderer::SceneRenderer;
+use super::uniforms::MAX_LIGHTS;
 use super::wgsl;
 
 pub struct ResolvePass {
@@ -17,9 +21,21 @@ pub struct ResolvePass {
     layout: wgpu::BindGroupLayout,
     pub uniform: Option<wgpu::Buffer>,
     extra_textures: u32,
-    /// Per-light mode only: `counter_slots` u32 atomics at binding 15 (`counters` in WGSL),
-    /// which the pass's shader may count into (read back with `common::counters`).
+    /// Per-light mode only: [`Bindings::counters`] u32 atomics at binding 15.
     pub counters: Option<wgpu::Buffer>,
+}
+
+/// What a resolve pass binds beyond the ray distances and the surface (bindings 0 and 1).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Bindings {
+    /// A uniform buffer of this many bytes at binding 2 ([`ResolvePass::uniform`]).
+    pub uniform: Option<u64>,
+    /// This many more unfilterable 2-D textures at bindings 3, 4, …, bound with
+    /// [`ResolvePass::encode_with`].
+    pub textures: u32,
+    /// Per-light mode only: this many u32 atomics at binding 15 (`counters` in WGSL), which the
+    /// shader may count into (read back with `common::counters`).
+    pub counters: u32,
 }
 
 impl ResolvePass {
@@ -31,7 +47,7 @@ impl ResolvePass {
         own: &str,
         uniform_size: Option<u64>,
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, uniform_size, 0, None, 0)
+        Self::with_textures(gpu, renderer, label, own, uniform_size, 0)
     }
 
     /// Per-light mode: the shader declares `override LIGHT: u32;` and handles that one light;
@@ -40,27 +56,15 @@ impl ResolvePass {
     /// much for a driver's compiler, and to let the light index be a compile-time constant.
     /// `constants`: the shader's own overrides (knobs its hot code branches on), beside `LIGHT`
     /// and the scene's (`common::specialize`).
-    #[allow(clippy::too_many_arguments)]
     pub fn per_light(
         gpu: &Gpu,
         renderer: &SceneRenderer,
         label: &'static str,
         own: &str,
-        uniform_size: Option<u64>,
-        extra_textures: u32,
-        counter_slots: u32,
+        bindings: Bindings,
         constants: &[(&'static str, f64)],
     ) -> ResolvePass {
-        Self::build(
-            gpu,
-            renderer,
-            label,
-            own,
-            uniform_size,
-            extra_textures,
-            Some(constants),
-            counter_slots,
-        )
+        Self::build(gpu, renderer, label, own, bindings, Some(constants))
     }
 
     /// Like [`ResolvePass::new`], with `extra_textures` more texture bindings (3, 4, …), bound
@@ -73,16 +77,12 @@ impl ResolvePass {
         uniform_size: Option<u64>,
         extra_textures: u32,
     ) -> ResolvePass {
-        Self::build(
-            gpu,
-            renderer,
-            label,
-            own,
-            uniform_size,
-            extra_textures,
-            None,
-            0,
-        )
+        let bindings = Bindings {
+            uniform: uniform_size,
+            textures: extra_textures,
+            counters: 0,
+        };
+        Self::build(gpu, renderer, label, own, bindings, None)
     }
 
     fn build(
@@ -90,56 +90,26 @@ impl ResolvePass {
         renderer: &SceneRenderer,
         label: &'static str,
         own: &str,
-        uniform_size: Option<u64>,
-        extra_textures: u32,
+        bindings: Bindings,
         per_light_constants: Option<&[(&'static str, f64)]>,
-        counter_slots: u32,
     ) -> ResolvePass {
-        let per_light = per_light_constants.is_some();
-        let tex = crate::common::layouts::fragment_texture;
-        let mut entries = vec![tex(0), tex(1)];
-        if uniform_size.is_some() {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: 2,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &layout_entries(&bindings),
             });
-        }
-        entries.extend((0..extra_textures).map(|k| tex(3 + k)));
-        if counter_slots > 0 {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: 15,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: false },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            });
-        }
-        let counters = (counter_slots > 0).then(|| {
+        let counters = (bindings.counters > 0).then(|| {
             gpu.buffer(&wgpu::BufferDescriptor {
                 label: Some("pass counters"),
-                size: 4 * counter_slots as u64,
+                size: 4 * bindings.counters as u64,
                 usage: wgpu::BufferUsages::STORAGE
                     | wgpu::BufferUsages::COPY_SRC
                     | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             })
         });
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(label),
-                entries: &entries,
-            });
-        let uniform = uniform_size.map(|size| {
+        let uniform = bindings.uniform.map(|size| {
             gpu.buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
@@ -148,56 +118,15 @@ impl ResolvePass {
             })
         });
         let module = wgsl::module(&gpu.device, label, &source(own));
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-                immediate_size: 0,
-            });
-        let additive = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
-            alpha: wgpu::BlendComponent::REPLACE,
-        };
-        let target = wgpu::ColorTargetState {
-            format: AOV_FORMAT,
-            blend: per_light.then_some(additive),
-            write_mask: wgpu::ColorWrites::ALL,
-        };
-        let slots = if per_light {
-            super::uniforms::MAX_LIGHTS
-        } else {
-            1
-        };
-        let pipelines = (0..slots)
-            .map(|k| {
-                let own = match per_light_constants {
-                    Some(c) => [&[("LIGHT", k as f64)][..], c].concat(),
-                    None => Vec::new(),
-                };
-                let constants = renderer.specialization.with(&own);
-                fullscreen_pipeline(
-                    &gpu.device,
-                    label,
-                    &pl,
-                    &module,
-                    "fs",
-                    &constants,
-                    &[Some(target.clone()), Some(target.clone())],
-                )
-            })
-            .collect();
+        let pl = pipeline::layout(&gpu.device, label, &[&renderer.frame_layout, &layout]);
+        let pipelines = pipelines(gpu, renderer, label, &pl, &module, per_light_constants);
         ResolvePass {
             label,
             pipelines,
-            per_light,
+            per_light: per_light_constants.is_some(),
             layout,
             uniform,
-            extra_textures,
+            extra_textures: bindings.textures,
             counters,
         }
     }
@@ -229,57 +158,34 @@ impl ResolvePass {
         );
         // The harness owns the AOV textures, so the group that reads `surface` is built per frame.
         let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(targets.surface),
-            },
+            view_entry(0, &renderer.distance_view),
+            view_entry(1, targets.surface),
         ];
         if let Some(u) = &self.uniform {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 2,
-                resource: u.as_entire_binding(),
-            });
+            entries.push(buffer_entry(2, u));
         }
-        entries.extend(extra.iter().enumerate().map(|(k, v)| wgpu::BindGroupEntry {
-            binding: 3 + k as u32,
-            resource: wgpu::BindingResource::TextureView(v),
-        }));
+        entries.extend(
+            extra
+                .iter()
+                .enumerate()
+                .map(|(k, v)| view_entry(3 + k as u32, v)),
+        );
         if let Some(c) = &self.counters {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 15,
-                resource: c.as_entire_binding(),
-            });
+            entries.push(buffer_entry(COUNTERS_BINDING, c));
         }
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.label),
             layout: &self.layout,
             entries: &entries,
         });
-        let clear = wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            store: wgpu::StoreOp::Store,
-        };
+        let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
         let mut pass = gpu.render_pass(
             enc,
             &wgpu::RenderPassDescriptor {
                 label: Some(self.label),
                 color_attachments: &[
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: targets.inscatter,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: clear,
-                    }),
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: targets.total,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: clear,
-                    }),
+                    color_attachment(targets.inscatter, clear),
+                    color_attachment(targets.total, clear),
                 ],
                 ..Default::default()
             },
@@ -298,6 +204,56 @@ impl ResolvePass {
     }
 }
 
+/// The binding of the per-light counters.
+const COUNTERS_BINDING: u32 = 15;
+
+/// Group 1's layout: distances (0), surface (1), then what `bindings` asks for.
+fn layout_entries(bindings: &Bindings) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    let mut entries = vec![fragment_texture(0), fragment_texture(1)];
+    if bindings.uniform.is_some() {
+        entries.push(uniform_buffer(2, fragment));
+    }
+    entries.extend((0..bindings.textures).map(|k| fragment_texture(3 + k)));
+    if bindings.counters > 0 {
+        entries.push(storage_buffer(COUNTERS_BINDING, fragment, false));
+    }
+    entries
+}
+
+/// One pipeline writing `inscatter` and `total`, or (per-light mode, `per_light_constants`
+/// given) one per light slot with `LIGHT` set, blended additively.
+fn pipelines(
+    gpu: &Gpu,
+    renderer: &SceneRenderer,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    per_light_constants: Option<&[(&'static str, f64)]>,
+) -> Vec<wgpu::RenderPipeline> {
+    let per_light = per_light_constants.is_some();
+    let target = pipeline::target(AOV_FORMAT, per_light.then_some(color_only(ADD)));
+    let slots = if per_light { MAX_LIGHTS } else { 1 };
+    (0..slots)
+        .map(|k| {
+            let own = match per_light_constants {
+                Some(c) => [&[("LIGHT", k as f64)][..], c].concat(),
+                None => Vec::new(),
+            };
+            let constants = renderer.specialization.with(&own);
+            fullscreen_pipeline(
+                &gpu.device,
+                label,
+                layout,
+                module,
+                "fs",
+                &constants,
+                &[target.clone(), target.clone()],
+            )
+        })
+        .collect()
+}
+
 /// A pipeline drawing `vs_fullscreen` (FULLSCREEN) with fragment entry point `fs` of `module`,
 /// no depth, no vertex buffers; `constants` for both stages.
 pub fn fullscreen_pipeline(
@@ -309,7 +265,7 @@ pub fn fullscreen_pipeline(
     constants: &[(&str, f64)],
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
-    crate::common::pipeline::Stage::new(label, "vs_fullscreen")
+    pipeline::Stage::new(label, "vs_fullscreen")
         .fragment(fs, targets)
         .build(device, layout, module, constants)
 }

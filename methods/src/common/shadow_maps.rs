@@ -5,11 +5,13 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use harness::gpu::PassCounter;
+use harness::gpu::{PassCounter, color_attachment, depth_scratch_attachment};
 use harness::{FrameReport, Gpu};
 use scenes::{FrameState, LightState, Scene};
 
 use super::gpu_scene::{GpuScene, mesh_pipeline};
+use super::layouts::{buffer_entry, dynamic_uniform, slot_entry, storage_buffer};
+use super::pipeline;
 use super::uniforms::ShadowSlot;
 use super::wgsl;
 
@@ -37,6 +39,13 @@ const CUBE_FACE_UPS: [Vec3; 6] = [
 
 const FACE_STRIDE: u64 = 256;
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// What a texel holds where no caster was drawn: a distance beyond everything.
+const NO_CASTER: wgpu::Color = wgpu::Color {
+    r: 1e30,
+    g: 0.0,
+    b: 0.0,
+    a: 0.0,
+};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -71,23 +80,7 @@ impl ShadowMaps {
         enabled: bool,
         scene_gpu: &GpuScene,
     ) -> ShadowMaps {
-        let mut slots = Vec::new();
-        let mut layers = 0u32;
-        for l in lights {
-            let faces = if matches!(l, LightState::Directional { .. }) {
-                1
-            } else {
-                6
-            };
-            slots.push(ShadowSlot {
-                layer_base: layers,
-                faces,
-                size,
-                bias: 1.5,
-                clip_from_world: [Mat4::IDENTITY; 6],
-            });
-            layers += faces;
-        }
+        let (mut slots, layers) = slots(lights, size);
         let (size, layers) = if enabled && layers > 0 {
             (size, layers)
         } else {
@@ -96,34 +89,7 @@ impl ShadowMaps {
         if !enabled {
             slots.clear();
         }
-        let texture = gpu.texture(&wgpu::TextureDescriptor {
-            label: Some("shadow maps"),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let layer_views = (0..layers)
-            .map(|k| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: k,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
+        let (texture, view, layer_views) = layer_textures(gpu, size, layers);
         let depth = gpu.texture_2d(
             "shadow depth",
             size,
@@ -138,59 +104,9 @@ impl ShadowMaps {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("shadow pass"),
-                entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: true,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Storage { read_only: true },
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                ],
-            });
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow pass"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &faces,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: scene_gpu.objects.as_entire_binding(),
-                },
-            ],
-        });
+        let (layout, bind_group) = pass_group(gpu, &faces, &scene_gpu.objects);
         let module = wgsl::module(&gpu.device, "shadow map", &shader_source());
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shadow map"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pl = pipeline::layout(&gpu.device, "shadow map", &[&layout]);
         let pipeline = mesh_pipeline(
             &gpu.device,
             "shadow map",
@@ -289,28 +205,14 @@ impl ShadowMaps {
                     enc,
                     &wgpu::RenderPassDescriptor {
                         label: Some("shadow face"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: &self.layer_views[layer as usize],
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color {
-                                    r: 1e30,
-                                    g: 0.0,
-                                    b: 0.0,
-                                    a: 0.0,
-                                }),
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &self.depth_view,
-                            depth_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(1.0),
-                                store: wgpu::StoreOp::Discard,
-                            }),
-                            stencil_ops: None,
-                        }),
+                        color_attachments: &[color_attachment(
+                            &self.layer_views[layer as usize],
+                            wgpu::LoadOp::Clear(NO_CASTER),
+                        )],
+                        depth_stencil_attachment: Some(depth_scratch_attachment(
+                            &self.depth_view,
+                            wgpu::LoadOp::Clear(1.0),
+                        )),
                         ..Default::default()
                     },
                 );
@@ -325,6 +227,92 @@ impl ShadowMaps {
             }
         }
     }
+}
+
+/// Each light's slot (6 cube faces for local lights, 1 for directional, `size`² each) and the
+/// layers they need in all.
+fn slots(lights: &[LightState], size: u32) -> (Vec<ShadowSlot>, u32) {
+    let mut slots = Vec::new();
+    let mut layers = 0u32;
+    for l in lights {
+        let faces = if matches!(l, LightState::Directional { .. }) {
+            1
+        } else {
+            6
+        };
+        slots.push(ShadowSlot {
+            layer_base: layers,
+            faces,
+            size,
+            bias: 1.5,
+            clip_from_world: [Mat4::IDENTITY; 6],
+        });
+        layers += faces;
+    }
+    (slots, layers)
+}
+
+/// The `layers`-layer R32Float map texture, its array view (for sampling) and one view per
+/// layer (for rendering).
+fn layer_textures(
+    gpu: &Gpu,
+    size: u32,
+    layers: u32,
+) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
+    let texture = gpu.texture(&wgpu::TextureDescriptor {
+        label: Some("shadow maps"),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let layer_views = (0..layers)
+        .map(|k| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: k,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    (texture, view, layer_views)
+}
+
+/// The shadow pass's group: each face's uniform (a dynamic-offset slot of `faces`) and the
+/// scene's objects.
+fn pass_group(
+    gpu: &Gpu,
+    faces: &wgpu::Buffer,
+    objects: &wgpu::Buffer,
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let face_size = std::mem::size_of::<FaceUniform>() as u64;
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shadow pass"),
+            entries: &[
+                dynamic_uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, face_size),
+                storage_buffer(1, wgpu::ShaderStages::VERTEX, true),
+            ],
+        });
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("shadow pass"),
+        layout: &layout,
+        entries: &[slot_entry(0, faces, face_size), buffer_entry(1, objects)],
+    });
+    (layout, bind)
 }
 
 /// World bounds of the shadow casters at this frame (a unit box at the origin if none).

@@ -12,6 +12,15 @@ pub const FRAME_BINDINGS: &str = include_str!("wgsl/frame_bindings.wgsl");
 /// The unshadowed in-scatter over a ray stretch without a table: directional closed form, spot
 /// quadrature (`sunlight_between`, `spot_between`, `local_quadrature`); needs PRELUDE.
 pub const LIGHT_SEGMENTS: &str = include_str!("wgsl/light_segments.wgsl");
+/// Biri et al.'s L_dss from a Γ table (`common::gamma`) and `lit_between`, the unshadowed
+/// in-scatter of any light kind over a ray interval, dispatched on its kind (point lights by eq.
+/// 7's Γ lookups, the others through LIGHT_SEGMENTS, composed first). Needs PRELUDE. Used by
+/// biri-shadow-volumes and polygonal-light-volumes.
+pub const LDSS: &str = concat!(
+    include_str!("wgsl/light_segments.wgsl"),
+    "\n",
+    include_str!("wgsl/ldss.wgsl")
+);
 /// The forward surface pass (`vs`, `fs`, `shade_light…`; needs PRELUDE), also composed by passes
 /// that redraw the scene's surfaces per light.
 pub const SURFACE_PASS: &str = include_str!("wgsl/surface_pass.wgsl");

@@ -5,9 +5,11 @@
 use harness::gpu::color_attachment;
 use harness::{Gpu, Targets};
 
-use crate::common::pipeline::{self, Stage};
+use crate::common::layouts::{float_texture, storage_buffer, uniform_buffer};
+use crate::common::pipeline::{self, ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::specialize::flag;
 use crate::common::wgsl;
 
 pub const DOBASHI_WGSL: &str = include_str!("dobashi.wgsl");
@@ -54,40 +56,9 @@ pub const FLAG_CLIP_LAST: u32 = 4;
 const ALL: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
 
-fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: ALL,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    // Writable storage is compute-only (vertex-stage writes need VERTEX_WRITABLE_STORAGE).
-    let writable = matches!(ty, wgpu::BufferBindingType::Storage { read_only: false });
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: if writable {
-            wgpu::ShaderStages::COMPUTE
-        } else {
-            ALL
-        },
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn storage(read_only: bool) -> wgpu::BufferBindingType {
-    wgpu::BufferBindingType::Storage { read_only }
+/// Writable storage is compute-only (vertex-stage writes need VERTEX_WRITABLE_STORAGE).
+fn writable_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    storage_buffer(binding, wgpu::ShaderStages::COMPUTE, false)
 }
 
 fn layout(gpu: &Gpu, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
@@ -136,15 +107,46 @@ fn compute_pipeline(
     source: &str,
 ) -> wgpu::ComputePipeline {
     let module = wgsl::module(&gpu.device, label, source);
-    gpu.device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: Some(&pipeline_layout(gpu, label, renderer, own)),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: renderer.specialization.options(),
-            cache: None,
-        })
+    ComputeStage::new(label, "main").build(
+        &gpu.device,
+        &pipeline_layout(gpu, label, renderer, own),
+        &module,
+        renderer.specialization.constants(),
+    )
+}
+
+/// The virtual planes: instanced lattices blended additively into the accumulation target
+/// (`accum`), ξ per fragment or per vertex. Planes end at the surfaces by a test against the
+/// surface pass's distance in the fragment shader (it also needs the distance to shorten the
+/// last slab): no depth.
+fn planes_pipeline(
+    gpu: &Gpu,
+    renderer: &SceneRenderer,
+    own: &wgpu::BindGroupLayout,
+    accum: wgpu::TextureFormat,
+    xi_per_fragment: bool,
+) -> wgpu::RenderPipeline {
+    let constants = renderer
+        .specialization
+        .with(&[("XI_PER_FRAGMENT", flag(xi_per_fragment))]);
+    let module = wgsl::module(&gpu.device, "dobashi planes", &planes_source());
+    let layout = pipeline_layout(gpu, "dobashi planes", renderer, own);
+    let targets = [pipeline::target(accum, Some(pipeline::ADDITIVE))];
+    Stage::new("dobashi planes", "vs")
+        .fragment("fs", &targets)
+        .build(&gpu.device, &layout, &module, &constants)
+}
+
+/// Two triangles per cell of an `nu` × `nv` lattice of points, row by row.
+fn lattice_indices((nu, nv): (u32, u32)) -> Vec<u32> {
+    let mut idx = Vec::with_capacity(((nu - 1) * (nv - 1) * 6) as usize);
+    for j in 0..nv - 1 {
+        for i in 0..nu - 1 {
+            let a = j * nu + i;
+            idx.extend([a, a + 1, a + nu, a + 1, a + nu + 1, a + nu]);
+        }
+    }
+    idx
 }
 
 /// Every pipeline and resource of the method's own passes.
@@ -171,9 +173,6 @@ impl Passes {
         accum: wgpu::TextureFormat,
         xi_per_fragment: bool,
     ) -> Passes {
-        let plane_constants = renderer
-            .specialization
-            .with(&[("XI_PER_FRAGMENT", if xi_per_fragment { 1.0 } else { 0.0 })]);
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("dobashi planes"),
             size: std::mem::size_of::<PlanesUniform>() as u64,
@@ -192,7 +191,7 @@ impl Passes {
         let far_layout = layout(
             gpu,
             "dobashi far",
-            &[texture_entry(0), buffer_entry(1, storage(false))],
+            &[float_texture(0, ALL), writable_storage(1)],
         );
         let far_pipeline =
             compute_pipeline(gpu, "dobashi far", renderer, &far_layout, &far_source());
@@ -208,9 +207,9 @@ impl Passes {
             gpu,
             "dobashi planes",
             &[
-                texture_entry(0),
-                buffer_entry(1, wgpu::BufferBindingType::Uniform),
-                buffer_entry(2, storage(true)),
+                float_texture(0, ALL),
+                uniform_buffer(1, ALL),
+                storage_buffer(2, ALL, true),
             ],
         );
         let planes_bind = bind(
@@ -223,22 +222,9 @@ impl Passes {
                 far_bits.as_entire_binding(),
             ],
         );
-        let module = wgsl::module(&gpu.device, "dobashi planes", &planes_source());
-        let layout = pipeline_layout(gpu, "dobashi planes", renderer, &planes_layout);
-        let targets = [pipeline::target(accum, Some(pipeline::ADDITIVE))];
-        // Planes end at the surfaces by a test against the surface pass's distance in the
-        // fragment shader (it also needs the distance to shorten the last slab): no depth.
-        let planes_pipeline = Stage::new("dobashi planes", "vs")
-            .fragment("fs", &targets)
-            .build(&gpu.device, &layout, &module, &plane_constants);
-        let (nu, nv) = lattice;
-        let mut idx = Vec::with_capacity(((nu - 1) * (nv - 1) * 6) as usize);
-        for j in 0..nv - 1 {
-            for i in 0..nu - 1 {
-                let a = j * nu + i;
-                idx.extend([a, a + 1, a + nu, a + 1, a + nu + 1, a + nu]);
-            }
-        }
+        let planes_pipeline =
+            planes_pipeline(gpu, renderer, &planes_layout, accum, xi_per_fragment);
+        let idx = lattice_indices(lattice);
         let lattice_buf = gpu.buffer_init(
             "dobashi lattice",
             bytemuck::cast_slice(&idx),
@@ -357,10 +343,7 @@ pub fn probe_light_map(
     let own = layout(
         gpu,
         "dobashi probe",
-        &[
-            buffer_entry(0, storage(true)),
-            buffer_entry(1, storage(false)),
-        ],
+        &[storage_buffer(0, ALL, true), writable_storage(1)],
     );
     let pipeline = compute_pipeline(gpu, "dobashi probe", renderer, &own, &probe_source());
     let size = std::mem::size_of_val(points) as u64;

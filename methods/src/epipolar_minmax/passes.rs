@@ -7,8 +7,9 @@ use harness::gpu::{PhaseTimer, phases};
 use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
+use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
-use crate::common::specialize::{compile_options, flag};
+use crate::common::specialize::flag;
 use crate::common::wgsl;
 
 pub const EPIPOLAR_WGSL: &str = include_str!("epipolar.wgsl");
@@ -120,125 +121,182 @@ fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
         })
 }
 
-impl Passes {
-    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, min_max: bool) -> Passes {
+/// The buffers and textures every light's passes share (lights run in turn).
+struct Scratch {
+    slices: wgpu::Buffer,
+    samples: wgpu::Buffer,
+    work: wgpu::Buffer,
+    tree: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    published_view: wgpu::TextureView,
+}
+
+impl Scratch {
+    fn new(gpu: &Gpu, sizes: &Sizes) -> Scratch {
         let storage = wgpu::BufferUsages::STORAGE;
         let per_sample = sizes.slices as u64 * sizes.samples as u64;
         let pixels = sizes.width as u64 * sizes.height as u64;
-        let slices = buffer(gpu, "epipolar slices", 48 * sizes.slices as u64, storage);
-        let samples = buffer(gpu, "epipolar samples", 32 * per_sample, storage);
-        let work = buffer(
-            gpu,
-            "epipolar work list",
-            4 * per_sample.max(pixels),
-            storage,
-        );
         let tree_size = 16 * sizes.slices as u64 * sizes.leaves as u64;
-        let tree = buffer(gpu, "epipolar min-max trees", tree_size, storage);
-        let counters = buffer(
+        let copies = wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+        Scratch {
+            slices: buffer(gpu, "epipolar slices", 48 * sizes.slices as u64, storage),
+            samples: buffer(gpu, "epipolar samples", 32 * per_sample, storage),
+            work: buffer(
+                gpu,
+                "epipolar work list",
+                4 * per_sample.max(pixels),
+                storage,
+            ),
+            tree: buffer(gpu, "epipolar min-max trees", tree_size, storage),
+            counters: buffer(
+                gpu,
+                "epipolar counters",
+                4 * COUNTERS.len() as u64,
+                storage | copies,
+            ),
+            accum: buffer(gpu, "epipolar accumulator", 16 * pixels, storage),
+            published_view: gpu
+                .texture_2d(
+                    "epipolar in-scatter",
+                    sizes.width,
+                    sizes.height,
+                    wgpu::TextureFormat::Rgba32Float,
+                    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+                )
+                .create_view(&Default::default()),
+        }
+    }
+}
+
+/// The method's compute entry points, compiled from one module under one layout with the
+/// scene's constants and each pipeline's own.
+struct Compiler<'a> {
+    gpu: &'a Gpu,
+    renderer: &'a SceneRenderer,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+}
+
+impl Compiler<'_> {
+    fn pipeline(&self, entry: &str, own: &[(&'static str, f64)]) -> wgpu::ComputePipeline {
+        let constants = self.renderer.specialization.with(own);
+        ComputeStage::new(entry, entry).build(
+            &self.gpu.device,
+            &self.layout,
+            &self.module,
+            &constants,
+        )
+    }
+}
+
+impl Shared {
+    fn new(c: &Compiler) -> Shared {
+        Shared {
+            slice_ends: c.pipeline("slice_ends", &[]),
+            place_samples: c.pipeline("place_samples", &[]),
+            refine: c.pipeline("refine", &[]),
+            march_args: c.pipeline("march_args", &[]),
+            rectify: c.pipeline("rectify", &[]),
+            build_tree: c.pipeline("build_tree", &[]),
+            interpolate: c.pipeline("interpolate", &[]),
+            unwarp: c.pipeline("unwarp", &[]),
+            fixup_args: c.pipeline("fixup_args", &[]),
+            publish: c.pipeline("publish", &[]),
+        }
+    }
+}
+
+impl LightSlot {
+    /// Light k's uniform, header, dispatch arguments and group 1 over the shared `scratch`;
+    /// `own`: its march and fix-up pipelines' constants.
+    fn new(
+        c: &Compiler,
+        layout: &wgpu::BindGroupLayout,
+        scratch: &Scratch,
+        own: &[(&'static str, f64)],
+    ) -> LightSlot {
+        let gpu = c.gpu;
+        let uniform = buffer(
             gpu,
-            "epipolar counters",
-            4 * COUNTERS.len() as u64,
-            storage | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            "epipolar light",
+            std::mem::size_of::<EpiUniform>() as u64,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        let accum = buffer(gpu, "epipolar accumulator", 16 * pixels, storage);
-        let published = gpu.texture_2d(
-            "epipolar in-scatter",
-            sizes.width,
-            sizes.height,
-            wgpu::TextureFormat::Rgba32Float,
-            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+        let header = buffer(
+            gpu,
+            "epipolar header",
+            4 * HEADER_WORDS,
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
         );
-        let published_view = published.create_view(&Default::default());
+        let args = buffer(
+            gpu,
+            "epipolar dispatch",
+            24,
+            wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+        );
+        let s = scratch;
+        let resources: [&wgpu::Buffer; 7] = [
+            &uniform,
+            &s.slices,
+            &s.samples,
+            &s.work,
+            &header,
+            &s.tree,
+            &s.counters,
+        ];
+        let mut entries: Vec<wgpu::BindGroupEntry> = resources
+            .iter()
+            .enumerate()
+            .map(|(b, buf)| buffer_entry(b as u32, buf))
+            .collect();
+        entries.push(view_entry(7, &c.renderer.distance_view));
+        entries.push(buffer_entry(8, &s.accum));
+        entries.push(view_entry(9, &s.published_view));
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("epipolar"),
+            layout,
+            entries: &entries,
+        });
+        LightSlot {
+            uniform,
+            header,
+            args,
+            bind,
+            march: c.pipeline("march", own),
+            fixup: c.pipeline("fixup", own),
+        }
+    }
+}
+
+impl Passes {
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, min_max: bool) -> Passes {
+        let scratch = Scratch::new(gpu, &sizes);
         let layout = layout(gpu);
-        let pl = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("epipolar"),
-                bind_group_layouts: &[Some(&renderer.frame_layout), Some(&layout)],
-                immediate_size: 0,
-            });
-        let module = wgsl::module(&gpu.device, "epipolar", &compute_source());
-        let pipeline = |entry: &str, own: &[(&'static str, f64)]| {
-            let constants = renderer.specialization.with(own);
-            gpu.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pl),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: compile_options(&constants),
-                    cache: None,
-                })
+        let c = Compiler {
+            gpu,
+            renderer,
+            layout: pipeline::layout(&gpu.device, "epipolar", &[&renderer.frame_layout, &layout]),
+            module: wgsl::module(&gpu.device, "epipolar", &compute_source()),
         };
-        let shared = Shared {
-            slice_ends: pipeline("slice_ends", &[]),
-            place_samples: pipeline("place_samples", &[]),
-            refine: pipeline("refine", &[]),
-            march_args: pipeline("march_args", &[]),
-            rectify: pipeline("rectify", &[]),
-            build_tree: pipeline("build_tree", &[]),
-            interpolate: pipeline("interpolate", &[]),
-            unwarp: pipeline("unwarp", &[]),
-            fixup_args: pipeline("fixup_args", &[]),
-            publish: pipeline("publish", &[]),
-        };
+        let shared = Shared::new(&c);
         let shadowed = renderer.shadows_on;
-        let lights = (0..renderer.scene.desc.lights.len() as u32)
+        let lights = (0..renderer.scene.desc.lights.len())
             .map(|k| {
-                let uniform = buffer(
-                    gpu,
-                    "epipolar light",
-                    std::mem::size_of::<EpiUniform>() as u64,
-                    wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                );
-                let header = buffer(
-                    gpu,
-                    "epipolar header",
-                    4 * HEADER_WORDS,
-                    storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-                );
-                let args = buffer(
-                    gpu,
-                    "epipolar dispatch",
-                    24,
-                    wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
-                );
-                let resources: [&wgpu::Buffer; 7] = [
-                    &uniform, &slices, &samples, &work, &header, &tree, &counters,
-                ];
-                let mut entries: Vec<wgpu::BindGroupEntry> = resources
-                    .iter()
-                    .enumerate()
-                    .map(|(b, buf)| buffer_entry(b as u32, buf))
-                    .collect();
-                entries.push(view_entry(7, &renderer.distance_view));
-                entries.push(buffer_entry(8, &accum));
-                entries.push(view_entry(9, &published_view));
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("epipolar"),
-                    layout: &layout,
-                    entries: &entries,
-                });
                 let own = [
                     ("LIGHT", k as f64),
                     ("MIN_MAX", flag(min_max)),
                     ("SHADOWED", flag(shadowed)),
                 ];
-                LightSlot {
-                    uniform,
-                    header,
-                    args,
-                    bind,
-                    march: pipeline("march", &own),
-                    fixup: pipeline("fixup", &own),
-                }
+                LightSlot::new(&c, &layout, &scratch, &own)
             })
             .collect();
         Passes {
             sizes,
-            counters,
-            published_view,
+            counters: scratch.counters,
+            published_view: scratch.published_view,
             lights,
             shared,
             shadowed,

@@ -55,6 +55,7 @@ mod particle_passes;
 mod particles;
 mod passes;
 mod reach;
+mod shaders;
 mod state;
 
 use anyhow::Result;
@@ -64,41 +65,8 @@ use scenes::SceneFeatures;
 
 use crate::common::knobs;
 use crate::common::renderer::{homogeneous_support, renderer_limits};
-use crate::common::resolve;
-use crate::common::wgsl;
+use shaders::{apply_source, particle_surface_source, particles_source, volume_source};
 pub use state::State;
-
-pub const GRID_WGSL: &str = include_str!("grid.wgsl");
-pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
-pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
-pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
-pub const LOOKUP_WGSL: &str = include_str!("lookup.wgsl");
-pub const EXTINCTION_WGSL: &str = include_str!("extinction.wgsl");
-pub const PARTICLES_WGSL: &str = include_str!("particles.wgsl");
-pub const PARTICLE_SURFACE_WGSL: &str = include_str!("particle_surface.wgsl");
-
-/// The volume passes' composed WGSL (inject, temporal and integrate entry points).
-pub fn volume_source() -> String {
-    let shared = [GRID_WGSL, EXTINCTION_WGSL, TEMPORAL_WGSL];
-    wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), VOLUME_WGSL)
-}
-
-/// The apply pass's composed WGSL.
-pub fn apply_source() -> String {
-    resolve::source(&wgsl::compose(&[GRID_WGSL, LOOKUP_WGSL], APPLY_WGSL))
-}
-
-/// The particle passes' composed WGSL (voxelise and extinction entry points).
-pub fn particles_source() -> String {
-    let shared = [GRID_WGSL, EXTINCTION_WGSL];
-    wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), PARTICLES_WGSL)
-}
-
-/// The particle surface pass's composed WGSL.
-pub fn particle_surface_source() -> String {
-    let shared = [GRID_WGSL, LOOKUP_WGSL, EXTINCTION_WGSL];
-    resolve::source(&wgsl::compose(&shared, PARTICLE_SURFACE_WGSL))
-}
 
 /// The method (a description; [`State`] is the prepared instance).
 pub struct FroxelFog;

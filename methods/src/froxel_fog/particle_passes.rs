@@ -11,10 +11,11 @@ use harness::{FrameReport, Gpu, Targets};
 use scenes::{CameraPose, FrameState, LightState};
 
 use super::particles::{Bins, GpuParticle, LightGrid, camera_bins, light_grid};
-use super::{particle_surface_source, particles_source};
+use super::shaders::{particle_surface_source, particles_source};
 use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
+use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
@@ -128,16 +129,13 @@ fn compute_pipeline(
     entry: &str,
 ) -> wgpu::ComputePipeline {
     let module = wgsl::module(&gpu.device, entry, source);
-    let pl = crate::common::pipeline::layout(&gpu.device, entry, &[&renderer.frame_layout, layout]);
-    gpu.device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: renderer.specialization.options(),
-            cache: None,
-        })
+    let pl = pipeline::layout(&gpu.device, entry, &[&renderer.frame_layout, layout]);
+    ComputeStage::new(entry, entry).build(
+        &gpu.device,
+        &pl,
+        &module,
+        renderer.specialization.constants(),
+    )
 }
 
 impl ParticlePasses {

@@ -11,6 +11,8 @@ use glam::Vec3;
 use scenes::particles::Particle;
 use scenes::{CameraPose, LightState};
 
+use crate::common::sphere_cone::SphereSeen;
+
 /// `Particle` in particles.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -246,17 +248,16 @@ fn local_grid(lp: Vec3, parts: &[GpuParticle], g: &mut LightGrid) -> Result<Vec<
     let (right, up) = basis(axis);
     let (mut half, mut z0, mut z1) = (0.0f32, f32::MAX, 0.0f32);
     for p in parts {
-        let w = Vec3::from_array(p.center) - lp;
-        let d = w.length();
-        if d <= p.radius * 1.001 {
+        let seen = SphereSeen::from(lp, axis, Vec3::from_array(p.center), p.radius)
+            .filter(|s| s.distance > p.radius * 1.001);
+        let Some(s) = seen else {
             bail!(
                 "froxel-fog: the local light lies inside a particle (its extinction grid is a cone from the light)"
             );
-        }
-        let ang = (w / d).dot(axis).clamp(-1.0, 1.0).acos() + (p.radius / d).asin();
-        half = half.max(ang);
-        z0 = z0.min(d - p.radius);
-        z1 = z1.max(d + p.radius);
+        };
+        half = half.max(s.farthest());
+        z0 = z0.min(s.distance - p.radius);
+        z1 = z1.max(s.distance + p.radius);
     }
     if half > MAX_HALF_ANGLE_DEG.to_radians() {
         bail!(

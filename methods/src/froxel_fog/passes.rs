@@ -5,10 +5,11 @@
 use harness::Gpu;
 
 use super::particle_passes::MediumBuffers;
-use super::volume_source;
+use super::shaders::volume_source;
 use crate::common::layouts::{
     buffer_entry, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
+use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::uniforms::MAX_LIGHTS;
@@ -64,7 +65,7 @@ impl VolumePasses {
     ) -> VolumePasses {
         let (layout, binds) = bindings(gpu, &buffers);
         let module = wgsl::module(&gpu.device, "froxel volume", &volume_source());
-        let pl = crate::common::pipeline::layout(
+        let pl = pipeline::layout(
             &gpu.device,
             "froxel volume",
             &[&renderer.frame_layout, &layout],
@@ -72,15 +73,7 @@ impl VolumePasses {
         let particles = ("PARTICLES", flag(modes.particles));
         let pipeline = |entry: &str, own: &[(&'static str, f64)]| {
             let constants = renderer.specialization.with(&[own, &[particles]].concat());
-            gpu.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pl),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: crate::common::specialize::compile_options(&constants),
-                    cache: None,
-                })
+            ComputeStage::new(entry, entry).build(&gpu.device, &pl, &module, &constants)
         };
         let lights = renderer.scene.desc.lights.len().min(MAX_LIGHTS);
         let inject = (0..lights)

@@ -3,7 +3,7 @@
 //! voxelise, extinction, inject, temporal, integrate, particle-surface, apply).
 
 use anyhow::Result;
-use harness::gpu::PhaseTimer;
+use harness::gpu::{PhaseTimer, phases};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, KnobRead, Prepared, Targets};
 use scenes::FrameState;
@@ -11,11 +11,11 @@ use scenes::FrameState;
 use super::grid::{FroxelUniform, Temporal};
 use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared};
 use super::passes::{Buffers, Dims, Modes, VolumePasses};
-use super::{APPLY_WGSL, GRID_WGSL, LOOKUP_WGSL, reach};
+use super::reach;
+use super::shaders::apply_wgsl;
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::ResolvePass;
 use crate::common::uniforms::MAX_LIGHTS;
-use crate::common::wgsl;
 
 /// The prepared method.
 pub struct State {
@@ -44,10 +44,23 @@ struct Timer {
 }
 
 impl Timer {
+    /// Room for the frame's eight phases, where the device has timestamps inside encoders.
+    fn new(gpu: &Gpu) -> Timer {
+        Timer {
+            timer: PhaseTimer::new(gpu, 8),
+            fence: gpu.buffer(&wgpu::BufferDescriptor {
+                label: Some("froxel phase fence"),
+                size: 16,
+                usage: wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
     /// Starts phase `phase` of the frame, if there is a timer.
     fn mark(&mut self, enc: &mut wgpu::CommandEncoder, phase: &'static str) {
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, phase);
+        phases::mark(&mut self.timer, enc, phase);
+        if self.timer.is_some() {
             enc.clear_buffer(&self.fence, 0, None);
         }
     }
@@ -118,32 +131,25 @@ impl State {
             shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
         };
         let volume_passes = VolumePasses::new(gpu, &renderer, buffers, modes);
-        let particles = if is_particles {
-            let shared = Shared {
-                froxel: &uniform,
-                medium: &medium,
-            };
-            let g = Grid {
-                columns: (grid.grid_x, grid.grid_y),
-                pixel_size: grid.pixel_size,
-                image: (ctx.width, ctx.height),
-            };
-            Some(ParticlePasses::new(
-                gpu,
-                &renderer,
-                shared,
-                g,
-                n,
-                ctx.no_skip,
-            )?)
-        } else {
-            None
-        };
+        let particles = is_particles
+            .then(|| {
+                let shared = Shared {
+                    froxel: &uniform,
+                    medium: &medium,
+                };
+                let g = Grid {
+                    columns: (grid.grid_x, grid.grid_y),
+                    pixel_size: grid.pixel_size,
+                    image: (ctx.width, ctx.height),
+                };
+                ParticlePasses::new(gpu, &renderer, shared, g, n, ctx.no_skip)
+            })
+            .transpose()?;
         let apply = ResolvePass::with_textures(
             gpu,
             &renderer,
             "froxel apply",
-            &wgsl::compose(&[GRID_WGSL, LOOKUP_WGSL], APPLY_WGSL),
+            &apply_wgsl(),
             Some(std::mem::size_of::<FroxelUniform>() as u64),
             1,
         );
@@ -162,15 +168,7 @@ impl State {
                 rendered: 0,
                 previous: None,
             },
-            timer: Timer {
-                timer: PhaseTimer::new(gpu, 8),
-                fence: gpu.buffer(&wgpu::BufferDescriptor {
-                    label: Some("froxel phase fence"),
-                    size: 16,
-                    usage: wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }),
-            },
+            timer: Timer::new(gpu),
         })
     }
 
@@ -290,9 +288,7 @@ impl Prepared for State {
         self.apply
             .encode_with(gpu, enc, &self.renderer, targets, &[&self.volume_view]);
         report.ran("apply");
-        if let Some(t) = self.timer.timer.as_mut() {
-            t.finish(enc);
-        }
+        phases::finish(&mut self.timer.timer, enc);
         report.count("froxels", g.froxels() as f64);
         report.count("lights_injected", active.len() as f64);
         Ok(report)

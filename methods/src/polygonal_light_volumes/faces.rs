@@ -7,6 +7,7 @@ use glam::{Mat4, Vec3};
 use scenes::{FrameState, LightState};
 
 use crate::common::shadow_maps::CUBE_FACE_AXES;
+use crate::common::sphere_cone::cone_reaches_sphere;
 use crate::common::uniforms::ShadowSlot;
 
 /// Half the angle a cube face spans to its corner: atan(√2) (radians).
@@ -46,18 +47,6 @@ pub fn frustum_corners(frame: &FrameState, aspect: f32) -> [Vec3; 8] {
         *c = world_from_clip.project_point3(Vec3::new(x, y, z));
     }
     out
-}
-
-/// Whether a sphere (centre, radius) reaches into spot light's cone (apex, unit axis, outer
-/// half-angle): the angle to the centre minus the sphere's angular radius is inside the cone.
-pub fn sphere_meets_cone(apex: Vec3, axis: Vec3, outer: f32, centre: Vec3, radius: f32) -> bool {
-    let to = centre - apex;
-    let dist = to.length();
-    if dist <= radius {
-        return true;
-    }
-    let angle = (to.dot(axis) / dist).clamp(-1.0, 1.0).acos();
-    angle - (radius / dist).asin() < outer
 }
 
 /// The volume of `light` this frame, or why it has none. `casters`: the bounding sphere of the
@@ -104,7 +93,7 @@ pub fn plan(
             ..
         } => {
             let outer = cos_outer.clamp(-1.0, 1.0).acos();
-            if !sphere_meets_cone(*position, *direction, outer, centre, radius) {
+            if !cone_reaches_sphere(*position, *direction, outer, centre, radius) {
                 return Err("no shadow caster inside the spot's cone");
             }
             // Grid cells span at most 2/samples radians; vertices three cells beyond the cone
@@ -172,36 +161,6 @@ pub fn triangles(directional: bool, samples: u32) -> Triangles {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn cone_test_sees_spheres_inside_and_not_behind() {
-        let (apex, axis) = (Vec3::ZERO, Vec3::Z);
-        let outer = 0.5;
-        assert!(sphere_meets_cone(
-            apex,
-            axis,
-            outer,
-            Vec3::new(0.0, 0.0, 5.0),
-            0.1
-        ));
-        assert!(!sphere_meets_cone(
-            apex,
-            axis,
-            outer,
-            Vec3::new(0.0, 0.0, -5.0),
-            1.0
-        ));
-        // 45° off axis at distance 10: outside a 0.5 rad cone unless the radius reaches in.
-        let c = Vec3::new(7.07, 0.0, 7.07);
-        assert!(!sphere_meets_cone(apex, axis, outer, c, 0.5));
-        assert!(sphere_meets_cone(
-            apex,
-            axis,
-            outer,
-            c,
-            10.0 * (0.79 - 0.5f32).sin() + 0.2
-        ));
-    }
 
     #[test]
     fn triangle_counts_follow_the_grid() {

@@ -25,15 +25,15 @@
 //! front-add / back-subtract rule); a light without a caster in its frustum gets no volume
 //! (recorded in `FrameReport::skipped`).
 //!
-//! The integral (`integral.wgsl`): point lights use Biri et al.'s Γ(λ, γ) table, imported from
-//! `biri_shadow_volumes` (`GammaTable`, `LDSS_WGSL`): it holds the scene's phase function, so
+//! The integral (`integral.wgsl`): point lights use Biri et al.'s Γ(λ, γ) table, shared with
+//! biri-shadow-volumes (`common::gamma`, `common::wgsl::LDSS`): it holds the scene's phase function, so
 //! Henyey–Greenstein, Rayleigh and Mie media are exact up to the table. With a spot's falloff and
 //! pattern the integral is not closed-form: it is evaluated per fragment by `panels` two-node
 //! Gauss–Legendre panels uniform in the angle seen from the light (dx/r² = dφ/h flattens the
 //! 1/r² peak), over the ray's stretch inside the outer cone only; `table = 0` uses the same
 //! quadrature for point lights. Directional light is closed-form. The quadrature and the closed
-//! form are shared (`common/wgsl/light_segments.wgsl`) and dispatched by biri-shadow-volumes'
-//! per-interval `lit_between`, which both Biri resolves use too.
+//! form are shared (`common/wgsl/light_segments.wgsl`) and dispatched by the per-interval
+//! `lit_between` of `common/wgsl/ldss.wgsl`, which both resolves of biri-shadow-volumes use too.
 //!
 //! Faithful: the displaced shadow-map grid, the closed light volume, the signed accumulation of
 //! the unshadowed integral from the eye, the eye inside a volume needing no special case (F(0) =
@@ -50,10 +50,12 @@
 //! spot quadrature error (measured in README.md); no unorm8 accumulation (the paper's era).
 
 mod faces;
+mod shaders;
 mod volume;
 
 use anyhow::{Result, bail};
 use bytemuck::{Pod, Zeroable};
+use harness::gpu::{PhaseTimer, phases};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
@@ -61,30 +63,13 @@ use harness::{
 };
 use scenes::{FrameState, SceneFeatures};
 
-use crate::biri_shadow_volumes::{GammaTable, LDSS_WGSL};
+use crate::common::gamma::GammaTable;
 use crate::common::renderer::{SceneRenderer, unsupported};
-use crate::common::resolve::{self, ResolvePass};
-use crate::common::wgsl;
-
-pub const INTEGRAL_WGSL: &str = include_str!("integral.wgsl");
-pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
-pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
+use crate::common::resolve::{self, Bindings, ResolvePass};
+pub use shaders::{resolve_wgsl, volume_source};
 
 /// Pattern texture size for spot patterns (texels per side).
 const PATTERN_RES: u32 = 512;
-
-/// The composed WGSL of the light-volume pass.
-pub fn volume_source() -> String {
-    wgsl::compose(
-        wgsl::PRELUDE,
-        &format!("{LDSS_WGSL}\n{INTEGRAL_WGSL}\n{VOLUME_WGSL}"),
-    )
-}
-
-/// The resolve's own WGSL (composed by `common::resolve::source`).
-pub fn resolve_wgsl() -> String {
-    format!("{LDSS_WGSL}\n{INTEGRAL_WGSL}\n{RESOLVE_WGSL}")
-}
 
 /// Mirrors `Config` in resolve.wgsl.
 #[repr(C)]
@@ -137,7 +122,7 @@ pub struct State {
     resolve: ResolvePass,
     _table: wgpu::Texture,
     table_view: wgpu::TextureView,
-    timer: Option<harness::gpu::PhaseTimer>,
+    timer: Option<PhaseTimer>,
 }
 
 impl State {
@@ -149,13 +134,13 @@ impl State {
             bail!(why);
         }
         let renderer = SceneRenderer::new(ctx, k.shadow_map, PATTERN_RES)?;
-        let (w, h, data) = if k.table > 0 {
-            let t = GammaTable::build(&ctx.scene.medium().background().phase, k.table, k.table);
-            (t.w_res, t.lambda_res, t.data)
+        // table = 0 (per-fragment quadrature): a 2×2 stand-in keeps the binding valid.
+        let table = if k.table > 0 {
+            GammaTable::build(&ctx.scene.medium().background().phase, k.table, k.table)
+                .upload(ctx.gpu, "plv gamma")
         } else {
-            (2, 2, vec![0.0; 4])
+            crate::common::tables::r32_table(ctx.gpu, "plv gamma", 2, 2, &[0.0; 4])
         };
-        let table = crate::common::tables::r32_table(ctx.gpu, "plv gamma", w, h, &data);
         let table_view = table.create_view(&Default::default());
         let constants = [
             ("QUADRATURE", crate::common::specialize::flag(k.table == 0)),
@@ -168,9 +153,11 @@ impl State {
             &renderer,
             "plv resolve",
             &resolve_wgsl(),
-            Some(std::mem::size_of::<ConfigUniform>() as u64),
-            2,
-            0,
+            Bindings {
+                uniform: Some(std::mem::size_of::<ConfigUniform>() as u64),
+                textures: 2,
+                counters: 0,
+            },
             &constants,
         );
         Ok(State {
@@ -179,7 +166,7 @@ impl State {
             resolve,
             _table: table,
             table_view,
-            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 4),
+            timer: PhaseTimer::new(ctx.gpu, 4),
         })
     }
 }
@@ -277,23 +264,15 @@ impl Prepared for State {
             };
             gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&c));
         }
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "shadow");
-        }
+        phases::mark(&mut self.timer, enc, "shadow");
         self.renderer.encode_shadows(enc, &mut report);
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "surface");
-        }
+        phases::mark(&mut self.timer, enc, "surface");
         self.renderer.encode_surface(enc, targets, &mut report);
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "volume");
-        }
+        phases::mark(&mut self.timer, enc, "volume");
         self.volumes
             .encode(gpu, enc, &self.renderer, &frame.lights, &plans, &mut report);
         report.ran("light-volumes");
-        if let Some(t) = self.timer.as_mut() {
-            t.mark(enc, "resolve");
-        }
+        phases::mark(&mut self.timer, enc, "resolve");
         self.resolve.encode_with(
             gpu,
             enc,
@@ -302,13 +281,11 @@ impl Prepared for State {
             &[&self.table_view, &self.volumes.acc_view],
         );
         report.ran("resolve");
-        if let Some(t) = self.timer.as_mut() {
-            t.finish(enc);
-        }
+        phases::finish(&mut self.timer, enc);
         Ok(report)
     }
 
-    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
+    fn phase_timer(&self) -> Option<&PhaseTimer> {
         self.timer.as_ref()
     }
 }
@@ -367,7 +344,7 @@ mod tests {
             ("table", ParamValue::Int(8)),
             ("panels", ParamValue::Int(0)),
         ] {
-            let refused = params(&[bad.clone()]).and_then(|p| knobs(&p).map(|_| ()));
+            let refused = params(std::slice::from_ref(&bad)).and_then(|p| knobs(&p).map(|_| ()));
             let e = refused.expect_err(bad.0).to_string();
             assert!(e.contains(bad.0), "{e}");
         }

@@ -7,6 +7,10 @@ use harness::gpu::color_attachment;
 use harness::{FrameReport, Gpu};
 
 use super::faces::{self, LightPlan};
+use super::shaders::volume_source;
+use crate::common::layouts::{
+    dynamic_uniform, float_texture_array, fragment_texture, slot_entry, view_entry,
+};
 use crate::common::pipeline::{self, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::uniforms::MAX_LIGHTS;
@@ -62,32 +66,17 @@ impl VolumePass {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let acc_view = acc.create_view(&Default::default());
-        let tex = crate::common::layouts::fragment_texture;
-        let maps = wgpu::BindGroupLayoutEntry {
-            binding: 1,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2Array,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let face = wgpu::BindGroupLayoutEntry {
-            binding: 2,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: true,
-                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64),
-            },
-            count: None,
-        };
+        let face_size = std::mem::size_of::<FaceUniform>() as u64;
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("light volumes"),
-                entries: &[tex(0), maps, face, tex(3)],
+                entries: &[
+                    fragment_texture(0),
+                    float_texture_array(1, wgpu::ShaderStages::VERTEX),
+                    dynamic_uniform(2, wgpu::ShaderStages::VERTEX_FRAGMENT, face_size),
+                    fragment_texture(3),
+                ],
             });
         let faces = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("light-volume faces"),
@@ -99,29 +88,13 @@ impl VolumePass {
             label: Some("light volumes"),
             layout: &layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&renderer.shadows.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &faces,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(std::mem::size_of::<FaceUniform>() as u64),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(gamma_view),
-                },
+                view_entry(0, &renderer.distance_view),
+                view_entry(1, &renderer.shadows.view),
+                slot_entry(2, &faces, face_size),
+                view_entry(3, gamma_view),
             ],
         });
-        let module = wgsl::module(&gpu.device, "light volumes", &super::volume_source());
+        let module = wgsl::module(&gpu.device, "light volumes", &volume_source());
         let pl = pipeline::layout(
             &gpu.device,
             "light volumes",

@@ -23,7 +23,7 @@ pub fn bins(centres: &[Vec3], eye: Vec3, g: usize) -> (Vec<usize>, Vec<Vec3>) {
         .map(|&c| (c - eye).try_normalize().unwrap_or(Vec3::Z))
         .collect();
     let mean = dirs.iter().sum::<Vec3>().try_normalize().unwrap_or(Vec3::Z);
-    let (r, u) = super::blocks::basis_of(mean);
+    let (r, u) = super::primitives::basis_of(mean);
     // Tangent-plane coordinates (the directions all lie in front of the eye's mean direction
     // for a cloud seen from outside; a direction behind it is clamped to the plane's edge).
     let plane: Vec<(f32, f32)> = dirs

@@ -14,7 +14,7 @@
 use glam::Vec3;
 use scenes::particles::Particle;
 
-use super::blocks::{BlockSet, Prim, sphere};
+use super::primitives::{BlockSet, Prim, sphere};
 
 /// Each block's own particles as analytic spheres, by block index (`Prim::extra[3]`, set by
 /// [`Members::index`]).

@@ -17,9 +17,10 @@
 use glam::{Vec2, Vec3};
 use scenes::LightState;
 
-use super::blocks::{self, Prim};
 use super::passes::{FACES, PbUniform, ViewUniform};
+use super::primitives::{Prim, basis_of};
 use crate::common::shadow_maps::CUBE_FACE_AXES;
+use crate::common::sphere_cone::{SphereSeen, cone_reaches_sphere};
 
 /// The widest half-angle (degrees) one perspective light map is used for.
 pub const MAX_HALF_ANGLE_DEG: f32 = 80.0;
@@ -83,11 +84,9 @@ fn reaches(light: &LightState, prims: &[Prim]) -> bool {
         return true;
     };
     let (axis, outer) = (direction.normalize(), cos_outer.clamp(-1.0, 1.0).acos());
-    prims.iter().any(|p| {
-        let w = centre(p) - *position;
-        let (d, h) = (w.length(), p.center[3] * BOUNDS);
-        d <= h || (w / d).dot(axis).clamp(-1.0, 1.0).acos() - (h / d).asin() <= outer
-    })
+    prims
+        .iter()
+        .any(|p| cone_reaches_sphere(*position, axis, outer, centre(p), p.center[3] * BOUNDS))
 }
 
 /// Slice depths spread evenly over [dmin, dmax] (slices beyond S repeat the last depth).
@@ -104,7 +103,7 @@ fn with_slices(mut v: ViewUniform, dmin: f32, dmax: f32, slices: u32) -> ViewUni
 }
 
 fn directional(l: Vec3, prims: &[Prim], slices: u32) -> ViewUniform {
-    let (r, up) = blocks::basis_of(l);
+    let (r, up) = basis_of(l);
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
     let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
     for p in prims {
@@ -131,7 +130,7 @@ fn directional(l: Vec3, prims: &[Prim], slices: u32) -> ViewUniform {
 
 /// A perspective map with axis `axis` and half-angle tangent `tan` at `lp`.
 fn perspective(lp: Vec3, axis: Vec3, tan: f32) -> ViewUniform {
-    let (r, up) = blocks::basis_of(axis);
+    let (r, up) = basis_of(axis);
     ViewUniform {
         u: [r.x, r.y, r.z, 1.0],
         v: [up.x, up.y, up.z, 0.0],
@@ -152,15 +151,11 @@ fn single_perspective(
     let axis = (centroid - lp).try_normalize()?;
     let (mut half, mut dmin, mut dmax) = (0.0f32, f32::INFINITY, f32::NEG_INFINITY);
     for p in prims {
-        let w = centre(p) - lp;
-        let (d, h) = (w.length(), p.center[3] * BOUNDS);
-        if d <= h * 1.01 {
-            return None;
-        }
-        let ang = (w / d).dot(axis).clamp(-1.0, 1.0).acos() + (h / d).asin();
-        half = half.max(ang);
-        dmin = dmin.min(d - h);
-        dmax = dmax.max(d + h);
+        let h = p.center[3] * BOUNDS;
+        let s = SphereSeen::from(lp, axis, centre(p), h).filter(|s| s.distance > h * 1.01)?;
+        half = half.max(s.farthest());
+        dmin = dmin.min(s.distance - h);
+        dmax = dmax.max(s.distance + h);
     }
     if half > MAX_HALF_ANGLE_DEG.to_radians() {
         return None;
@@ -178,7 +173,7 @@ fn cube(lp: Vec3, prims: &[Prim], slices: u32) -> Vec<ViewUniform> {
         .iter()
         .map(|&axis| {
             let v = perspective(lp, axis, CUBE_TAN);
-            let (r, up) = blocks::basis_of(axis);
+            let (r, up) = basis_of(axis);
             let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
             for p in prims {
                 let q = centre(p) - lp;

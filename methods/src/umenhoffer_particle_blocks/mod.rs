@@ -98,58 +98,30 @@
 
 pub mod blocks;
 pub mod camera_bins;
+pub mod clusters;
 pub mod held;
 pub mod light_maps;
 pub mod passes;
+pub mod primitives;
+mod shaders;
+mod state;
 pub mod surface_shadow;
 
-use anyhow::{Result, bail};
-use glam::Vec3;
+use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
-use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
-};
-use scenes::{FrameState, LightState, SceneFeatures};
+use harness::{Aov, ConformanceCase, Knob, KnobRead, Method, MethodInfo, Prepared, Support};
+use scenes::SceneFeatures;
 
 use crate::common::knobs;
-use crate::common::renderer::{SceneRenderer, renderer_limits};
-use blocks::{BlockSet, Instancing, Prim};
-use passes::{Passes, PbUniform, Sizes};
-
-/// The largest atlas side (texels); tiles shrink to fit when there are many blocks.
-const ATLAS_MAX: u32 = 2048;
-/// Steps of the background medium's march in the resolve pass (only if it scatters).
-const BACKGROUND_STEPS: f32 = 32.0;
+use crate::common::renderer::renderer_limits;
+use blocks::Instancing;
+pub use state::State;
 
 /// The method (a description; [`State`] is the prepared instance of both ids).
 pub struct UmenhofferParticleBlocks;
 
 /// The unblocked baseline: every particle its own analytic billboard.
 pub struct ParticleSplat;
-
-/// The prepared method (either id).
-pub struct State {
-    renderer: SceneRenderer,
-    passes: Passes,
-    set: BlockSet,
-    clip_fix: bool,
-    background_dimming: bool,
-    /// Blocks whose centre is within this many radii of a local light are gathered as their
-    /// particles (knob `near_light`; 0 for the splat, which has no blocks).
-    near_light: f32,
-    /// Each block's own particles (None: the splat, or clusters that did not match).
-    members: held::Members,
-    slices: u32,
-    /// Camera impostor bins per side (knob `camera_bins`; 1: one camera tile, the paper, and
-    /// always for clusters and the splat): the prototype's camera tiles are 1 .. 1 + g².
-    camera_grid: usize,
-    blocked: bool,
-    sky: Vec3,
-    background_scatters: bool,
-    /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
-    timer: Option<harness::gpu::PhaseTimer>,
-}
 
 /// Knobs shared by both ids.
 fn shared_knobs() -> Vec<Knob> {
@@ -176,7 +148,7 @@ fn shared_knobs() -> Vec<Knob> {
 }
 
 /// Every composed WGSL module of both ids, for each value of the overrides their knobs set.
-fn shaders(id: &str) -> Vec<ShaderCheck> {
+fn shader_checks(id: &str) -> Vec<ShaderCheck> {
     let flags: &[f64] = &[0.0, 1.0];
     let axes = [
         ("BLOCKS", flags),
@@ -186,27 +158,25 @@ fn shaders(id: &str) -> Vec<ShaderCheck> {
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [
-        ("impostor", passes::IMPOSTOR_WGSL),
-        ("light", passes::LIGHT_WGSL),
-        ("gather", passes::GATHER_WGSL),
-        ("resolve", passes::RESOLVE_WGSL),
+        ("impostor", shaders::IMPOSTOR_WGSL),
+        ("light", shaders::LIGHT_WGSL),
+        ("gather", shaders::GATHER_WGSL),
+        ("resolve", shaders::RESOLVE_WGSL),
     ] {
         out.extend(ShaderCheck::combinations(
             &format!("{id}/{name}"),
-            &passes::source(wgsl),
+            &shaders::source(wgsl),
             &axes,
         ));
     }
-    let mut shared: Vec<&str> = crate::common::wgsl::PRELUDE.to_vec();
-    shared.extend([passes::COMMON_WGSL, crate::common::wgsl::SURFACE_PASS]);
     out.extend(ShaderCheck::combinations(
         &format!("{id}/surface_shadow"),
-        &crate::common::wgsl::compose(&shared, passes::SURFACE_SHADOW_WGSL),
+        &shaders::surface_shadow_source(),
         &axes,
     ));
     out.extend(ShaderCheck::combinations(
         &format!("{id}/total"),
-        &crate::common::wgsl::compose(&[crate::common::wgsl::FULLSCREEN], passes::TOTAL_WGSL),
+        &shaders::total_source(),
         &[],
     ));
     out
@@ -228,318 +198,6 @@ fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
         return Support::Partial(vec!["indirect_single_scattering".into()]);
     }
     Support::Full
-}
-
-impl State {
-    /// `blocked_mode`: (blocks, instancing, impostor resolution, use the scene's declared
-    /// block instances), or None for particle-splat.
-    pub fn new(
-        ctx: &PrepareContext,
-        blocked_mode: Option<(usize, Instancing, u32, bool)>,
-    ) -> Result<State> {
-        let medium = ctx.scene.medium();
-        let Some(particles) = medium.particles() else {
-            bail!("scene '{}' has no particle medium", ctx.scene.name);
-        };
-        let p = ctx.params;
-        let slices: u32 = p.knob("slices")?;
-        let light_res: u32 = p.knob("light_res")?;
-        let forward_scattering: bool = p.knob("forward_scattering")?;
-        let ps = &particles.particles;
-        let (mut set, tile_res_knob) = match blocked_mode {
-            None => (blocks::unblocked(ps), 1),
-            Some((b, mode, res, from_scene)) => {
-                let declared = from_scene
-                    .then(|| blocks::declared(ps, &particles.blocks, mode))
-                    .flatten();
-                (
-                    declared.unwrap_or_else(|| blocks::blocked(ps, b, mode)),
-                    res,
-                )
-            }
-        };
-        // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g²;
-        // no more bins than instances (g² ≤ blocks: one block has one direction).
-        let camera_grid = match blocked_mode {
-            Some((_, Instancing::Prototype, ..)) if set.tiles.len() == 2 => {
-                let most = (set.prims.len() as f64).sqrt().floor().max(1.0) as usize;
-                (p.knob::<u32>("camera_bins")? as usize).min(most)
-            }
-            _ => 1,
-        };
-        let cam = set.tiles[..].get(1).copied();
-        set.tiles
-            .extend(cam.into_iter().cycle().take(camera_grid * camera_grid - 1));
-        // Each block's own particles, for blocks that hold a viewer (held.rs).
-        let members = held::Members::of(ps, &set);
-        held::Members::index(&mut set.prims);
-        let lights = ctx.scene.desc.lights.len();
-        // Every light has its own light tiles (the camera tiles repeat, unused, per light).
-        let tiles = (set.tiles.len() * lights.max(1)) as u32;
-        let cols = (tiles as f64).sqrt().ceil().max(1.0) as u32;
-        let tile_res = if tiles == 0 {
-            1
-        } else {
-            tile_res_knob.min(ATLAS_MAX / cols).max(4)
-        };
-        // The particle methods sample no spot pattern: a small texture.
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, 64)?;
-        let passes = Passes::new(
-            ctx.gpu,
-            &renderer,
-            Sizes {
-                prims: set.prims.len() + held::capacity(&set.prims, &members),
-                imp: set.imp.len(),
-                tiles: tiles as usize,
-                atlas: cols * tile_res,
-                cols,
-                tile_res,
-                light_res,
-                slices,
-                lights,
-                camera_tiles: (camera_grid * camera_grid) as u32,
-            },
-            passes::Modes {
-                blocks: blocked_mode.is_some(),
-                forward_scattering,
-                moments: match blocked_mode {
-                    Some(_) => p.knob::<String>("interval")? == "moments",
-                    None => false,
-                },
-            },
-        );
-        if !set.imp.is_empty() {
-            ctx.gpu
-                .queue
-                .write_buffer(&passes.res.imp, 0, bytemuck::cast_slice(&set.imp));
-        }
-        let bg = particles.background;
-        Ok(State {
-            renderer,
-            passes,
-            blocked: blocked_mode.is_some(),
-            set,
-            clip_fix: p.knob("clip_fix")?,
-            background_dimming: p.knob("background_dimming")?,
-            members,
-            near_light: match blocked_mode {
-                Some(_) => p.knob::<f64>("near_light")? as f32,
-                None => 0.0,
-            },
-            slices,
-            camera_grid,
-            sky: particles.sky,
-            background_scatters: bg.sigma_s.max_element() > 0.0,
-            timer: harness::gpu::PhaseTimer::new(ctx.gpu, 6),
-        })
-    }
-}
-
-impl State {
-    /// The gathering's list (back to front from the eye) and each light's list, every block
-    /// holding that viewer replaced by its particles (held.rs), and in both kinds of list
-    /// every block within `near_light` radii of a local light.
-    fn lists(&self, frame: &FrameState) -> (Vec<Prim>, Vec<Vec<Prim>>) {
-        let members = &self.members;
-        let eye = frame.camera.position;
-        let mut sorted = self.set.prims.clone();
-        sorted.sort_by(|a, b| {
-            let d = |p: &Prim| (Vec3::from_slice(&p.center[..3]) - eye).length_squared();
-            d(b).total_cmp(&d(a))
-        });
-        let local: Vec<Vec3> = frame
-            .lights
-            .iter()
-            .filter(|l| !matches!(l, LightState::Directional { .. }))
-            .filter_map(LightState::position)
-            .collect();
-        let near = self.near_light;
-        let gather = held::expand(&sorted, members, eye, true, |p| {
-            members.holds(p, eye) || local.iter().any(|&lp| members.near(p, lp, near))
-        });
-        let lights = frame
-            .lights
-            .iter()
-            .map(|l| match l.position() {
-                Some(lp) if !matches!(l, LightState::Directional { .. }) => {
-                    held::expand(&self.set.prims, members, lp, false, |p| {
-                        members.near(p, lp, near.max(held::COVERS))
-                    })
-                }
-                _ => self.set.prims.clone(),
-            })
-            .collect();
-        (gather, lights)
-    }
-
-    /// With camera bins: each gathered block's camera tile (its bin's) and the set's tiles with
-    /// the camera tiles anchored at their bins (camera_bins.rs); otherwise the set's tiles.
-    fn bin_camera_tiles(&self, eye: Vec3, gather: &mut [Prim]) -> Vec<(blocks::TileView, f32)> {
-        let mut tiles = self.set.tiles.clone();
-        if self.camera_grid < 2 {
-            return tiles;
-        }
-        let blocks: Vec<usize> = (0..gather.len())
-            .filter(|&i| gather[i].extra[1] >= 0.0)
-            .collect();
-        let centres: Vec<Vec3> = blocks
-            .iter()
-            .map(|&i| Vec3::from_slice(&gather[i].center[..3]))
-            .collect();
-        let (bin, anchors) = camera_bins::bins(&centres, eye, self.camera_grid);
-        for (&i, &b) in blocks.iter().zip(&bin) {
-            gather[i].extra[2] = (1 + b) as f32;
-        }
-        for (b, a) in anchors.into_iter().enumerate() {
-            tiles[1 + b].0 = blocks::TileView::Camera(a);
-        }
-        tiles
-    }
-
-    /// This frame's impostor tile frames: light k's tiles are `set` (the set's tiles, camera
-    /// tiles binned) framed for light k, k·T further on.
-    fn tile_frames(
-        &self,
-        frame: &FrameState,
-        set: &[(blocks::TileView, f32)],
-    ) -> Vec<blocks::Tile> {
-        let eye = frame.camera.position;
-        if frame.lights.is_empty() {
-            return blocks::tile_frames(set, eye, None, None);
-        }
-        let mut tiles = Vec::new();
-        for light in &frame.lights {
-            let (ldir, lpos) = match light {
-                LightState::Directional { direction, .. } => (Some(direction.normalize()), None),
-                l => (None, l.position()),
-            };
-            tiles.extend(blocks::tile_frames(set, eye, ldir, lpos));
-        }
-        tiles
-    }
-}
-
-impl Prepared for State {
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        enc: &mut wgpu::CommandEncoder,
-    ) -> Result<FrameReport> {
-        let mut report = self.renderer.start_frame(gpu, frame);
-        let mut u = PbUniform::default();
-        let prims = &self.set.prims;
-        let views: Vec<u32> = frame
-            .lights
-            .iter()
-            .enumerate()
-            .map(|(k, light)| {
-                light_maps::light_views(light, prims, self.set.centroid, self.slices, k, &mut u)
-            })
-            .collect();
-        let lit = views.iter().any(|&n| n > 0);
-        let sz = &self.passes.sizes;
-        u.atlas = [
-            sz.cols as f32,
-            sz.tile_res as f32,
-            self.set.imp.len() as f32,
-            sz.atlas as f32,
-        ];
-        u.flags = [
-            self.clip_fix as u32 as f32,
-            if self.background_scatters && lit {
-                BACKGROUND_STEPS
-            } else {
-                0.0
-            },
-            self.background_dimming as u32 as f32,
-            0.0,
-        ];
-        u.counts = [
-            sz.prims as f32,
-            self.set.tiles.len() as f32,
-            sz.light_res as f32,
-            sz.camera_tiles as f32,
-        ];
-        u.sky = [self.sky.x, self.sky.y, self.sky.z, 0.0];
-        let (mut gather, light_lists) = self.lists(frame);
-        let binned = self.bin_camera_tiles(frame.camera.position, &mut gather);
-        let tiles = self.tile_frames(frame, &binned);
-        gpu.queue
-            .write_buffer(&self.passes.res.uniform, 0, bytemuck::bytes_of(&u));
-        // The gathering's list at 0, light k's at (k + 1)·C.
-        let stride = (self.passes.sizes.prims * size_of::<Prim>()) as u64;
-        for (k, list) in std::iter::once(&gather).chain(&light_lists).enumerate() {
-            if !list.is_empty() {
-                let at = k as u64 * stride;
-                gpu.queue
-                    .write_buffer(&self.passes.res.prims, at, bytemuck::cast_slice(list));
-            }
-        }
-        if !tiles.is_empty() {
-            gpu.queue
-                .write_buffer(&self.passes.res.tiles, 0, bytemuck::cast_slice(&tiles));
-        }
-        let mark =
-            |timer: &mut Option<harness::gpu::PhaseTimer>, enc: &mut wgpu::CommandEncoder, name| {
-                if let Some(t) = timer.as_mut() {
-                    t.mark(enc, name);
-                }
-            };
-        mark(&mut self.timer, enc, "surfaces");
-        self.renderer.encode_shadows(enc, &mut report);
-        let surface_targets = Targets {
-            inscatter: targets.inscatter,
-            surface: &self.passes.res.surface_view,
-            total: targets.total,
-            width: targets.width,
-            height: targets.height,
-        };
-        self.renderer
-            .encode_surface(enc, &surface_targets, &mut report);
-        if self.blocked {
-            mark(&mut self.timer, enc, "impostors");
-            self.passes.encode_impostors(enc, &self.renderer);
-            report.ran("impostors");
-            let groups = 1 + self.passes.sizes.lights;
-            report.count("impostor_splats", (groups * self.set.imp.len()) as f64);
-        }
-        mark(&mut self.timer, enc, "light");
-        let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
-        self.passes
-            .encode_light(enc, &self.renderer, &views, &lengths);
-        if lit {
-            report.ran("light-slices");
-            report.ran("surface-shadows");
-        } else {
-            report.skip("light-slices", "no light or no particles");
-            report.skip("surface-shadows", "no light or no particles");
-        }
-        report.count("light_faces", views.iter().sum::<u32>() as f64);
-        mark(&mut self.timer, enc, "gather");
-        self.passes.encode_gather(enc, &self.renderer, gather.len());
-        report.ran("gather");
-        mark(&mut self.timer, enc, "resolve");
-        self.passes
-            .encode_resolve(gpu, enc, &self.renderer, targets);
-        report.ran("resolve");
-        if let Some(t) = self.timer.as_mut() {
-            t.finish(enc);
-        }
-        report.count("blocks", self.set.prims.len() as f64);
-        // Spheres standing in for blocks that hold the eye or a light, over every list.
-        let listed = gather.len() + lengths.iter().sum::<usize>();
-        let plain = (1 + lengths.len()) * self.set.prims.len();
-        report.count("held_spheres", listed as f64 - plain as f64);
-        report.count("particles_per_block", self.set.per_block);
-        report.count("declared_blocks", self.set.declared as u32 as f64);
-        Ok(report)
-    }
-
-    fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
-        self.timer.as_ref()
-    }
 }
 
 impl Method for UmenhofferParticleBlocks {
@@ -605,7 +263,7 @@ impl Method for UmenhofferParticleBlocks {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        shaders(self.id())
+        shader_checks(self.id())
     }
 
     /// Bounds ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe: 0.075 at the
@@ -644,7 +302,7 @@ impl Method for ParticleSplat {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        shaders(self.id())
+        shader_checks(self.id())
     }
 
     /// Bound ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe (0.035).

@@ -8,8 +8,13 @@ use harness::gpu::{Counted, color_attachment};
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
-use super::blocks::{ImpParticle, Prim, Tile};
-use crate::common::pipeline::{self, ADD, ADDITIVE, Stage, target};
+use super::primitives::{ImpParticle, Prim, Tile};
+use super::shaders::{GATHER_WGSL, IMPOSTOR_WGSL, LIGHT_WGSL, RESOLVE_WGSL, source, total_source};
+use super::surface_shadow::SurfaceShadow;
+use crate::common::layouts::{
+    float_texture, float_texture_array, storage_buffer, uniform_buffer, view_entry,
+};
+use crate::common::pipeline::{self, ADD, ADDITIVE, MIN, OVER, Stage, both, target};
 use crate::common::renderer::SceneRenderer;
 use crate::common::wgsl;
 
@@ -41,22 +46,6 @@ pub struct PbUniform {
     pub flags: [f32; 4],
     pub counts: [f32; 4],
     pub sky: [f32; 4],
-}
-
-pub const COMMON_WGSL: &str = include_str!("common.wgsl");
-pub const IMPOSTOR_WGSL: &str = include_str!("impostor.wgsl");
-pub const LIGHT_WGSL: &str = include_str!("light.wgsl");
-pub const GATHER_WGSL: &str = include_str!("gather.wgsl");
-pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
-pub const TOTAL_WGSL: &str = include_str!("total.wgsl");
-pub const SURFACE_SHADOW_WGSL: &str = include_str!("surface_shadow.wgsl");
-
-/// A pass's composed source: PRELUDE, FULLSCREEN, common.wgsl, then its own.
-pub fn source(own: &str) -> String {
-    let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
-    shared.push(wgsl::FULLSCREEN);
-    shared.push(COMMON_WGSL);
-    wgsl::compose(&shared, own)
 }
 
 /// Impostor atlas texels: min-blendable, and 16-bit floats are ample for depths within a block.
@@ -124,7 +113,7 @@ pub struct Passes {
     bind_light: wgpu::BindGroup,
     bind_gather: wgpu::BindGroup,
     bind_resolve: wgpu::BindGroup,
-    surface_shadow: super::surface_shadow::SurfaceShadow,
+    surface_shadow: SurfaceShadow,
     pub sizes: Sizes,
 }
 
@@ -137,35 +126,15 @@ fn storage(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
     })
 }
 
-/// Binding `b` of common.wgsl's group 1, as a layout entry.
-pub(super) fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
+/// Binding `b` of common.wgsl's group 1, as a layout entry: the uniform, the primitive, tile
+/// and impostor-particle lists, the slice arrays (5, 6) and 2-D textures.
+fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
     let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-    let ty = match b {
-        0 => wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        1..=3 => wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        _ => wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: if b == 5 || b == 6 {
-                wgpu::TextureViewDimension::D2Array
-            } else {
-                wgpu::TextureViewDimension::D2
-            },
-            multisampled: false,
-        },
-    };
-    wgpu::BindGroupLayoutEntry {
-        binding: b,
-        visibility: vf,
-        ty,
-        count: None,
+    match b {
+        0 => uniform_buffer(b, vf),
+        1..=3 => storage_buffer(b, vf, true),
+        5 | 6 => float_texture_array(b, vf),
+        _ => float_texture(b, vf),
     }
 }
 
@@ -247,11 +216,7 @@ impl Resources {
     }
 
     /// Binding `b` of group 1 (`distance` is the renderer's distance AOV, binding 7).
-    pub(super) fn binding<'a>(
-        &'a self,
-        b: u32,
-        distance: &'a wgpu::TextureView,
-    ) -> wgpu::BindingResource<'a> {
+    fn binding<'a>(&'a self, b: u32, distance: &'a wgpu::TextureView) -> wgpu::BindingResource<'a> {
         let view = wgpu::BindingResource::TextureView;
         match b {
             0 => self.uniform.as_entire_binding(),
@@ -272,7 +237,7 @@ impl Resources {
 
 /// Builds one stage: its group-1 layout and bind group from a subset of the bindings, its module
 /// (common.wgsl plus its own source) and its pipeline (no vertex buffers, no depth).
-pub(super) struct StageBuilder<'a> {
+struct StageBuilder<'a> {
     pub device: &'a wgpu::Device,
     pub renderer: &'a SceneRenderer,
     pub res: &'a Resources,
@@ -333,11 +298,7 @@ fn total_pipeline(dev: &wgpu::Device) -> (wgpu::RenderPipeline, wgpu::BindGroupL
         label: Some("particle total"),
         entries: &[aov_texture(0), aov_texture(1)],
     });
-    let module = wgsl::module(
-        dev,
-        "particle total",
-        &wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL),
-    );
+    let module = wgsl::module(dev, "particle total", &total_source());
     let pipeline = crate::common::resolve::fullscreen_pipeline(
         dev,
         "particle total",
@@ -367,12 +328,8 @@ impl Passes {
             ]),
         };
         // Front/back depths by min blending, optical depth by additive alpha (§2.1, one pass).
-        let min = wgpu::BlendComponent {
-            operation: wgpu::BlendOperation::Min,
-            ..ADD
-        };
         let minmax = wgpu::BlendState {
-            color: min,
+            color: MIN,
             alpha: ADD,
         };
         let (impostor, bind_impostor) = b.stage(
@@ -399,31 +356,14 @@ impl Passes {
             &light_targets[..if eight { 2 } else { 1 }],
         );
         // Premultiplied "over", back to front; alpha accumulates the opacity.
-        let over = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-            operation: wgpu::BlendOperation::Add,
-        };
         let (gather, bind_gather) = b.stage(
             "particle gather",
             &[0, 1, 2, 4, 5, 6, 7, 11],
             GATHER_WGSL,
             ("vs_gather", "fs_gather"),
             &[
-                target(
-                    ACCUM_FORMAT,
-                    Some(wgpu::BlendState {
-                        color: over,
-                        alpha: over,
-                    }),
-                ),
-                target(
-                    EXTENT_FORMAT,
-                    Some(wgpu::BlendState {
-                        color: min,
-                        alpha: min,
-                    }),
-                ),
+                target(ACCUM_FORMAT, Some(both(OVER))),
+                target(EXTENT_FORMAT, Some(both(MIN))),
             ],
         );
         let (resolve, bind_resolve) = b.stage(
@@ -433,7 +373,13 @@ impl Passes {
             ("vs_fullscreen", "fs_resolve"),
             &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
         );
-        let surface_shadow = super::surface_shadow::SurfaceShadow::new(&b, sizes.lights);
+        let surface_shadow = SurfaceShadow::new(
+            &gpu.device,
+            renderer,
+            b.group("particle surface shadow", &SurfaceShadow::BINDINGS),
+            &b.constants,
+            sizes.lights,
+        );
         let (total, total_layout) = total_pipeline(&gpu.device);
         Passes {
             res,
@@ -609,14 +555,8 @@ impl Passes {
             label: Some("particle total"),
             layout: &self.total_layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(targets.inscatter),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(targets.surface),
-                },
+                view_entry(0, targets.inscatter),
+                view_entry(1, targets.surface),
             ],
         });
         p.set_pipeline(&self.total);

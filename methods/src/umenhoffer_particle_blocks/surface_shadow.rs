@@ -5,7 +5,7 @@
 
 use harness::method::AOV_FORMAT;
 
-use super::passes::{COMMON_WGSL, SURFACE_SHADOW_WGSL, StageBuilder};
+use super::shaders::surface_shadow_source;
 use crate::common::gpu_scene::Vertex;
 use crate::common::pipeline::{self, ADDITIVE, Stage, target};
 use crate::common::renderer::SceneRenderer;
@@ -18,29 +18,32 @@ pub struct SurfaceShadow {
 }
 
 impl SurfaceShadow {
-    pub(super) fn new(b: &StageBuilder, lights: usize) -> SurfaceShadow {
+    /// The bindings of common.wgsl's group 1 the pass reads: the uniform and both slice arrays.
+    pub const BINDINGS: [u32; 3] = [0, 5, 6];
+
+    /// `group`: the layout and bind group of [`SurfaceShadow::BINDINGS`]; `constants`: the
+    /// method's pipeline constants (the pass adds `SURFACE_LIGHT`).
+    pub fn new(
+        device: &wgpu::Device,
+        renderer: &SceneRenderer,
+        (bgl, bind): (wgpu::BindGroupLayout, wgpu::BindGroup),
+        constants: &[(&'static str, f64)],
+        lights: usize,
+    ) -> SurfaceShadow {
         let label = "particle surface shadow";
-        let (bgl, bind) = b.group(label, &[0, 5, 6]);
-        let layout = pipeline::layout(b.device, label, &[&b.renderer.frame_layout, &bgl]);
-        let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
-        shared.extend([COMMON_WGSL, wgsl::SURFACE_PASS]);
-        let module = wgsl::module(
-            b.device,
-            label,
-            &wgsl::compose(&shared, SURFACE_SHADOW_WGSL),
-        );
+        let layout = pipeline::layout(device, label, &[&renderer.frame_layout, &bgl]);
+        let module = wgsl::module(device, label, &surface_shadow_source());
         let depth =
             pipeline::visible_surface_depth(wgpu::TextureFormat::Depth32Float, Default::default());
         let targets = [target(AOV_FORMAT, Some(ADDITIVE))];
         let pipelines = (0..lights)
             .map(|k| {
-                let mut constants = b.constants.clone();
-                constants.push(("SURFACE_LIGHT", k as f64));
+                let constants = [constants, &[("SURFACE_LIGHT", k as f64)]].concat();
                 Stage::new(label, "vs")
                     .vertices(Vertex::LAYOUT)
                     .fragment("fs_cloud_shadow", &targets)
                     .depth(depth.clone())
-                    .build(b.device, &layout, &module, &constants)
+                    .build(device, &layout, &module, &constants)
             })
             .collect();
         SurfaceShadow { pipelines, bind }

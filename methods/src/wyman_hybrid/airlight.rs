@@ -13,6 +13,8 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use crate::common::quadrature::gauss;
+
 /// F on a regular grid: `data[j * nu + i] = F(u_i, v_j)`, u_i = i·u_max/(nu−1), v_j = j·(π/2)/(nv−1).
 #[derive(Clone, Debug)]
 pub struct FTable {
@@ -22,41 +24,9 @@ pub struct FTable {
     pub data: Vec<f32>,
 }
 
-const GL_X: [f64; 8] = [
-    -0.960_289_856_497_536_2,
-    -0.796_666_477_413_626_7,
-    -0.525_532_409_916_329_0,
-    -0.183_434_642_495_649_8,
-    0.183_434_642_495_649_8,
-    0.525_532_409_916_329_0,
-    0.796_666_477_413_626_7,
-    0.960_289_856_497_536_2,
-];
-const GL_W: [f64; 8] = [
-    0.101_228_536_290_376_3,
-    0.222_381_034_453_374_5,
-    0.313_706_645_877_887_3,
-    0.362_683_783_378_362_0,
-    0.362_683_783_378_362_0,
-    0.313_706_645_877_887_3,
-    0.222_381_034_453_374_5,
-    0.101_228_536_290_376_3,
-];
-
 /// ∫_a^b exp(−u tan ξ) dξ by 8-point Gauss–Legendre on `panels` sub-intervals.
 fn integral(u: f64, a: f64, b: f64, panels: usize) -> f64 {
-    let h = (b - a) / panels as f64;
-    (0..panels)
-        .map(|p| {
-            let mid = a + (p as f64 + 0.5) * h;
-            GL_X.iter()
-                .zip(GL_W)
-                .map(|(x, w)| w * (-u * (mid + 0.5 * h * x).tan()).exp())
-                .sum::<f64>()
-                * 0.5
-                * h
-        })
-        .sum()
+    gauss(|xi| (-u * xi.tan()).exp(), a, b, panels)
 }
 
 impl FTable {

@@ -29,56 +29,31 @@
 //! shadow-map test at the eye.
 
 pub mod airlight;
+mod shaders;
 mod volumes;
 
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
-use harness::method::{PrepareContext, ShaderCheck};
+use harness::method::{AOV_FORMAT, PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
     Targets,
 };
-use scenes::{FrameState, LightState, SceneFeatures};
+use scenes::{FrameState, Scene, SceneFeatures};
 
 use crate::common::counters::CounterReadback;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
-use crate::common::resolve::{self, ResolvePass};
-use crate::common::silhouette::EdgeMesh;
+use crate::common::resolve::{self, Bindings, ResolvePass};
 use crate::common::tables::r32_table;
-use crate::common::wgsl;
+use crate::common::uniforms::MAX_LIGHTS;
 use airlight::FTable;
-
-pub const VOLUMES_WGSL: &str = include_str!("volumes.wgsl");
-pub const AIRLIGHT_WGSL: &str = include_str!("airlight.wgsl");
-pub const HYBRID_WGSL: &str = include_str!("hybrid.wgsl");
-pub const FPRIME_WGSL: &str = include_str!("fprime.wgsl");
-
-/// The hybrid resolve's own WGSL: the shared airlight module, then the pass.
-pub fn hybrid_wgsl() -> String {
-    format!("{AIRLIGHT_WGSL}\n{HYBRID_WGSL}")
-}
-
-/// The F' table pass's own WGSL.
-pub fn fprime_wgsl() -> String {
-    format!("{AIRLIGHT_WGSL}\n{FPRIME_WGSL}")
-}
+use shaders::UPSAMPLE_WGSL;
+pub use shaders::{fprime_wgsl, hybrid_wgsl, volumes_source};
+use volumes::ShadowVolumes;
 
 /// F' table samples in cos γ (per light) and in x.
 const FPRIME_SIZE: u32 = 256;
-pub const UPSAMPLE_WGSL: &str = include_str!("upsample.wgsl");
-
-pub fn volumes_source() -> String {
-    wgsl::compose(wgsl::PRELUDE, VOLUMES_WGSL)
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct VolumeVertex {
-    position: [f32; 3],
-    light: u32,
-}
 
 /// `upsample` in upsample.wgsl, field for field.
 #[repr(C)]
@@ -112,18 +87,8 @@ pub struct WymanHybrid;
 /// The prepared method.
 pub struct State {
     renderer: SceneRenderer,
-    /// (object index, adjacency) of every shadow caster.
-    casters: Vec<(usize, EdgeMesh)>,
-    volumes: wgpu::RenderPipeline,
-    vertex_buffer: Option<wgpu::Buffer>,
-    vertex_count: u32,
-    /// Lights, transforms and eye position the current quads were built for (the extrusion
-    /// length depends on the eye).
-    built_for: Option<(Vec<LightState>, Vec<glam::Mat4>, Vec3)>,
-    /// `--no-skip`: rebuild silhouettes every frame.
-    no_skip: bool,
-    front_view: wgpu::TextureView,
-    back_view: wgpu::TextureView,
+    /// §3.1's shadow volumes: the quads and the nearest / farthest polygon distances.
+    volumes: ShadowVolumes,
     table_view: wgpu::TextureView,
     resolve: ResolvePass,
     /// §3.3: the low-resolution scattering targets and the upsampling pass (scale > 1).
@@ -134,10 +99,7 @@ pub struct State {
     /// Pixels marched and steps taken, counted by the hybrid pass (one frame late).
     counters: CounterReadback,
     uniform: HybridUniform,
-    silhouette_edges: usize,
 }
-
-const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 struct FPrime {
     pass: ResolvePass,
@@ -151,6 +113,87 @@ struct LowRes {
     width: u32,
     height: u32,
     upsample: ResolvePass,
+}
+
+/// A `width` × `height` AOV-format target a full-screen pass renders into and a later one reads.
+fn render_target(gpu: &Gpu, label: &str, width: u32, height: u32) -> wgpu::TextureView {
+    gpu.texture_2d(
+        label,
+        width,
+        height,
+        AOV_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+    )
+    .create_view(&Default::default())
+}
+
+/// The F(u, v) table for `scene`: F's u = σ_t h never exceeds σ_t times a light's distance to
+/// the eye (h ≤ that), over every frame.
+fn f_table(scene: &Scene, n: u32) -> FTable {
+    let sigma_t = scene.medium().background().sigma_t.max_element();
+    let mut reach = 0.0f32;
+    for f in 0..scene.frame_count() {
+        let fs = scene.frame(f);
+        for l in &fs.lights {
+            if let Some(p) = l.position() {
+                reach = reach.max((p - fs.camera.position).length());
+            }
+        }
+    }
+    let u_max = (sigma_t * reach * 1.05).max(1e-3);
+    FTable::new(n, n, u_max)
+}
+
+impl FPrime {
+    /// The F' table as wide as every light's rows, and the pass that fills it.
+    fn new(gpu: &Gpu, renderer: &SceneRenderer) -> FPrime {
+        let (w, h) = (FPRIME_SIZE * MAX_LIGHTS as u32, FPRIME_SIZE);
+        let pass = ResolvePass::per_light(
+            gpu,
+            renderer,
+            "F' table",
+            &fprime_wgsl(),
+            Bindings {
+                uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
+                textures: 3,
+                counters: 0,
+            },
+            &[],
+        );
+        FPrime {
+            pass,
+            table: render_target(gpu, "F' table", w, h),
+            unused: render_target(gpu, "F' table (unused)", w, h),
+        }
+    }
+}
+
+impl LowRes {
+    /// Scattering at 1/`scale` of `width` × `height` and its depth-aware (`bilateral`) upsample.
+    fn new(gpu: &Gpu, renderer: &SceneRenderer, scale: u32, bilateral: bool) -> LowRes {
+        let (width, height) = (
+            renderer.width.div_ceil(scale),
+            renderer.height.div_ceil(scale),
+        );
+        let size = std::mem::size_of::<UpsampleUniform>() as u64;
+        let upsample =
+            ResolvePass::with_textures(gpu, renderer, "upsample", UPSAMPLE_WGSL, Some(size), 1);
+        if let Some(u) = &upsample.uniform {
+            let uniform = UpsampleUniform {
+                scale: scale as f32,
+                bilateral: bilateral as u32,
+                _pad: [0; 2],
+            };
+            gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&uniform));
+        }
+        LowRes {
+            inscatter: render_target(gpu, "low-res inscatter", width, height),
+            total: render_target(gpu, "low-res total (unused)", width, height),
+            width,
+            height,
+            upsample,
+        }
+    }
 }
 
 impl Method for WymanHybrid {
@@ -244,123 +287,33 @@ impl State {
         let gpu = ctx.gpu;
         let p = ctx.params;
         let samples: u32 = p.knob("samples")?;
-        let table_n: u32 = p.knob("table")?;
         let analytic: bool = p.knob("airlight")?;
         let use_fprime: bool = p.knob("fprime")?;
         let scale: u32 = p.knob("scale")?;
         let bilateral: bool = p.knob("bilateral")?;
         let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
-        let scene = ctx.scene;
-        let casters = scene
-            .desc
-            .objects
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| o.casts_volumetric_shadow)
-            .map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k])))
-            .collect();
-
-        // F's u = σ_t h never exceeds σ_t times the light's distance to the eye (h ≤ that).
-        let sigma_t = scene.medium().background().sigma_t.max_element();
-        let mut reach = 0.0f32;
-        for f in 0..scene.frame_count() {
-            let fs = scene.frame(f);
-            for l in &fs.lights {
-                if let Some(p) = l.position() {
-                    reach = reach.max((p - fs.camera.position).length());
-                }
-            }
-        }
-        let u_max = (sigma_t * reach * 1.05).max(1e-3);
-        let table = FTable::new(table_n, table_n, u_max);
+        let table = f_table(ctx.scene, p.knob("table")?);
         let table_tex = r32_table(gpu, "F(u,v)", table.nu, table.nv, &table.data);
-        let target = |label| {
-            gpu.texture_2d(
-                label,
-                ctx.width,
-                ctx.height,
-                VOLUME_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            )
-        };
-        let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
-        let volumes = volumes::pipeline(gpu, &renderer);
+        let volumes = ShadowVolumes::new(gpu, &renderer, ctx.no_skip);
         let flag = crate::common::specialize::flag;
         let resolve = ResolvePass::per_light(
             gpu,
             &renderer,
             "hybrid",
             &hybrid_wgsl(),
-            Some(std::mem::size_of::<HybridUniform>() as u64),
-            4,
-            2,
+            Bindings {
+                uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
+                textures: 4,
+                counters: 2,
+            },
             &[("AIRLIGHT", flag(analytic)), ("FPRIME", flag(use_fprime))],
         );
-        let counters = CounterReadback::new(gpu, 2);
-        let render_target = |label, w, h| {
-            gpu.texture_2d(
-                label,
-                w,
-                h,
-                harness::method::AOV_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            )
-            .create_view(&Default::default())
+        let fprime = use_fprime.then(|| FPrime::new(gpu, &renderer));
+        let fprime_view = match &fprime {
+            Some(f) => f.table.clone(),
+            None => render_target(gpu, "F' table (off)", 1, 1),
         };
-        let (fprime, fprime_view) = if use_fprime {
-            let (w, h) = (
-                FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32,
-                FPRIME_SIZE,
-            );
-            let pass = ResolvePass::per_light(
-                gpu,
-                &renderer,
-                "F' table",
-                &fprime_wgsl(),
-                Some(std::mem::size_of::<HybridUniform>() as u64),
-                3,
-                0,
-                &[],
-            );
-            let table = render_target("F' table", w, h);
-            (
-                Some(FPrime {
-                    pass,
-                    table: table.clone(),
-                    unused: render_target("F' table (unused)", w, h),
-                }),
-                table,
-            )
-        } else {
-            (None, render_target("F' table (off)", 1, 1))
-        };
-        let low = (scale > 1).then(|| {
-            let (width, height) = (ctx.width.div_ceil(scale), ctx.height.div_ceil(scale));
-            let size = std::mem::size_of::<UpsampleUniform>() as u64;
-            let upsample = ResolvePass::with_textures(
-                gpu,
-                &renderer,
-                "upsample",
-                UPSAMPLE_WGSL,
-                Some(size),
-                1,
-            );
-            if let Some(u) = &upsample.uniform {
-                let uniform = UpsampleUniform {
-                    scale: scale as f32,
-                    bilateral: bilateral as u32,
-                    _pad: [0; 2],
-                };
-                gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&uniform));
-            }
-            LowRes {
-                inscatter: render_target("low-res inscatter", width, height),
-                total: render_target("low-res total (unused)", width, height),
-                width,
-                height,
-                upsample,
-            }
-        });
+        let low = (scale > 1).then(|| LowRes::new(gpu, &renderer, scale, bilateral));
         let uniform = HybridUniform {
             samples,
             table_nu: table.nu,
@@ -376,36 +329,20 @@ impl State {
         };
         Ok(State {
             renderer,
-            casters,
             volumes,
-            vertex_buffer: None,
-            vertex_count: 0,
-            built_for: None,
-            front_view: front.create_view(&Default::default()),
-            back_view: back.create_view(&Default::default()),
             table_view: table_tex.create_view(&Default::default()),
-            no_skip: ctx.no_skip,
             resolve,
             low,
             fprime,
             fprime_view,
-            counters,
+            counters: CounterReadback::new(gpu, 2),
             uniform,
-            silhouette_edges: 0,
         })
     }
-}
 
-impl Prepared for State {
-    fn render(
-        &mut self,
-        gpu: &Gpu,
-        frame: &FrameState,
-        targets: &Targets,
-        enc: &mut wgpu::CommandEncoder,
-    ) -> Result<FrameReport> {
-        let mut report = self.renderer.start_frame(gpu, frame);
-        // F' spans x up to the longest camera ray (a corner ray to the far plane).
+    /// This frame's uniform of the hybrid and F' passes: F' spans x up to the longest camera
+    /// ray (a corner ray to the far plane).
+    fn write_uniform(&mut self, gpu: &Gpu, frame: &FrameState, targets: &Targets) {
         let rays = frame.camera.rays(targets.width, targets.height);
         let corner = rays.direction(0, 0);
         self.uniform.fprime_x_max = (rays.far_distance(corner) * 1.001) as f32;
@@ -418,101 +355,31 @@ impl Prepared for State {
             gpu.queue
                 .write_buffer(u, 0, bytemuck::bytes_of(&self.uniform));
         }
-        let counter_buf = self.resolve.counters.clone().expect("hybrid pass counts");
-        self.counters.begin_frame(gpu, &counter_buf);
-        if let Some(c) = self.counters.latest() {
-            report.count("pixels_marched", c[0] as f64);
-            report.count("steps", c[1] as f64);
-        }
-        self.renderer.encode_shadows(enc, &mut report);
-        self.renderer.encode_surface(enc, targets, &mut report);
+    }
 
-        let key = (
-            frame.lights.clone(),
-            frame.world_from_local.clone(),
-            frame.camera.position,
-        );
-        if !self.no_skip && self.built_for.as_ref() == Some(&key) {
-            report.skip(
-                "silhouettes",
-                "lights and occluders unchanged since the last frame",
-            );
-        } else if !self.casters.is_empty() {
-            volumes::build(gpu, self, frame);
-            self.built_for = Some(key);
-            report.ran("silhouettes");
-        }
-        report.count("silhouette_edges", self.silhouette_edges as f64);
-        report.count("shadow_polygons", (self.vertex_count / 6) as f64);
-        {
-            let clear = |v: f64| wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color {
-                    r: v,
-                    g: v,
-                    b: v,
-                    a: v,
-                }),
-                store: wgpu::StoreOp::Store,
-            };
-            let mut pass = gpu.render_pass(
-                enc,
-                &wgpu::RenderPassDescriptor {
-                    label: Some("shadow volumes"),
-                    color_attachments: &[
-                        Some(wgpu::RenderPassColorAttachment {
-                            view: &self.front_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: clear(1e30),
-                        }),
-                        Some(wgpu::RenderPassColorAttachment {
-                            view: &self.back_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: clear(-1.0),
-                        }),
-                    ],
-                    ..Default::default()
-                },
-            );
-            if let (Some(vb), true) = (&self.vertex_buffer, self.vertex_count > 0) {
-                pass.set_pipeline(&self.volumes);
-                pass.set_bind_group(0, &self.renderer.frame_bind, &[]);
-                pass.set_vertex_buffer(0, vb.slice(..));
-                pass.draw(0..self.vertex_count, 0..1);
-            }
-        }
-        if self.casters.is_empty() && !self.no_skip {
-            report.skip(
-                "shadow-volumes",
-                "no object casts a volumetric shadow: airlight only",
-            );
-        } else {
-            report.ran("shadow-volumes");
-        }
+    /// §3.4's F' table (if on), then the hybrid pass per light — at full resolution, or at
+    /// 1/scale and upsampled (§3.3).
+    fn encode_scattering(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        report: &mut FrameReport,
+    ) {
+        let volumes = [&self.volumes.front_view, &self.volumes.back_view];
         if let Some(fp) = &self.fprime {
             let t = Targets {
                 inscatter: &fp.table,
                 surface: targets.surface,
                 total: &fp.unused,
-                width: FPRIME_SIZE * crate::common::uniforms::MAX_LIGHTS as u32,
+                width: FPRIME_SIZE * MAX_LIGHTS as u32,
                 height: FPRIME_SIZE,
             };
-            fp.pass.encode_with(
-                gpu,
-                enc,
-                &self.renderer,
-                &t,
-                &[&self.front_view, &self.back_view, &self.table_view],
-            );
+            let extra = [volumes[0], volumes[1], &self.table_view];
+            fp.pass.encode_with(gpu, enc, &self.renderer, &t, &extra);
             report.ran("fprime-table");
         }
-        let extra = [
-            &self.front_view,
-            &self.back_view,
-            &self.table_view,
-            &self.fprime_view,
-        ];
+        let extra = [volumes[0], volumes[1], &self.table_view, &self.fprime_view];
         match &self.low {
             None => self
                 .resolve
@@ -532,6 +399,30 @@ impl Prepared for State {
                 report.ran("upsample");
             }
         }
+    }
+}
+
+impl Prepared for State {
+    fn render(
+        &mut self,
+        gpu: &Gpu,
+        frame: &FrameState,
+        targets: &Targets,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<FrameReport> {
+        let mut report = self.renderer.start_frame(gpu, frame);
+        self.write_uniform(gpu, frame, targets);
+        let counter_buf = self.resolve.counters.clone().expect("hybrid pass counts");
+        self.counters.begin_frame(gpu, &counter_buf);
+        if let Some(c) = self.counters.latest() {
+            report.count("pixels_marched", c[0] as f64);
+            report.count("steps", c[1] as f64);
+        }
+        self.renderer.encode_shadows(enc, &mut report);
+        self.renderer.encode_surface(enc, targets, &mut report);
+        self.volumes.update(gpu, frame, &mut report);
+        self.volumes.encode(gpu, enc, &self.renderer, &mut report);
+        self.encode_scattering(gpu, enc, targets, &mut report);
         self.counters.end_frame(enc, &counter_buf);
         report.ran("hybrid");
         report.count(

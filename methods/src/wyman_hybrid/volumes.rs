@@ -1,112 +1,193 @@
 //! wyman-hybrid's shadow volumes (§3.1): the quads extruded from the casters' silhouettes as
-//! seen from each light, and the pipeline that rasterises them from the eye into the nearest and
-//! farthest polygon distance per pixel.
+//! seen from each light (rebuilt on the CPU only when a light, an object or the eye moved), and
+//! the pass that rasterises them from the eye into the nearest and farthest polygon distance per
+//! pixel (min / max blending, one channel per light).
 
-use glam::Vec3;
-use harness::Gpu;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use harness::gpu::color_attachment;
+use harness::{FrameReport, Gpu};
 use scenes::{FrameState, LightState};
 
-use super::{State, VOLUME_FORMAT, VolumeVertex, volumes_source};
-use crate::common::gpu_scene::mesh_pipeline_with;
+use super::shaders::volumes_source;
+use crate::common::gpu_scene::write_vertices;
+use crate::common::pipeline::{self, MAX, MIN, Stage, both, target};
 use crate::common::renderer::SceneRenderer;
-use crate::common::silhouette::{LightPos, extrude};
+use crate::common::shadow_planes::{ShadowCasters, light_pos};
+use crate::common::silhouette::extrude;
 use crate::common::wgsl;
+
+/// The nearest and farthest polygon distance targets.
+const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// What a target holds where no polygon was drawn: the nearest is "far", the farthest "none".
+const NO_NEAREST: f64 = 1e30;
+const NO_FARTHEST: f64 = -1.0;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct VolumeVertex {
+    position: [f32; 3],
+    light: u32,
+}
+
+/// The shadow-volume quads of every caster and light, and the two distance targets.
+pub(super) struct ShadowVolumes {
+    casters: ShadowCasters,
+    pipeline: wgpu::RenderPipeline,
+    vertex_buffer: Option<wgpu::Buffer>,
+    vertex_count: u32,
+    /// Lights, transforms and eye position the current quads were built for (the extrusion
+    /// length depends on the eye).
+    built_for: Option<(Vec<LightState>, Vec<Mat4>, Vec3)>,
+    /// `--no-skip`: rebuild silhouettes every frame.
+    no_skip: bool,
+    silhouette_edges: usize,
+    pub front_view: wgpu::TextureView,
+    pub back_view: wgpu::TextureView,
+}
+
+impl ShadowVolumes {
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, no_skip: bool) -> ShadowVolumes {
+        let target = |label| {
+            gpu.texture_2d(
+                label,
+                renderer.width,
+                renderer.height,
+                VOLUME_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
+            .create_view(&Default::default())
+        };
+        ShadowVolumes {
+            casters: ShadowCasters::new(&renderer.scene),
+            pipeline: volume_pipeline(gpu, renderer),
+            vertex_buffer: None,
+            vertex_count: 0,
+            built_for: None,
+            no_skip,
+            silhouette_edges: 0,
+            front_view: target("shadow-volume front"),
+            back_view: target("shadow-volume back"),
+        }
+    }
+
+    fn no_casters(&self) -> bool {
+        self.casters.casters().is_empty()
+    }
+
+    /// Rebuilds the quads when a light, a caster or the eye moved (always with `no_skip`), and
+    /// counts `silhouette_edges` and `shadow_polygons`.
+    pub fn update(&mut self, gpu: &Gpu, frame: &FrameState, report: &mut FrameReport) {
+        let key = (
+            frame.lights.clone(),
+            frame.world_from_local.clone(),
+            frame.camera.position,
+        );
+        if !self.no_skip && self.built_for.as_ref() == Some(&key) {
+            report.skip(
+                "silhouettes",
+                "lights and occluders unchanged since the last frame",
+            );
+        } else if !self.no_casters() {
+            self.build(gpu, frame);
+            self.built_for = Some(key);
+            report.ran("silhouettes");
+        }
+        report.count("silhouette_edges", self.silhouette_edges as f64);
+        report.count("shadow_polygons", (self.vertex_count / 6) as f64);
+    }
+
+    /// Silhouettes of every caster from every light, extruded past everything visible.
+    fn build(&mut self, gpu: &Gpu, frame: &FrameState) {
+        let cam = frame.camera.position;
+        let mut verts: Vec<VolumeVertex> = Vec::new();
+        let mut edges = 0;
+        for (k, light) in frame.lights.iter().enumerate() {
+            let pos = light_pos(light);
+            let reach = 2.0
+                * (frame.camera.far + light.position().map_or(0.0, |p| (p - cam).length()))
+                + 1.0;
+            for (obj, mesh) in self.casters.casters() {
+                for e in mesh.silhouette(&frame.world_from_local[*obj], pos) {
+                    edges += 1;
+                    verts.extend(extrude(e, pos, reach).map(|p: Vec3| VolumeVertex {
+                        position: p.to_array(),
+                        light: k as u32,
+                    }));
+                }
+            }
+        }
+        self.silhouette_edges = edges;
+        self.vertex_count = verts.len() as u32;
+        if verts.is_empty() {
+            return;
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&verts);
+        write_vertices(gpu, &mut self.vertex_buffer, "shadow-volume quads", bytes);
+    }
+
+    /// The nearest and farthest polygon distances per pixel (targets cleared even without
+    /// quads, so the hybrid pass reads "no shadow polygon" there).
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        report: &mut FrameReport,
+    ) {
+        let clear = |v: f64| {
+            wgpu::LoadOp::Clear(wgpu::Color {
+                r: v,
+                g: v,
+                b: v,
+                a: v,
+            })
+        };
+        let mut pass = gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("shadow volumes"),
+                color_attachments: &[
+                    color_attachment(&self.front_view, clear(NO_NEAREST)),
+                    color_attachment(&self.back_view, clear(NO_FARTHEST)),
+                ],
+                ..Default::default()
+            },
+        );
+        if let (Some(vb), true) = (&self.vertex_buffer, self.vertex_count > 0) {
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &renderer.frame_bind, &[]);
+            pass.set_vertex_buffer(0, vb.slice(..));
+            pass.draw(0..self.vertex_count, 0..1);
+        }
+        drop(pass);
+        if self.no_casters() && !self.no_skip {
+            report.skip(
+                "shadow-volumes",
+                "no object casts a volumetric shadow: airlight only",
+            );
+        } else {
+            report.ran("shadow-volumes");
+        }
+    }
+}
 
 /// The pipeline that draws the shadow-volume quads from the eye into the nearest (min blending)
 /// and farthest (max blending) polygon distance per pixel, one channel per light.
-pub(super) fn pipeline(gpu: &Gpu, renderer: &SceneRenderer) -> wgpu::RenderPipeline {
+fn volume_pipeline(gpu: &Gpu, renderer: &SceneRenderer) -> wgpu::RenderPipeline {
     let module = wgsl::module(&gpu.device, "shadow volumes", &volumes_source());
-    let layout = gpu
-        .device
-        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow volumes"),
-            bind_group_layouts: &[Some(&renderer.frame_layout)],
-            immediate_size: 0,
-        });
-    let blend = |op| wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: op,
-        },
-        alpha: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: op,
-        },
-    };
+    let layout = pipeline::layout(&gpu.device, "shadow volumes", &[&renderer.frame_layout]);
     let targets = [
-        Some(wgpu::ColorTargetState {
-            format: VOLUME_FORMAT,
-            blend: Some(blend(wgpu::BlendOperation::Min)),
-            write_mask: wgpu::ColorWrites::ALL,
-        }),
-        Some(wgpu::ColorTargetState {
-            format: VOLUME_FORMAT,
-            blend: Some(blend(wgpu::BlendOperation::Max)),
-            write_mask: wgpu::ColorWrites::ALL,
-        }),
+        target(VOLUME_FORMAT, Some(both(MIN))),
+        target(VOLUME_FORMAT, Some(both(MAX))),
     ];
     let vertex_layout = wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<VolumeVertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
         attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Uint32],
     };
-    mesh_pipeline_with(
-        &gpu.device,
-        "shadow volumes",
-        &layout,
-        &module,
-        vertex_layout,
-        None,
-        &targets,
-        &[],
-    )
-}
-
-/// Silhouettes of every caster from every light, extruded past everything visible.
-pub(super) fn build(gpu: &Gpu, st: &mut State, frame: &FrameState) {
-    let cam = frame.camera.position;
-    let mut verts: Vec<VolumeVertex> = Vec::new();
-    let mut edges = 0;
-    for (k, light) in frame.lights.iter().enumerate() {
-        let pos = match light {
-            LightState::Directional { direction, .. } => LightPos::Direction(*direction),
-            _ => LightPos::Point(light.position().expect("local light")),
-        };
-        let reach =
-            2.0 * (frame.camera.far + light.position().map_or(0.0, |p| (p - cam).length())) + 1.0;
-        for (obj, mesh) in &st.casters {
-            for e in mesh.silhouette(&frame.world_from_local[*obj], pos) {
-                edges += 1;
-                verts.extend(extrude(e, pos, reach).map(|p: Vec3| VolumeVertex {
-                    position: p.to_array(),
-                    light: k as u32,
-                }));
-            }
-        }
-    }
-    st.silhouette_edges = edges;
-    st.vertex_count = verts.len() as u32;
-    if verts.is_empty() {
-        return;
-    }
-    let bytes: &[u8] = bytemuck::cast_slice(&verts);
-    let fits = st
-        .vertex_buffer
-        .as_ref()
-        .is_some_and(|b| b.size() >= bytes.len() as u64);
-    if !fits {
-        st.vertex_buffer = Some(gpu.buffer(&wgpu::BufferDescriptor {
-            label: Some("shadow-volume quads"),
-            size: (bytes.len() as u64).next_power_of_two(),
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }));
-    }
-    gpu.queue.write_buffer(
-        st.vertex_buffer.as_ref().expect("allocated above"),
-        0,
-        bytes,
-    );
+    Stage::new("shadow volumes", "vs")
+        .vertices(vertex_layout)
+        .fragment("fs", &targets)
+        .build(&gpu.device, &layout, &module, &[])
 }

@@ -6,9 +6,11 @@ use std::ops::Range;
 use harness::gpu::{Counted, color_attachment, depth_stencil_attachment};
 use harness::{FrameReport, Gpu};
 
-use super::{Accumulate, LightDraws, Passes, PixelPass, PolyUniform, SLOT};
+use super::{LightDraws, Passes, PixelPass};
+use crate::biri_polynomial::types::{Accumulate, PolyUniform, SLOT};
 use crate::common::crossing_lists::GROUP;
 use crate::common::gpu_scene::GpuScene;
+use crate::common::layouts::{buffer_entry, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::MAX_LIGHTS;
@@ -114,30 +116,11 @@ impl Passes {
             label: Some("biri-poly passes"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&renderer.distance_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.uniform,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(std::mem::size_of::<PolyUniform>() as u64),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(surface),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: self.delta.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&self.spot_rays_view),
-                },
+                view_entry(0, &renderer.distance_view),
+                slot_entry(1, &self.uniform, std::mem::size_of::<PolyUniform>() as u64),
+                view_entry(2, surface),
+                buffer_entry(3, &self.delta),
+                view_entry(4, &self.spot_rays_view),
             ],
         })
     }

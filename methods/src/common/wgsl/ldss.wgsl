@@ -3,7 +3,7 @@
 //   σ_s I e^(−σ_t t) / h · [Γ(σ_t h, w(d − t)) − Γ(σ_t h, w(−t))],
 // with the Γ table indexed by u = λ/(1 + λ) (rows) and w = s/(1 + s), s = (r + y)/h = tan(γ/2 + π/4)
 // (columns; y: signed distance along the ray from the light's foot, r = √(y² + h²)).
-// Needs PRELUDE. Mirrors biri_shadow_volumes::gamma.
+// Needs PRELUDE and light_segments.wgsl (`wgsl::LDSS` composes both). Mirrors common::gamma.
 
 // Bilinear Γ lookup (R32Float is not filterable without an optional feature).
 fn gamma_lookup(tab: texture_2d<f32>, lambda: f32, w: f32) -> f32 {

@@ -12,8 +12,14 @@
 //! integrand p · e^(−λ s) · 2/((1 − w)² + w²) is smooth up to γ = π/2, where the paper's linear γ
 //! axis bends sharply (rays pointing away from the light); and the shader gets w without an atan:
 //! with y the signed distance along the ray from the foot, s = (r + y)/h.
+//!
+//! Shared by biri-shadow-volumes (eq. 7 itself) and polygonal-light-volumes (the unshadowed
+//! in-scatter of its light volumes); the shader side is `wgsl::LDSS` (`wgsl/ldss.wgsl`).
 
+use harness::Gpu;
 use scenes::Phase;
+
+use super::quadrature::gauss;
 
 /// Γ sampled on a `lambda_res` × `w_res` grid: row i holds λ_i = u_i/(1 − u_i), u_i = i/lambda_res
 /// (the last row is λ = lambda_res − 1; larger λ clamp to it); column j holds w_j = j/(w_res − 1).
@@ -60,33 +66,6 @@ fn integrand_w(phase: &Phase, lambda: f64, w: f64) -> f64 {
     phase.eval(-sin_a) * (-lambda * s).exp() * jac
 }
 
-/// 8-point Gauss–Legendre nodes and weights on [−1, 1].
-const GL8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
-];
-
-/// ∫_a^b f by Gauss–Legendre on `n` equal pieces.
-pub fn gauss(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
-    let h = (b - a) / n as f64;
-    (0..n)
-        .map(|k| {
-            let m = a + (k as f64 + 0.5) * h;
-            GL8.iter()
-                .map(|(x, wt)| wt * f(m + 0.5 * h * x))
-                .sum::<f64>()
-                * 0.5
-                * h
-        })
-        .sum()
-}
-
 impl GammaTable {
     /// Integrates Γ for `phase`: per row, a cumulative Gauss–Legendre sum over the w cells (4
     /// pieces of 8 nodes per cell), shifted so that Γ(λ, 0) = 0 (w = 1/2).
@@ -110,6 +89,11 @@ impl GammaTable {
             w_res: n,
             data,
         }
+    }
+
+    /// The table as an R32Float texture (w along x, λ along y), as `wgsl::LDSS` reads it.
+    pub fn upload(&self, gpu: &Gpu, label: &str) -> wgpu::Texture {
+        super::tables::r32_table(gpu, label, self.w_res, self.lambda_res, &self.data)
     }
 
     /// Bilinear lookup (what the shader does), λ ≥ 0, w ∈ [0, 1].
@@ -155,6 +139,9 @@ mod tests {
     /// such rays see the light almost head-on through ≥ 50 optical depths, so their in-scatter is
     /// negligible). Bound 5e-3 over the whole domain and 5e-4 for λ ≤ 7. A Γ with the paper's
     /// 1/4π left in, or the exponent's sign or an axis map wrong, is ≥ 100% off.
+    /// Just inside ±π/2, where eq. 6's integrand is still finite.
+    const EDGE: f64 = std::f64::consts::FRAC_PI_2 - 1e-4;
+
     #[test]
     fn table_matches_direct_quadrature() {
         for phase in [
@@ -166,11 +153,11 @@ mod tests {
             let mut worst: f64 = 0.0;
             let mut worst_small: f64 = 0.0;
             for &lambda in &[0.0, 0.01, 0.1, 0.37, 1.0, 2.5, 7.0, 20.0, 50.0] {
-                let scale = gamma_direct(&phase, lambda, -1.5707).abs()
-                    + gamma_direct(&phase, lambda, 1.5707).abs();
+                let scale = gamma_direct(&phase, lambda, -EDGE).abs()
+                    + gamma_direct(&phase, lambda, EDGE).abs();
                 for k in 0..=40 {
-                    let g = -1.5707 + 3.1414 * k as f64 / 40.0 + 0.013;
-                    let g = g.min(1.5707);
+                    let g = -EDGE + 2.0 * EDGE * k as f64 / 40.0 + 0.013;
+                    let g = g.min(EDGE);
                     let exact = gamma_direct(&phase, lambda, g);
                     let err = (t.lookup(lambda, w_of_gamma(g)) - exact).abs() / scale;
                     worst = worst.max(err);

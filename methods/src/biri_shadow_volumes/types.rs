@@ -1,0 +1,42 @@
+//! What the shadow-plane passes share (`planes.rs`, the per-pixel passes of `pixel.rs`, the
+//! stencil pipelines of `stencil_pipes.rs`): the resolve's options, each light's range of
+//! planes, and the per-light uniform slot. A leaf: it imports none of them.
+
+/// How the plane crossings become in-scatter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resolve {
+    /// Steps 4–5: planes sorted on the CPU, drawn with stencil counting.
+    Stencil,
+    /// Per-pixel crossing lists sorted and walked on the GPU (`pixel.rs`).
+    PerPixel,
+}
+
+/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`).
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    pub resolve: Resolve,
+    /// Step 5's stencil rules (stencil resolve only).
+    pub rules: bool,
+    /// The paper's 8-bit target with reverse-subtract blending (stencil resolve only).
+    pub unorm8: bool,
+    /// Knob `spot_panels` (the spot quadrature of `lit_between`).
+    pub spot_panels: u32,
+}
+
+/// One light's planes in the vertex buffer and the eye's shadow count.
+#[derive(Clone, Copy, Debug)]
+pub struct LightRange {
+    pub first: u32,
+    pub end: u32,
+    pub eye_count: u32,
+}
+
+/// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
+pub const SLOT: u64 = 256;
+/// The bytes of a slot the passes read: [light, eye count, _, spot panels].
+pub const SLOT_BYTES: u64 = 16;
+
+/// Light k's dynamic offset into the per-light uniform slots.
+pub fn slot_offset(k: usize) -> [u32; 1] {
+    [(k as u64 * SLOT) as u32]
+}

@@ -1,0 +1,42 @@
+//! The method's WGSL and its composition: the volume passes (inject, temporal, integrate), the
+//! apply pass, and for particle media the voxelise / extinction passes and the particle surface
+//! pass. A leaf, so the passes and the method description can both use it.
+
+use crate::common::{resolve, wgsl};
+
+pub const GRID_WGSL: &str = include_str!("grid.wgsl");
+pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
+pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
+pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
+pub const LOOKUP_WGSL: &str = include_str!("lookup.wgsl");
+pub const EXTINCTION_WGSL: &str = include_str!("extinction.wgsl");
+pub const PARTICLES_WGSL: &str = include_str!("particles.wgsl");
+pub const PARTICLE_SURFACE_WGSL: &str = include_str!("particle_surface.wgsl");
+
+/// The volume passes' composed WGSL (inject, temporal and integrate entry points).
+pub fn volume_source() -> String {
+    let shared = [GRID_WGSL, EXTINCTION_WGSL, TEMPORAL_WGSL];
+    wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), VOLUME_WGSL)
+}
+
+/// The apply pass's own WGSL (composed by `common::resolve`).
+pub fn apply_wgsl() -> String {
+    wgsl::compose(&[GRID_WGSL, LOOKUP_WGSL], APPLY_WGSL)
+}
+
+/// The apply pass's composed WGSL.
+pub fn apply_source() -> String {
+    resolve::source(&apply_wgsl())
+}
+
+/// The particle passes' composed WGSL (voxelise and extinction entry points).
+pub fn particles_source() -> String {
+    let shared = [GRID_WGSL, EXTINCTION_WGSL];
+    wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), PARTICLES_WGSL)
+}
+
+/// The particle surface pass's composed WGSL.
+pub fn particle_surface_source() -> String {
+    let shared = [GRID_WGSL, LOOKUP_WGSL, EXTINCTION_WGSL];
+    resolve::source(&wgsl::compose(&shared, PARTICLE_SURFACE_WGSL))
+}
