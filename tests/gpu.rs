@@ -120,6 +120,8 @@ impl Method for Broken {
             id: if self.nan { "test-nan" } else { "test-panic" },
             paper: "test",
             summary: "fails on purpose",
+            baseline: false,
+            medium: harness::Medium::Both,
             readme: "",
             source: "",
         }

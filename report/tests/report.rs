@@ -13,6 +13,9 @@ use harness::results::{Results, Status};
 const FIXTURE: &str = include_str!("fixtures/results.json");
 /// A synthetic `scatterbench stress` run: 4 cases × 3 methods with every verdict and fault.
 const STRESS_FIXTURE: &str = include_str!("fixtures/stress-results.json");
+/// A run of two methods no registry has (as a fork or an external crate would write it):
+/// `lantern-cones`, published, and `flat-fog`, a baseline.
+const UNREGISTERED_FIXTURE: &str = include_str!("fixtures/unregistered-results.json");
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("scatterbench-report-{name}-{}", std::process::id()));
@@ -128,7 +131,8 @@ fn page_is_well_formed_and_has_every_record() {
         .skip(1)
         .collect();
     assert_eq!(body_rows.len(), methods.len());
-    // The registry's baselines (raymarch-brute, no-scatter) come last, marked, below a line.
+    // The baselines results.json names (raymarch-brute, no-scatter) come last, marked, below
+    // a line.
     let baseline_rows: Vec<String> = body_rows
         .iter()
         .filter(|r| has_class(r, "baseline"))
@@ -411,6 +415,110 @@ fn bad_run_directories_are_clear_errors() {
     );
     let missing = Path::new("/nonexistent/scatterbench/run");
     assert!(report::generate(missing).is_err());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The matrix's method names, top to bottom, each with whether it is marked a baseline and
+/// whether the separator line is drawn above it.
+fn matrix_rows(doc: &roxmltree::Document) -> Vec<(String, bool, bool)> {
+    let matrix = doc
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "matrix"))
+        .expect("matrix");
+    matrix
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .map(|r| {
+            let name = text(r.children().find(|c| c.has_tag_name("th")).unwrap());
+            (
+                name,
+                has_class(&r, "baseline"),
+                has_class(&r, "first-baseline"),
+            )
+        })
+        .collect()
+}
+
+/// The "Methods" table: per row, the text of each cell (method, paper, summary, medium,
+/// baseline).
+fn methods_table(doc: &roxmltree::Document) -> Vec<Vec<String>> {
+    let table = doc
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "methods"))
+        .expect("methods table");
+    table
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .map(|r| r.children().filter(|c| c.is_element()).map(text).collect())
+        .collect()
+}
+
+/// Methods no registry knows report from results.json alone: their papers, summaries and
+/// media are on the page, and the one described as a baseline is ranked below the line.
+#[test]
+fn methods_no_registry_has_report_with_their_papers_and_baseline_flags() {
+    let (dir, results, html) = build_from("unregistered", UNREGISTERED_FIXTURE);
+    let doc = parse(&html);
+    assert_eq!(
+        matrix_rows(&doc),
+        [
+            ("lantern-cones".to_string(), false, false),
+            ("flat-fog".to_string(), true, true)
+        ]
+    );
+    let rows = methods_table(&doc);
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    for (row, id) in rows.iter().zip(["lantern-cones", "flat-fog"]) {
+        let d = &results.run.methods[id];
+        let expect = [
+            id,
+            d.paper.as_deref().unwrap(),
+            d.summary.as_deref().unwrap(),
+            d.medium.as_deref().unwrap(),
+            if d.baseline.unwrap() { "yes" } else { "no" },
+        ];
+        assert_eq!(row, &expect, "{id}");
+    }
+    assert!(text(doc.root()).contains("Journal of Invented Graphics 12, 2031"));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Results written before `run.methods` (the fixture without it: what older runs wrote) still
+/// report: every method's paper, summary, medium and baseline flag read "unknown", and no row
+/// is set apart as a baseline, since the file does not say which are. A partial description
+/// (the fixture's `tricky` gives only its paper) shows what it gives.
+#[test]
+fn results_without_method_descriptions_report_unknown() {
+    let mut old: serde_json::Value = serde_json::from_str(FIXTURE).unwrap();
+    old["run"].as_object_mut().unwrap().remove("methods");
+    let (dir, results, html) = build_from("no-descriptions", &old.to_string());
+    assert!(results.run.methods.is_empty());
+    let doc = parse(&html);
+    let matrix = matrix_rows(&doc);
+    assert_eq!(matrix.len(), 6);
+    assert!(matrix.iter().all(|(_, baseline, line)| !baseline && !line));
+    for row in methods_table(&doc) {
+        assert_eq!(row[1..], ["unknown"; 4], "{row:?}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+
+    let (dir, _, html) = build("partial-description");
+    let doc = parse(&html);
+    let tricky = methods_table(&doc)
+        .into_iter()
+        .find(|r| r[0] == "tricky")
+        .unwrap();
+    assert_eq!(
+        tricky[1..],
+        [
+            "Fixture: a description with only its paper",
+            "unknown",
+            "unknown",
+            "unknown"
+        ]
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 

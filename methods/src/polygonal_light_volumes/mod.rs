@@ -56,8 +56,8 @@ use anyhow::{Result, bail};
 use bytemuck::{Pod, Zeroable};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -190,6 +190,8 @@ impl Method for PolygonalLightVolumes {
             id: "polygonal-light-volumes",
             paper: "Billeter, Sintorn, Assarsson, Real time volumetric shadows using polygonal light volumes, HPG 2010",
             summary: "Shadow-map grid displaced into closed light volumes; signed per-fragment unshadowed in-scatter from the eye",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }
