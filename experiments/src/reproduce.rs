@@ -300,6 +300,9 @@ fn biri_table2_exponent() -> f64 {
     (31.0f64 / 7.6).ln() / (136_266.0f64 / 14_785.0).ln()
 }
 
+/// One variant of a scene family: (triangles, silhouette edges, ms).
+type FamilyPoint = (f64, f64, f64);
+
 /// Biri 2006 Table II: per scene variant its triangles, silhouette edges, shadow-plane
 /// counters and time; per family the fitted exponent of time vs triangles and vs silhouette
 /// edges, next to the paper's.
@@ -324,7 +327,7 @@ fn triangles_text(
         "| scene | triangles | silhouette edges | shadow-plane counters | ms | × time of the family's first |"
     );
     let _ = writeln!(t, "|---|---|---|---|---|---|");
-    let mut families: Vec<(&str, Vec<(f64, f64, f64)>)> = Vec::new();
+    let mut families: Vec<(&str, Vec<FamilyPoint>)> = Vec::new();
     for (scene, r) in &recs {
         let tris = scenes
             .iter()
