@@ -36,6 +36,13 @@ fn build_from(name: &str, fixture: &str) -> (PathBuf, Results, String) {
     (dir, results, html)
 }
 
+/// The report of `fixture` without `run.<field>`: a results file written before that field.
+fn build_without(name: &str, fixture: &str, field: &str) -> (PathBuf, Results, String) {
+    let mut v: serde_json::Value = serde_json::from_str(fixture).unwrap();
+    v["run"].as_object_mut().unwrap().remove(field);
+    build_from(name, &v.to_string())
+}
+
 /// Parses strictly as XML; the DOCTYPE is the only DTD allowed.
 fn parse(html: &str) -> roxmltree::Document<'_> {
     let opt = roxmltree::ParsingOptions {
@@ -418,17 +425,25 @@ fn bad_run_directories_are_clear_errors() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// The matrix's method names, top to bottom, each with whether it is marked a baseline and
-/// whether the separator line is drawn above it.
-fn matrix_rows(doc: &roxmltree::Document) -> Vec<(String, bool, bool)> {
-    let matrix = doc
-        .descendants()
-        .find(|n| n.has_tag_name("table") && has_class(n, "matrix"))
-        .expect("matrix");
-    matrix
+/// The body rows (after the header row) of the first table of class `class`.
+fn body_rows<'a, 'i>(
+    doc: &'a roxmltree::Document<'i>,
+    class: &str,
+) -> Vec<roxmltree::Node<'a, 'i>> {
+    doc.descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, class))
+        .unwrap_or_else(|| panic!("no table of class {class}"))
         .descendants()
         .filter(|n| n.has_tag_name("tr"))
         .skip(1)
+        .collect()
+}
+
+/// The matrix's method names, top to bottom, each with whether it is marked a baseline and
+/// whether the separator line is drawn above it.
+fn matrix_rows(doc: &roxmltree::Document) -> Vec<(String, bool, bool)> {
+    body_rows(doc, "matrix")
+        .into_iter()
         .map(|r| {
             let name = text(r.children().find(|c| c.has_tag_name("th")).unwrap());
             (
@@ -443,14 +458,8 @@ fn matrix_rows(doc: &roxmltree::Document) -> Vec<(String, bool, bool)> {
 /// The "Methods" table: per row, the text of each cell (method, paper, summary, medium,
 /// baseline).
 fn methods_table(doc: &roxmltree::Document) -> Vec<Vec<String>> {
-    let table = doc
-        .descendants()
-        .find(|n| n.has_tag_name("table") && has_class(n, "methods"))
-        .expect("methods table");
-    table
-        .descendants()
-        .filter(|n| n.has_tag_name("tr"))
-        .skip(1)
+    body_rows(doc, "methods")
+        .into_iter()
         .map(|r| r.children().filter(|c| c.is_element()).map(text).collect())
         .collect()
 }
@@ -491,9 +500,7 @@ fn methods_no_registry_has_report_with_their_papers_and_baseline_flags() {
 /// (the fixture's `tricky` gives only its paper) shows what it gives.
 #[test]
 fn results_without_method_descriptions_report_unknown() {
-    let mut old: serde_json::Value = serde_json::from_str(FIXTURE).unwrap();
-    old["run"].as_object_mut().unwrap().remove("methods");
-    let (dir, results, html) = build_from("no-descriptions", &old.to_string());
+    let (dir, results, html) = build_without("no-descriptions", FIXTURE, "methods");
     assert!(results.run.methods.is_empty());
     let doc = parse(&html);
     let matrix = matrix_rows(&doc);
