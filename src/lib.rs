@@ -115,3 +115,16 @@ fn listed_twice(registry: Registry) -> Option<&'static str> {
         .find(|(i, m)| registry[..*i].iter().any(|o| o.id() == m.id()))
         .map(|(_, m)| m.id())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_registry_listing_an_id_twice_is_caught() {
+        let r = methods::REGISTRY;
+        assert_eq!(listed_twice(r), None);
+        assert_eq!(listed_twice(&[r[0], r[1], r[0]]), Some(r[0].id()));
+        assert_eq!(listed_twice(&[]), None);
+    }
+}
