@@ -1,15 +1,17 @@
 //! Command-line arguments shared by several commands, declared once, and their checks
 //! (ARCHITECTURE §8.3). Every check names the argument, the value and what is allowed. Checks
 //! that need only the text are clap value parsers (clap prints them and exits 2); checks that
-//! need the registry or a scene file run before any work and fail with [`Usage`], which `main`
-//! turns into exit 2 as well.
+//! need the registry or a scene file run before any work and fail with [`Usage`], which
+//! `main_with` turns into exit 2 as well.
 
 use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
 use std::path::PathBuf;
 
 use clap::Args;
-use harness::method::{Method, Params, parse_knob, resolve_params};
+use harness::method::{Method, Params, find, parse_knob, resolve_params};
+
+use crate::Registry;
 
 /// A refused argument: exit 2, like clap's own usage errors.
 #[derive(Debug)]
@@ -167,7 +169,7 @@ pub fn parse_sizes(s: &str) -> Result<Vec<u32>, String> {
         .collect()
 }
 
-/// `--res`: the image size. Each command sets its own default (`mut_arg` in `main.rs`).
+/// `--res`: the image size. Each command sets its own default (`mut_arg` in `lib.rs`).
 #[derive(Args, Clone, Debug)]
 pub struct Size {
     /// Image size: N (square) or WxH, each side 1..=16384.
@@ -176,7 +178,7 @@ pub struct Size {
 }
 
 /// `--frames` and `--warmup` of a command that times records (defaults: `run`'s; others set
-/// theirs with `mut_arg` in `main.rs`).
+/// theirs with `mut_arg` in `lib.rs`).
 #[derive(Args, Clone, Debug)]
 pub struct Frames {
     /// Timed frames per record, 1..=100000.
@@ -249,26 +251,26 @@ pub fn check_fresh(out: &std::path::Path) -> anyhow::Result<()> {
 }
 
 /// The ids of the registry, for messages.
-fn method_ids() -> String {
-    methods::REGISTRY
+fn method_ids(registry: Registry) -> String {
+    registry
         .iter()
         .map(|e| e.id())
         .collect::<Vec<_>>()
         .join(", ")
 }
 
-/// Registry entries named by `--methods` (comma-separated, or "all"); unknown ids are refused
-/// with the valid ones.
-pub fn pick_methods(spec: &str) -> anyhow::Result<Vec<&'static dyn Method>> {
+/// Entries of `registry` named by `--methods` (comma-separated, or "all"); unknown ids are
+/// refused with the valid ones.
+pub fn pick_methods(spec: &str, registry: Registry) -> anyhow::Result<Vec<&'static dyn Method>> {
     if spec == "all" {
-        return Ok(methods::REGISTRY.to_vec());
+        return Ok(registry.to_vec());
     }
     spec.split(',')
-        .map(|id| match methods::find(id.trim()) {
+        .map(|id| match find(registry, id.trim()) {
             Some(e) => Ok(e),
             None => refuse(format!(
                 "--methods: unknown method '{id}'; valid methods are {}, all",
-                method_ids()
+                method_ids(registry)
             )),
         })
         .collect()
@@ -294,10 +296,12 @@ pub fn scene(name: &str) -> anyhow::Result<scenes::Scene> {
 }
 
 /// `--param METHOD.KNOB=VALUE` items → per-method overrides, each checked against the
-/// method's knobs (name, type, choices) and refused with [`Usage`].
+/// method's knobs (name, type, choices) and refused with [`Usage`]. METHOD is looked up in
+/// `registry` and must be one of `chosen`.
 pub fn parse_overrides(
     items: &[String],
     chosen: &[&dyn Method],
+    registry: Registry,
 ) -> anyhow::Result<BTreeMap<String, Params>> {
     let mut out: BTreeMap<String, Params> = BTreeMap::new();
     for item in items {
@@ -308,10 +312,10 @@ pub fn parse_overrides(
         else {
             return bad("expected METHOD.KNOB=VALUE".into());
         };
-        let Some(entry) = methods::find(method) else {
+        let Some(entry) = find(registry, method) else {
             return bad(format!(
                 "unknown method '{method}'; valid methods are {}",
-                method_ids()
+                method_ids(registry)
             ));
         };
         if !chosen.iter().any(|e| e.id() == entry.id()) {
@@ -330,7 +334,7 @@ pub fn parse_overrides(
     // Every method's full parameter set must resolve (names, types, choices, ranges) before
     // any work starts.
     for (id, overrides) in &out {
-        let entry = methods::find(id).expect("found above");
+        let entry = find(registry, id).expect("found above");
         if let Err(e) = resolve_params(entry, overrides) {
             return refuse(format!("--param {id}: {e}"));
         }

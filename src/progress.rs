@@ -4,16 +4,32 @@
 use harness::results::{Record, Status};
 use harness::runner::Event;
 
+use crate::Registry;
+
 /// Prints runner events as they come and counts records by status.
-pub struct Progress {
+pub struct Progress<'r> {
     /// Records expected, when known: lines are numbered `[k/N]`.
     total: Option<usize>,
     done: usize,
     counts: [usize; 3],
     /// The word for a status (`ok`, or `pass` in a stress run).
     verdict: fn(Status) -> &'static str,
-    /// The AOV whose relative RMSE an ok line shows.
-    aov: &'static str,
+    /// The error an ok line shows: its label and value.
+    error: fn(&Record) -> Option<(&'static str, f64)>,
+    /// Where a record's method's default knobs come from (a line shows the others).
+    registry: Registry<'r>,
+}
+
+/// The verdict metric of the in-scatter (what the report ranks by).
+fn inscatter_headline(r: &Record) -> Option<(&'static str, f64)> {
+    harness::verdict::headline(r, "inscatter").map(|e| ("inscatter headline", e))
+}
+
+/// The error a stress bound judges: the total's relative RMSE (ARCHITECTURE §6).
+fn total_rel_rmse(r: &Record) -> Option<(&'static str, f64)> {
+    r.errors
+        .get("total")
+        .map(|m| ("total rel RMSE", m.rel_rmse))
 }
 
 fn status_word(s: Status) -> &'static str {
@@ -24,24 +40,25 @@ fn status_word(s: Status) -> &'static str {
     }
 }
 
-impl Progress {
-    /// A benchmark run: ok / skipped / failed, with the in-scatter error.
-    pub fn new(total: Option<usize>) -> Progress {
+impl<'r> Progress<'r> {
+    /// A benchmark run: ok / skipped / failed, with the in-scatter headline error.
+    pub fn new(total: Option<usize>, registry: Registry<'r>) -> Progress<'r> {
         Progress {
             total,
             done: 0,
             counts: [0; 3],
             verdict: status_word,
-            aov: "inscatter",
+            error: inscatter_headline,
+            registry,
         }
     }
 
-    /// A stress run: pass / unsupported / FAIL, with the total's error (ARCHITECTURE §6).
-    pub fn stress() -> Progress {
+    /// A stress run: pass / unsupported / FAIL, with the error its bounds judge.
+    pub fn stress(registry: Registry<'r>) -> Progress<'r> {
         Progress {
             verdict: experiments::stress::verdict,
-            aov: "total",
-            ..Progress::new(None)
+            error: total_rel_rmse,
+            ..Progress::new(None, registry)
         }
     }
 
@@ -76,7 +93,7 @@ impl Progress {
             (self.verdict)(r.status),
             r.scene,
             r.method,
-            experiments::params_text(&r.method, &r.params),
+            experiments::params_text(self.registry, &r.method, &r.params),
             self.detail(r)
         );
     }
@@ -93,8 +110,8 @@ impl Progress {
                 parts.push(format!("gpu {:.2} ms", g.median));
             }
         }
-        if let Some(m) = r.errors.get(self.aov) {
-            parts.push(format!("{} rel RMSE {}", self.aov, short(m.rel_rmse)));
+        if let Some((label, e)) = (self.error)(r) {
+            parts.push(format!("{label} {}", short(e)));
         }
         parts.join(", ")
     }

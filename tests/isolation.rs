@@ -61,6 +61,8 @@ impl Method for TestMethod {
             id: self.id,
             paper: "test only",
             summary: "misbehaves on purpose",
+            baseline: false,
+            medium: harness::Medium::Both,
             readme: "",
             source: "",
         }

@@ -274,6 +274,8 @@ impl Method for Faulty {
             },
             paper: "test",
             summary: "fails on purpose",
+            baseline: false,
+            medium: harness::Medium::Both,
             readme: "",
             source: "",
         }

@@ -79,6 +79,14 @@ fn two_shards_merged_equal_the_unsharded_run() {
     assert_eq!(loaded, m.results);
     assert_eq!(loaded.run.shard, None);
     assert_eq!(loaded.run.resolution, [32, 32]);
+    // Each shard described its method; the merged run describes it once.
+    let described: Vec<(&str, Option<bool>)> = loaded
+        .run
+        .methods
+        .iter()
+        .map(|(id, d)| (id.as_str(), d.baseline))
+        .collect();
+    assert_eq!(described, [("no-scatter", Some(true))]);
     let a: Vec<Record> = whole.records.iter().map(untimed).collect();
     let b: Vec<Record> = loaded.records.iter().map(untimed).collect();
     assert_eq!(a, b, "merged records differ from the unsharded run");
@@ -180,4 +188,55 @@ fn merge_refuses_mismatched_resolution_and_schema() {
     let (ok, err) = merge_cli(&[&a, &e], &tmp("dup-out"));
     assert!(!ok);
     assert!(err.contains("is in both"), "{err}");
+}
+
+/// Sets `run.methods` of the results.json in `dir`.
+fn describe(dir: &Path, methods: serde_json::Value) {
+    let path = dir.join("results.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    v["run"]["methods"] = methods;
+    std::fs::write(path, v.to_string()).unwrap();
+}
+
+/// The merged `run.methods` is the union of the runs' (a run written before descriptions
+/// existed adds none); a method described differently in two runs keeps the first run's
+/// description, and the merge warns naming the method and the run.
+#[test]
+fn merge_unions_the_method_descriptions() {
+    let a = fake_run("desc-a", [32, 32], "s1");
+    describe(
+        &a,
+        serde_json::json!({"m": {"paper": "P", "baseline": false}}),
+    );
+    let b = fake_run("desc-b", [32, 32], "s2");
+    describe(
+        &b,
+        serde_json::json!({
+            "m": {"paper": "P", "baseline": true},
+            "n": {"paper": "Q", "baseline": true, "medium": "both"}
+        }),
+    );
+    let older = fake_run("desc-older", [32, 32], "s3");
+    let out = tmp("desc-out");
+    let (ok, err) = merge_cli(&[&a, &b, &older], &out);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("warning:")
+            && err.contains("'m'")
+            && err.contains("described differently")
+            && err.contains("desc-b"),
+        "{err}"
+    );
+    let r = Results::load(&out.join("results.json")).unwrap();
+    let m = &r.run.methods;
+    assert_eq!(m.len(), 2);
+    assert_eq!(
+        (m["m"].paper.as_deref(), m["m"].baseline),
+        (Some("P"), Some(false))
+    );
+    assert_eq!(
+        (m["n"].medium.as_deref(), m["n"].baseline),
+        (Some("both"), Some(true))
+    );
 }

@@ -19,13 +19,14 @@ pub mod stress;
 
 use std::path::Path;
 
-use harness::method::Params;
+use harness::method::{Method, Params, find};
 use harness::reference::Settings;
 use harness::runner::RunConfig;
 
-/// The knobs of `params` that differ from `method`'s defaults, `k=v …`, or "defaults".
-pub fn params_text(method: &str, params: &Params) -> String {
-    let defaults: Params = methods::find(method)
+/// The knobs of `params` that differ from the defaults of `method` (looked up in `registry`;
+/// every knob when it is not there), `k=v …`, or "defaults".
+pub fn params_text(registry: &[&dyn Method], method: &str, params: &Params) -> String {
+    let defaults: Params = find(registry, method)
         .map(|e| {
             e.knobs()
                 .into_iter()

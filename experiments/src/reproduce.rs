@@ -4,7 +4,8 @@
 //! equal-error table (each method's cheapest configuration under 1 %, 5 %, 10 % in-scatter
 //! relative RMSE per scene).
 //!
-//! Papers whose method is not in the registry yet get "skipped: method not registered yet".
+//! Papers whose method is not in the registry given to [`plan`] get "skipped: method not
+//! registered yet".
 //! The tables are defined in [`crate::papers`] (scenes may be tessellated variants,
 //! `<scene>-sub<L>`, see `scenes::variants`); the text is also written to `OUT/reproduce.md`.
 
@@ -14,13 +15,16 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use harness::Gpu;
-use harness::method::{Method, Params, parse_knob, resolve_params};
+use harness::method::{Method, Params, find, parse_knob, resolve_params};
 use harness::results::{Record, Results, Status, record_key};
 use harness::runner::{Event, WorkItem, run_items};
 use report::analysis::{self, BUDGETS, TimeBasis};
 use scenes::Scene;
 
 use crate::papers::{Config, Experiment, Section, experiments};
+
+/// The methods a plan resolves its configurations against.
+type Registry<'r> = &'r [&'static dyn Method];
 
 /// How to measure the tables.
 pub struct Options {
@@ -41,6 +45,8 @@ pub struct Options {
 
 /// The tables that can run with the registered methods, and their joint work list.
 pub struct Plan {
+    /// The methods the plan was made with (the tables' configurations resolve against it).
+    pub registry: Vec<&'static dyn Method>,
     /// What was left out because a method is not registered (printed before the tables).
     pub notes: String,
     pub experiments: Vec<Experiment>,
@@ -49,8 +55,8 @@ pub struct Plan {
     pub work: Vec<WorkItem<'static>>,
 }
 
-/// The plan for `papers` (names from [`crate::papers::PAPERS`]).
-pub fn plan(papers: &[&str]) -> Result<Plan> {
+/// The plan for `papers` (names from [`crate::papers::PAPERS`]) over the methods of `registry`.
+pub fn plan(papers: &[&str], registry: &[&'static dyn Method]) -> Result<Plan> {
     let mut notes = String::new();
     let mut runnable = Vec::new();
     for mut e in experiments()
@@ -61,7 +67,7 @@ pub fn plan(papers: &[&str]) -> Result<Plan> {
             .needs
             .iter()
             .copied()
-            .filter(|m| methods::find(m).is_none())
+            .filter(|m| find(registry, m).is_none())
             .collect();
         if !missing.is_empty() {
             let _ = writeln!(
@@ -76,11 +82,11 @@ pub fn plan(papers: &[&str]) -> Result<Plan> {
         let absent: Vec<&str> = e
             .configs
             .iter()
-            .filter(|c| methods::find(c.method).is_none())
+            .filter(|c| find(registry, c.method).is_none())
             .map(|c| c.label)
             .collect();
         if !absent.is_empty() {
-            e.configs.retain(|c| methods::find(c.method).is_some());
+            e.configs.retain(|c| find(registry, c.method).is_some());
             e.claims
                 .retain(|c| !absent.contains(&c.faster) && !absent.contains(&c.slower));
             let _ = writeln!(
@@ -113,7 +119,7 @@ pub fn plan(papers: &[&str]) -> Result<Plan> {
                 continue;
             }
             for c in &e.configs {
-                let (entry, params) = resolve(c)?;
+                let (entry, params) = resolve(registry, c)?;
                 if keys.insert(record_key(s, entry.id(), &params)) {
                     work.push(WorkItem {
                         scene: si,
@@ -125,6 +131,7 @@ pub fn plan(papers: &[&str]) -> Result<Plan> {
         }
     }
     Ok(Plan {
+        registry: registry.to_vec(),
         notes,
         experiments: runnable,
         scenes,
@@ -156,22 +163,23 @@ pub fn run(
         "# Paper reproductions — {}x{}, {} timed frames, {}\n",
         opts.width, opts.height, opts.frames, results.run.machine.adapter
     );
+    let registry = &plan.registry;
     for e in &plan.experiments {
         text.push_str(&match e.section {
-            Section::Configs => experiment_text(e, &results, &opts.out),
-            Section::Triangles => triangles_text(e, &results, &plan.scenes),
-            Section::Breakdown => breakdown_text(e, &results),
+            Section::Configs => experiment_text(registry, e, &results, &opts.out),
+            Section::Triangles => triangles_text(registry, e, &results, &plan.scenes),
+            Section::Breakdown => breakdown_text(registry, e, &results),
         });
     }
-    text.push_str(&equal_error_text(&results));
+    text.push_str(&equal_error_text(registry, &results));
     let md = opts.out.join("reproduce.md");
     std::fs::write(&md, &text).map_err(|e| anyhow!("{}: {e}", md.display()))?;
     Ok(text)
 }
 
 /// A configuration's registry entry and full parameter set.
-fn resolve(c: &Config) -> Result<(&'static dyn Method, Params)> {
-    let entry = methods::find(c.method).ok_or_else(|| anyhow!("unknown method {}", c.method))?;
+fn resolve(registry: Registry, c: &Config) -> Result<(&'static dyn Method, Params)> {
+    let entry = find(registry, c.method).ok_or_else(|| anyhow!("unknown method {}", c.method))?;
     let mut overrides = Params::new();
     for (k, v) in c.params {
         overrides.insert(k.to_string(), parse_knob(entry, k, v)?);
@@ -179,8 +187,14 @@ fn resolve(c: &Config) -> Result<(&'static dyn Method, Params)> {
     Ok((entry, resolve_params(entry, &overrides)?))
 }
 
-fn find<'a>(results: &'a Results, scene: &str, c: &Config) -> Option<&'a Record> {
-    let (entry, params) = resolve(c).ok()?;
+/// The record of configuration `c` on `scene`, if the run has it.
+fn record<'a>(
+    registry: Registry,
+    results: &'a Results,
+    scene: &str,
+    c: &Config,
+) -> Option<&'a Record> {
+    let (entry, params) = resolve(registry, c).ok()?;
     let key = record_key(scene, entry.id(), &params);
     results.records.iter().find(|r| r.key() == key)
 }
@@ -197,12 +211,20 @@ fn mean_ratio(out: &std::path::Path, r: &Record) -> Option<f64> {
     (rm > 0.0).then(|| m / rm)
 }
 
-fn experiment_text(e: &Experiment, results: &Results, out: &std::path::Path) -> String {
+fn experiment_text(
+    registry: Registry,
+    e: &Experiment,
+    results: &Results,
+    out: &std::path::Path,
+) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
     for scene in e.scenes {
-        let recs: Vec<Option<&Record>> =
-            e.configs.iter().map(|c| find(results, scene, c)).collect();
+        let recs: Vec<Option<&Record>> = e
+            .configs
+            .iter()
+            .map(|c| record(registry, results, scene, c))
+            .collect();
         let basis = TimeBasis::for_records(recs.iter().flatten().copied());
         let time = |label: &str| -> Option<f64> {
             let i = e.configs.iter().position(|c| c.label == label)?;
@@ -278,15 +300,26 @@ fn biri_table2_exponent() -> f64 {
     (31.0f64 / 7.6).ln() / (136_266.0f64 / 14_785.0).ln()
 }
 
+/// One variant of a scene family: (triangles, silhouette edges, ms).
+type FamilyPoint = (f64, f64, f64);
+
 /// Biri 2006 Table II: per scene variant its triangles, silhouette edges, shadow-plane
 /// counters and time; per family the fitted exponent of time vs triangles and vs silhouette
 /// edges, next to the paper's.
-fn triangles_text(e: &Experiment, results: &Results, scenes: &[Scene]) -> String {
+fn triangles_text(
+    registry: Registry,
+    e: &Experiment,
+    results: &Results,
+    scenes: &[Scene],
+) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
     let c = &e.configs[0];
-    let recs: Vec<(&str, Option<&Record>)> =
-        e.scenes.iter().map(|s| (*s, find(results, s, c))).collect();
+    let recs: Vec<(&str, Option<&Record>)> = e
+        .scenes
+        .iter()
+        .map(|s| (*s, record(registry, results, s, c)))
+        .collect();
     let basis = TimeBasis::for_records(recs.iter().filter_map(|r| r.1));
     let _ = writeln!(t, "{} ({})\n", c.method, basis.label());
     let _ = writeln!(
@@ -294,7 +327,7 @@ fn triangles_text(e: &Experiment, results: &Results, scenes: &[Scene]) -> String
         "| scene | triangles | silhouette edges | shadow-plane counters | ms | × time of the family's first |"
     );
     let _ = writeln!(t, "|---|---|---|---|---|---|");
-    let mut families: Vec<(&str, Vec<(f64, f64, f64)>)> = Vec::new();
+    let mut families: Vec<(&str, Vec<FamilyPoint>)> = Vec::new();
     for (scene, r) in &recs {
         let tris = scenes
             .iter()
@@ -376,7 +409,7 @@ fn triangles_text(e: &Experiment, results: &Results, scenes: &[Scene]) -> String
 
 /// Biri 2003 Table 1: the method's per-frame phase counters (`*_ms`) as shares of the median
 /// wall time, next to the paper's work loads.
-fn breakdown_text(e: &Experiment, results: &Results) -> String {
+fn breakdown_text(registry: Registry, e: &Experiment, results: &Results) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "## {}\n\n{}\n", e.title, e.note);
     let c = &e.configs[0];
@@ -384,7 +417,10 @@ fn breakdown_text(e: &Experiment, results: &Results) -> String {
     let recs: Vec<(&str, Option<&Record>)> = e
         .scenes
         .iter()
-        .map(|s| (*s, find(results, s, c).filter(|r| r.status == Status::Ok)))
+        .map(|s| {
+            let r = record(registry, results, s, c);
+            (*s, r.filter(|r| r.status == Status::Ok))
+        })
         .collect();
     for (_, r) in &recs {
         for k in r.iter().flat_map(|r| r.counters.keys()) {
@@ -455,7 +491,7 @@ fn breakdown_text(e: &Experiment, results: &Results) -> String {
 }
 
 /// Each scene × method: the cheapest configuration of this run under each error budget.
-fn equal_error_text(results: &Results) -> String {
+fn equal_error_text(registry: Registry, results: &Results) -> String {
     let mut t = String::from(
         "## Equal error: cheapest configuration per method under each in-scatter rel RMSE budget\n\n",
     );
@@ -487,7 +523,7 @@ fn equal_error_text(results: &Results) -> String {
                     Some(p) => format!(
                         "{:.2} ms ({}, {:.2} %)",
                         p.time,
-                        crate::params_text(id, &mine[p.index].params),
+                        crate::params_text(registry, id, &mine[p.index].params),
                         p.error * 100.0
                     ),
                     None => "none".into(),

@@ -10,6 +10,7 @@ pub mod merge;
 pub mod method;
 pub mod reference;
 pub mod results;
+pub mod run_methods;
 pub mod runner;
 pub mod sequence;
 pub mod shard;
@@ -19,6 +20,6 @@ pub mod verdict;
 
 pub use gpu::Gpu;
 pub use method::{
-    Aov, ConformanceCase, FrameReport, Knob, KnobError, KnobProblem, KnobRead, Method, MethodInfo,
-    ParamValue, Params, PrepareContext, Prepared, ShaderCheck, Support, Targets,
+    Aov, ConformanceCase, FrameReport, Knob, KnobError, KnobProblem, KnobRead, Medium, Method,
+    MethodInfo, ParamValue, Params, PrepareContext, Prepared, ShaderCheck, Support, Targets,
 };

@@ -6,12 +6,14 @@
 //! ratios of one run; `allow_mixed_adapters` overrides that one check). Shards of one split
 //! are put back in shard order, so the merged records come in the unsharded order; other
 //! runs are concatenated in the order given. A record (scene, method, params) present twice
-//! is refused rather than silently picking one.
+//! is refused rather than silently picking one. `run.methods` is the union of the runs'
+//! (a method described differently in two runs keeps the first description, with a warning).
 
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 
 use crate::results::{Results, RunInfo};
+use crate::run_methods;
 
 #[derive(Clone, Debug, Default)]
 pub struct MergeOptions {
@@ -116,6 +118,14 @@ pub fn merge(dirs: &[PathBuf], out: &Path, opts: &MergeOptions) -> Result<MergeS
         .unwrap_or_else(|| format!("{}-merged", first.id));
     run.shard = None;
     run.note = format!("{} (merged from {} runs)", run.note, runs.len());
+    for (d, r) in &runs[1..] {
+        let source = d.display().to_string();
+        warnings.extend(run_methods::union(
+            &mut run.methods,
+            &r.run.methods,
+            &source,
+        ));
+    }
     let results = Results {
         schema_version: runs[0].1.schema_version,
         run,

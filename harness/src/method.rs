@@ -18,9 +18,14 @@ pub use crate::knobs::{
 pub struct MethodInfo {
     /// Stable id used on the command line and in results (`raymarch-brute`).
     pub id: &'static str,
-    /// The paper (authors, title, venue, year), or "baseline".
+    /// The paper (authors, title, venue, year); for a baseline, what it stands for.
     pub paper: &'static str,
     pub summary: &'static str,
+    /// A reference point rather than a published technique (brute force, no scattering, the
+    /// un-accelerated form of a paper's method): the report ranks baselines below the line.
+    pub baseline: bool,
+    /// The participating media it renders; the conformance checks hold it to `support`.
+    pub medium: Medium,
     /// The method's README.md (`include_str!("README.md")`): the conformance test checks it
     /// exists and follows docs/ADDING_A_METHOD.md.
     #[serde(skip)]
@@ -29,6 +34,37 @@ pub struct MethodInfo {
     /// the conformance test checks.
     #[serde(skip)]
     pub source: &'static str,
+}
+
+/// The participating media a method renders (`scenes::SceneFeatures::medium` names a scene's).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Medium {
+    Homogeneous,
+    Particles,
+    /// Homogeneous and particle media.
+    Both,
+}
+
+impl Medium {
+    /// "homogeneous", "particles" or "both" (as in results.json).
+    pub fn name(self) -> &'static str {
+        match self {
+            Medium::Homogeneous => "homogeneous",
+            Medium::Particles => "particles",
+            Medium::Both => "both",
+        }
+    }
+
+    /// Whether it includes a scene's medium (`SceneFeatures::medium`).
+    pub fn covers(self, scene_medium: &str) -> bool {
+        self == Medium::Both || self.name() == scene_medium
+    }
+}
+
+/// The method of `registry` with this id.
+pub fn find<'a>(registry: &[&'a dyn Method], id: &str) -> Option<&'a dyn Method> {
+    registry.iter().copied().find(|m| m.id() == id)
 }
 
 /// Whether a method can render a scene.

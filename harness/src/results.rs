@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::gpu::AdapterSummary;
 use crate::image::metrics::ErrorMetrics;
 use crate::method::{Params, SkippedPass};
+pub use crate::run_methods::{MethodDescription, RunMethods};
 
 pub const SCHEMA_VERSION: u32 = 1;
 
@@ -42,6 +43,10 @@ pub struct RunInfo {
     /// absent in results written before the headline existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headline: Option<String>,
+    /// Every method of the run, described ([`crate::run_methods`]): readers need no registry.
+    /// Empty (and absent) in results written before it.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub methods: RunMethods,
 }
 
 /// `RunInfo::kind` of a `scatterbench stress` run (DESIGN §6).

@@ -2,7 +2,9 @@
 //! pieces in `common/`, and the registry — one ordered list of method descriptions.
 //!
 //! Adding a method: a folder implementing `harness::Method` and one line in [`REGISTRY`]
-//! (docs/ADDING_A_METHOD.md). The conformance test (tests/conformance.rs) covers every entry.
+//! (docs/ADDING_A_METHOD.md). The conformance checks ([`conformance::check_registry`], run over
+//! the registry by tests/conformance.rs) cover every entry. Out of the tree, a crate passes its
+//! own registry to `scatterbench::main_with` and to the same checks (examples/external-method).
 
 pub mod biri_polynomial;
 pub mod biri_shadow_volumes;
@@ -36,7 +38,7 @@ pub static REGISTRY: &[&dyn Method] = &[
 
 /// A registered method by id.
 pub fn find(id: &str) -> Option<&'static dyn Method> {
-    REGISTRY.iter().copied().find(|m| m.id() == id)
+    harness::method::find(REGISTRY, id)
 }
 
 /// Shader modules shared by every rasterising method (the shadow-map and surface passes),

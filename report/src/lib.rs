@@ -5,7 +5,9 @@
 //! Pareto front and the fastest configuration under 1 %, 5 % and 10 % error, in a table and
 //! a sentence. Then the method × scene matrix ([`matrix`]): each method's best
 //! configuration, coloured on a perceptual (viridis, log) scale, with frame time and work
-//! per pixel, skipped cells as a dash with a numbered reason, baselines set apart. A switch
+//! per pixel, skipped cells as a dash with a numbered reason, baselines set apart (as
+//! results.json's `run.methods` describes them: the report reads nothing but the run directory,
+//! [`methods`], which also gives the page its table of papers). A switch
 //! re-ranks every table and plot by another metric ([`metric`]; the verdict metric is the
 //! headline error where records have it, else in-scatter relative RMSE). Per scene: an
 //! in-place image viewer ([`viewer`]: reference and one record per method as linear
@@ -29,6 +31,7 @@ pub mod fixture;
 pub mod format;
 pub mod knobs;
 pub mod matrix;
+pub mod methods;
 pub mod metric;
 pub mod page;
 pub mod plot;
@@ -48,11 +51,6 @@ use crate::metric::Metric;
 const TEMPLATE: &str = include_str!("../templates/index.html");
 /// The page's script: viewer, metric switch, self-test (inlined into the page).
 const SCRIPT: &str = include_str!("../templates/viewer.js");
-
-/// Whether a method is a baseline (its paper entry says so), so the matrix sets it apart.
-pub fn is_baseline(method: &str) -> bool {
-    methods::find(method).is_some_and(|m| m.info().paper.contains("baseline"))
-}
 
 /// Reads results.json and the optional fields newer than [`Results`] (see [`metric`]).
 fn load(results_path: &Path) -> Result<(Results, Option<String>)> {
@@ -116,7 +114,8 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         title: format!("scatterbench report — {}", results.run.id),
         counts: view::counts(&results),
         verdicts: verdict::tables(&results, &metrics),
-        matrix: matrix::matrix(&results, &metrics, &is_baseline),
+        matrix: matrix::matrix(&results, &metrics),
+        methods: methods::rows(&results),
         metrics: metric_views,
         stability: stability::is_stress(&results).then(|| stability::table(&results)),
         scaling,

@@ -143,11 +143,12 @@ pub fn work_text(r: &Record, pixels: f64) -> String {
     parts.join(" · ")
 }
 
-pub fn matrix(results: &Results, metrics: &[Metric], is_baseline: &dyn Fn(&str) -> bool) -> Matrix {
+pub fn matrix(results: &Results, metrics: &[Metric]) -> Matrix {
     let scenes = analysis::scene_names(results);
     let methods = analysis::ordered(results.records.iter().map(|r| r.method.as_str()));
-    let (mut published, baselines): (Vec<String>, Vec<String>) =
-        methods.into_iter().partition(|m| !is_baseline(m));
+    let (mut published, baselines): (Vec<String>, Vec<String>) = methods
+        .into_iter()
+        .partition(|m| !crate::methods::is_baseline(results, m));
     let n_published = published.len();
     published.extend(baselines);
     let pixels = (results.run.resolution[0] as f64) * (results.run.resolution[1] as f64);

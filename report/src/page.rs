@@ -17,6 +17,8 @@ pub struct Page {
     /// Per metric: the verdict table (same order as `metrics`).
     pub verdicts: Vec<VerdictTable>,
     pub matrix: Matrix,
+    /// Every method of the run with its paper, summary, medium and baseline flag.
+    pub methods: Vec<crate::methods::MethodRow>,
     pub scenes: Vec<SceneView>,
     /// The stability table, for a stress run only.
     pub stability: Option<crate::stability::Stability>,

@@ -13,6 +13,9 @@ use harness::results::{Results, Status};
 const FIXTURE: &str = include_str!("fixtures/results.json");
 /// A synthetic `scatterbench stress` run: 4 cases × 3 methods with every verdict and fault.
 const STRESS_FIXTURE: &str = include_str!("fixtures/stress-results.json");
+/// A run of two methods no registry has (as a fork or an external crate would write it):
+/// `lantern-cones`, published, and `flat-fog`, a baseline.
+const UNREGISTERED_FIXTURE: &str = include_str!("fixtures/unregistered-results.json");
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("scatterbench-report-{name}-{}", std::process::id()));
@@ -31,6 +34,13 @@ fn build_from(name: &str, fixture: &str) -> (PathBuf, Results, String) {
     assert_eq!(index, dir.join("report").join("index.html"));
     let html = std::fs::read_to_string(&index).unwrap();
     (dir, results, html)
+}
+
+/// The report of `fixture` without `run.<field>`: a results file written before that field.
+fn build_without(name: &str, fixture: &str, field: &str) -> (PathBuf, Results, String) {
+    let mut v: serde_json::Value = serde_json::from_str(fixture).unwrap();
+    v["run"].as_object_mut().unwrap().remove(field);
+    build_from(name, &v.to_string())
 }
 
 /// Parses strictly as XML; the DOCTYPE is the only DTD allowed.
@@ -128,7 +138,8 @@ fn page_is_well_formed_and_has_every_record() {
         .skip(1)
         .collect();
     assert_eq!(body_rows.len(), methods.len());
-    // The registry's baselines (raymarch-brute, no-scatter) come last, marked, below a line.
+    // The baselines results.json names (raymarch-brute, no-scatter) come last, marked, below
+    // a line.
     let baseline_rows: Vec<String> = body_rows
         .iter()
         .filter(|r| has_class(r, "baseline"))
@@ -411,6 +422,110 @@ fn bad_run_directories_are_clear_errors() {
     );
     let missing = Path::new("/nonexistent/scatterbench/run");
     assert!(report::generate(missing).is_err());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The body rows (after the header row) of the first table of class `class`.
+fn body_rows<'a, 'i>(
+    doc: &'a roxmltree::Document<'i>,
+    class: &str,
+) -> Vec<roxmltree::Node<'a, 'i>> {
+    doc.descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, class))
+        .unwrap_or_else(|| panic!("no table of class {class}"))
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .collect()
+}
+
+/// The matrix's method names, top to bottom, each with whether it is marked a baseline and
+/// whether the separator line is drawn above it.
+fn matrix_rows(doc: &roxmltree::Document) -> Vec<(String, bool, bool)> {
+    body_rows(doc, "matrix")
+        .into_iter()
+        .map(|r| {
+            let name = text(r.children().find(|c| c.has_tag_name("th")).unwrap());
+            (
+                name,
+                has_class(&r, "baseline"),
+                has_class(&r, "first-baseline"),
+            )
+        })
+        .collect()
+}
+
+/// The "Methods" table: per row, the text of each cell (method, paper, summary, medium,
+/// baseline).
+fn methods_table(doc: &roxmltree::Document) -> Vec<Vec<String>> {
+    body_rows(doc, "methods")
+        .into_iter()
+        .map(|r| r.children().filter(|c| c.is_element()).map(text).collect())
+        .collect()
+}
+
+/// Methods no registry knows report from results.json alone: their papers, summaries and
+/// media are on the page, and the one described as a baseline is ranked below the line.
+#[test]
+fn methods_no_registry_has_report_with_their_papers_and_baseline_flags() {
+    let (dir, results, html) = build_from("unregistered", UNREGISTERED_FIXTURE);
+    let doc = parse(&html);
+    assert_eq!(
+        matrix_rows(&doc),
+        [
+            ("lantern-cones".to_string(), false, false),
+            ("flat-fog".to_string(), true, true)
+        ]
+    );
+    let rows = methods_table(&doc);
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    for (row, id) in rows.iter().zip(["lantern-cones", "flat-fog"]) {
+        let d = &results.run.methods[id];
+        let expect = [
+            id,
+            d.paper.as_deref().unwrap(),
+            d.summary.as_deref().unwrap(),
+            d.medium.as_deref().unwrap(),
+            if d.baseline.unwrap() { "yes" } else { "no" },
+        ];
+        assert_eq!(row, &expect, "{id}");
+    }
+    assert!(text(doc.root()).contains("Journal of Invented Graphics 12, 2031"));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Results written before `run.methods` (the fixture without it: what older runs wrote) still
+/// report: every method's paper, summary, medium and baseline flag read "unknown", and no row
+/// is set apart as a baseline, since the file does not say which are. A partial description
+/// (the fixture's `tricky` gives only its paper) shows what it gives.
+#[test]
+fn results_without_method_descriptions_report_unknown() {
+    let (dir, results, html) = build_without("no-descriptions", FIXTURE, "methods");
+    assert!(results.run.methods.is_empty());
+    let doc = parse(&html);
+    let matrix = matrix_rows(&doc);
+    assert_eq!(matrix.len(), 6);
+    assert!(matrix.iter().all(|(_, baseline, line)| !baseline && !line));
+    for row in methods_table(&doc) {
+        assert_eq!(row[1..], ["unknown"; 4], "{row:?}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+
+    let (dir, _, html) = build("partial-description");
+    let doc = parse(&html);
+    let tricky = methods_table(&doc)
+        .into_iter()
+        .find(|r| r[0] == "tricky")
+        .unwrap();
+    assert_eq!(
+        tricky[1..],
+        [
+            "Fixture: a description with only its paper",
+            "unknown",
+            "unknown",
+            "unknown"
+        ]
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 

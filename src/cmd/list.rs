@@ -6,6 +6,8 @@ use std::collections::BTreeMap;
 use anyhow::{Result, anyhow};
 use clap::Args;
 
+use crate::Registry;
+
 #[derive(Args)]
 pub struct ListArgs {
     /// Print JSON instead of a table.
@@ -13,7 +15,7 @@ pub struct ListArgs {
     pub json: bool,
 }
 
-pub fn run(a: ListArgs) -> Result<()> {
+pub fn run(a: ListArgs, registry: Registry) -> Result<()> {
     let mut scenes_out = Vec::new();
     for name in scenes::library::names() {
         let s = scenes::library::resolve(name).map_err(|e| anyhow!(e))?;
@@ -22,7 +24,7 @@ pub fn run(a: ListArgs) -> Result<()> {
     if a.json {
         let v = serde_json::json!({
             "scenes": scenes_out.iter().map(|s| serde_json::json!({"name": s.name, "description": s.desc.description, "features": s.features()})).collect::<Vec<_>>(),
-            "methods": methods_json(&scenes_out),
+            "methods": methods_json(registry, &scenes_out),
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
@@ -42,14 +44,15 @@ pub fn run(a: ListArgs) -> Result<()> {
             f.triangles
         );
     }
-    print_methods();
+    print_methods(registry);
     Ok(())
 }
 
-/// Every registered method: id, paper, summary, knobs, and its support of each library scene.
-fn methods_json(library: &[scenes::Scene]) -> serde_json::Value {
+/// Every method of `registry`: id, paper, summary, baseline, medium, knobs, and its support of
+/// each library scene.
+fn methods_json(registry: Registry, library: &[scenes::Scene]) -> serde_json::Value {
     serde_json::Value::Array(
-        methods::REGISTRY
+        registry
             .iter()
             .map(|m| {
                 let info = m.info();
@@ -57,17 +60,18 @@ fn methods_json(library: &[scenes::Scene]) -> serde_json::Value {
                     .iter()
                     .map(|s| (s.name.clone(), serde_json::to_value(m.support(&s.features(), wgpu::Features::all())).unwrap_or_default()))
                     .collect();
-                serde_json::json!({"id": info.id, "paper": info.paper, "summary": info.summary, "params": m.knobs(), "support": support})
+                serde_json::json!({"id": info.id, "paper": info.paper, "summary": info.summary, "baseline": info.baseline, "medium": info.medium, "params": m.knobs(), "support": support})
             })
             .collect(),
     )
 }
 
-fn print_methods() {
+fn print_methods(registry: Registry) {
     println!("methods:");
-    for m in methods::REGISTRY {
+    for m in registry {
         let info = m.info();
-        println!("  {:<20} {}", info.id, info.summary);
+        let baseline = if info.baseline { " (baseline)" } else { "" };
+        println!("  {:<20} {}{baseline}", info.id, info.summary);
         for p in m.knobs() {
             let sweep: Vec<String> = p.sweep.iter().map(|v| v.to_string()).collect();
             println!(

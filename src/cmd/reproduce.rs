@@ -6,6 +6,7 @@ use clap::Args;
 use experiments::papers::PAPERS;
 use experiments::reproduce::{self, Options};
 
+use crate::Registry;
 use crate::args::{Frames, Output, Size};
 use crate::progress::Progress;
 
@@ -29,13 +30,13 @@ fn paper_names() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(PAPERS.iter().copied().chain(["all"]))
 }
 
-pub fn run(a: ReproduceArgs) -> Result<()> {
+pub fn run(a: ReproduceArgs, registry: Registry) -> Result<()> {
     let papers: Vec<&str> = if a.paper == "all" {
         PAPERS.to_vec()
     } else {
         PAPERS.iter().copied().filter(|p| *p == a.paper).collect()
     };
-    let plan = reproduce::plan(&papers)?;
+    let plan = reproduce::plan(&papers, registry)?;
     let run_id = format!("reproduce-{}", harness::results::run_id_now());
     let opts = Options {
         width: a.size.res.width,
@@ -55,7 +56,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         opts.height,
         opts.frames
     );
-    let mut progress = Progress::new(Some(plan.work.len()));
+    let mut progress = Progress::new(Some(plan.work.len()), registry);
     let text = reproduce::run(&gpu, &plan, &opts, &mut |ev| progress.event(ev))?;
     print!("{text}");
     println!(

@@ -9,6 +9,7 @@ use harness::reference::Settings;
 use harness::runner::RunConfig;
 use harness::shard::Shard;
 
+use crate::Registry;
 use crate::args::{self, Frames, MethodList, Output, Resume, Size};
 use crate::progress::Progress;
 
@@ -52,10 +53,10 @@ pub struct RunArgs {
     pub isolate: super::worker::IsolateArgs,
 }
 
-pub fn run(a: RunArgs) -> Result<()> {
-    let chosen = args::pick_methods(&a.methods.methods)?;
+pub fn run(a: RunArgs, registry: Registry) -> Result<()> {
+    let chosen = args::pick_methods(&a.methods.methods, registry)?;
     let scenes = args::pick_scenes(&a.scenes)?;
-    let overrides = args::parse_overrides(&a.params, &chosen)?;
+    let overrides = args::parse_overrides(&a.params, &chosen, registry)?;
     let run_id = harness::results::run_id_now();
     let shard = a.shard.unwrap_or(Shard::WHOLE);
     let out: PathBuf = a.output.dir(&if shard.is_whole() {
@@ -81,7 +82,7 @@ pub fn run(a: RunArgs) -> Result<()> {
         budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
         isolation: a.isolate.isolation()?,
     };
-    let mut progress = Progress::new(None);
+    let mut progress = Progress::new(None, registry);
     let results = harness::runner::run_shard(&gpu, &scenes, &chosen, &cfg, shard, &mut |ev| {
         progress.event(ev)
     })

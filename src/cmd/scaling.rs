@@ -5,6 +5,7 @@ use anyhow::Result;
 use clap::Args;
 use experiments::scaling::{self, Options};
 
+use crate::Registry;
 use crate::args::{self, Frames, MethodList, Output, Res, refuse};
 use crate::progress::Progress;
 
@@ -46,10 +47,10 @@ pub type Counts = Vec<usize>;
 /// Parsed `--res` of the pixel sweep.
 pub type Sizes = Vec<u32>;
 
-pub fn run(a: ScalingArgs) -> Result<()> {
+pub fn run(a: ScalingArgs, registry: Registry) -> Result<()> {
     let run_id = format!("scaling-{}", harness::results::run_id_now());
     let opts = Options {
-        methods: args::pick_methods(&a.methods.methods)?,
+        methods: args::pick_methods(&a.methods.methods, registry)?,
         base: args::scene(&a.scene)?,
         triangles: a.triangles,
         triangles_res: (a.triangles_res.width, a.triangles_res.height),
@@ -76,7 +77,7 @@ pub fn run(a: ScalingArgs) -> Result<()> {
         plan.pixels.len(),
         opts.frames
     );
-    let mut progress = Progress::new(None);
+    let mut progress = Progress::new(None, registry);
     let outcome = scaling::run(&gpu, &plan, &opts, &mut |ev| progress.event(ev))?;
     if !outcome.capped.is_empty() {
         eprintln!(

@@ -7,6 +7,7 @@ use clap::Args;
 use harness::reference::Settings;
 use harness::stress::{self, StressConfig};
 
+use crate::Registry;
 use crate::args::{self, MethodList, Output, Resume, Size, refuse};
 use crate::progress::Progress;
 
@@ -45,8 +46,8 @@ fn pick_cases(spec: &str) -> Result<Vec<&'static stress::Case>> {
         .collect()
 }
 
-pub fn run(a: StressArgs) -> Result<()> {
-    let chosen = args::pick_methods(&a.methods.methods)?;
+pub fn run(a: StressArgs, registry: Registry) -> Result<()> {
+    let chosen = args::pick_methods(&a.methods.methods, registry)?;
     let cases = pick_cases(&a.cases)?;
     let run_id = harness::results::run_id_now();
     let out = a.output.dir(&format!("stress-{run_id}"));
@@ -64,7 +65,7 @@ pub fn run(a: StressArgs) -> Result<()> {
         run_id,
         isolation: a.isolate.isolation()?,
     };
-    let mut progress = Progress::stress();
+    let mut progress = Progress::stress(registry);
     let results = stress::run(&mut gpu, &chosen, &cfg, &mut |ev| progress.event(ev))
         .map_err(|e| anyhow!(e))?;
     println!(

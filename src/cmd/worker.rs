@@ -9,6 +9,8 @@ use anyhow::Result;
 use clap::{Args, ValueEnum};
 use harness::isolate::{Isolation, Reuse, WorkerCommand};
 
+use crate::Registry;
+
 /// The hidden subcommand that makes this binary a worker.
 pub const SUBCOMMAND: &str = "__worker";
 
@@ -75,7 +77,8 @@ fn this_worker() -> Result<WorkerCommand> {
     WorkerCommand::this_executable(&[SUBCOMMAND]).map_err(anyhow::Error::msg)
 }
 
-/// The worker subcommand: serves the parent over the method registry, then exits.
-pub fn serve() -> ! {
-    harness::isolate::worker::serve(methods::REGISTRY)
+/// The worker subcommand: serves the parent over `registry`, then exits. The parent starts this
+/// same executable, whose `main_with` passes the registry the parent runs with.
+pub fn serve(registry: Registry) -> ! {
+    harness::isolate::worker::serve(registry)
 }

@@ -15,8 +15,8 @@ use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use methods::common::knobs;
 use methods::common::renderer::{SceneRenderer, unsupported};
@@ -95,6 +95,8 @@ impl Method for UnshadowedMarch {
             id: "unshadowed-march",
             paper: "example (docs/ADDING_A_METHOD.md): single scattering without shadows",
             summary: "Per-pixel midpoint march of the single-scattering integral, visibility 1",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("../README.md"),
             source: include_str!("lib.rs"),
         }

@@ -1,11 +1,12 @@
-//! The external method through the harness, as a user of the library would run it: the runner
-//! on library scenes (scored against the reference renderer), its knob refusals, and its
-//! shaders through naga. `cargo test --workspace` (CI) builds and runs this.
+//! The external method through the harness's runner, as a user of the library would drive it:
+//! on library scenes, scored against the reference renderer beside raymarch-brute. Its
+//! conformance (knobs, shaders, GPU cases) is tests/conformance.rs; the command line over its
+//! registry is tests/cli.rs. `cargo test --workspace` (CI) builds and runs all three.
 //!
 //! Without an adapter the GPU tests skip with a message — except when `CI` is set.
 
-use external_method::{UnshadowedMarch, registry};
-use harness::method::{KnobProblem, Method, ParamValue, resolve_params};
+use external_method::UnshadowedMarch;
+use harness::method::{Method, ParamValue};
 use harness::results::Status;
 use harness::runner::run;
 use harness::testing::{gpu_or_skip, knobs, library, run_config, temp_dir};
@@ -66,34 +67,4 @@ fn runs_through_the_harness_on_library_scenes() {
         UnshadowedMarch.support(&sphere, gpu.features()),
         harness::Support::Partial(_)
     ));
-}
-
-/// Its knobs are range-checked by the harness like every registered method's.
-#[test]
-fn knobs_are_refused_outside_their_ranges() {
-    for v in [0, 4097] {
-        let err = resolve_params(&UnshadowedMarch, &knobs(&[("steps", ParamValue::Int(v))]))
-            .expect_err("refused");
-        assert_eq!(err.problem, KnobProblem::OutOfRange);
-        assert!(err.to_string().contains("1..=4096"), "{err}");
-    }
-    let ids: Vec<&str> = registry().iter().map(|m| m.id()).collect();
-    assert_eq!(ids.last(), Some(&"unshadowed-march"));
-    assert!(ids.contains(&"raymarch-brute"));
-}
-
-/// The same conformance checks every registered method passes (methods/tests/conformance.rs):
-/// its shaders through naga, and on GPU its conformance cases against the reference with the
-/// skip/no-skip equality.
-#[test]
-fn passes_the_conformance_checks() {
-    let n = methods::conformance::validate_shaders(&UnshadowedMarch.shaders())
-        .unwrap_or_else(|f| panic!("{}", f.join("\n")));
-    assert!(n > 0);
-    let Some(gpu) = gpu_or_skip() else { return };
-    let (ok, failed) = methods::conformance::run_cases(&gpu, &UnshadowedMarch);
-    for line in &ok {
-        eprintln!("ok   {line}");
-    }
-    assert!(failed.is_empty(), "{}", failed.join("\n"));
 }

@@ -236,10 +236,12 @@ pub fn run_items(
                 kind: None,
                 shard: shard_info,
                 headline: Some(crate::verdict::HEADLINE_NAME.into()),
+                methods: Default::default(),
             },
             records: Vec::new(),
         }
     };
+    crate::run_methods::describe(&mut results.run.methods, work.iter().map(|i| i.entry));
     if cfg.isolation.retry_failed && !cfg.resume {
         return Err(
             "--retry-failed runs the failed records of an earlier run: it needs --resume".into(),

@@ -116,6 +116,7 @@ fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
             kind: Some(STRESS_KIND.into()),
             shard: None,
             headline: Some(crate::verdict::HEADLINE_NAME.into()),
+            methods: Default::default(),
         },
         records: Vec::new(),
     }
@@ -137,9 +138,13 @@ pub fn run(
         )
     })?;
     let path = cfg.out_dir.join("results.json");
-    if !(cfg.resume && path.exists()) {
-        fresh(gpu, cfg).save(&path)?;
-    }
+    let mut start = if cfg.resume && path.exists() {
+        Results::load(&path)?
+    } else {
+        fresh(gpu, cfg)
+    };
+    crate::run_methods::describe(&mut start.run.methods, methods.iter().copied());
+    start.save(&path)?;
     let mesh_dir = cfg.out_dir.join("stress-meshes");
     let ctx = BuildContext {
         width: cfg.width,

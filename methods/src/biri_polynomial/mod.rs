@@ -68,8 +68,8 @@
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -179,6 +179,8 @@ impl Method for BiriPolynomial {
             id: "biri-polynomial",
             paper: "Biri, Michelin & Arquès, Real-time single scattering with volumetric shadows (software-assisted precursor of Biri et al. 2006)",
             summary: "Angular RTE with a polynomial kernel: constant-time Γ per vertex or fragment, shadow planes front to back with stencil counting",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

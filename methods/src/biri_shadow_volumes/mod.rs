@@ -71,8 +71,8 @@ use bytemuck::{Pod, Zeroable};
 use harness::gpu::{PhaseTimer, phases};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -137,6 +137,8 @@ impl Method for BiriShadowVolumes {
             id: "biri-shadow-volumes",
             paper: "Biri, Arquès, Michelin, Real time rendering of atmospheric scattering and volumetric shadows, J. WSCG 14, 2006",
             summary: "Precomputed Γ(λ,γ) table: direct single scattering from two lookups per ray (eq. 7)",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

@@ -37,8 +37,8 @@ mod passes;
 use anyhow::{Result, bail};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Params, Prepared,
-    Support, Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Params,
+    Prepared, Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -111,6 +111,8 @@ impl Method for DobashiVirtualPlanes {
             id: "dobashi-virtual-planes",
             paper: "Dobashi, Yamamoto & Nishita, Interactive Rendering Method for Displaying Shafts of Light, Pacific Graphics 2000",
             summary: "Screen-parallel virtual planes: ξ on a lattice, light maps, shadow maps, additive blending",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

@@ -51,8 +51,8 @@ use anyhow::{Result, bail};
 use harness::gpu::phases;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -203,6 +203,8 @@ impl Method for EpipolarMinMax {
             id: "epipolar-minmax",
             paper: "Engelhardt & Dachsbacher, Epipolar sampling for shadows and crepuscular rays in participating media with single scattering, I3D 2010; Chen, Baran, Kavan & Durand, Real-time volumetric shadows using 1D min-max mipmaps, I3D 2011; Yusov, Outdoor light scattering, GPU Pro 5, 2014",
             summary: "Epipolar slices and refined samples, marched over a min-max tree of the rectified shadow map, interpolated to pixels",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

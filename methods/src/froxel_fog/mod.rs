@@ -60,7 +60,9 @@ mod state;
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
-use harness::{Aov, ConformanceCase, Knob, KnobRead, Method, MethodInfo, Prepared, Support};
+use harness::{
+    Aov, ConformanceCase, Knob, KnobRead, Medium, Method, MethodInfo, Prepared, Support,
+};
 use scenes::SceneFeatures;
 
 use crate::common::knobs;
@@ -77,6 +79,8 @@ impl Method for FroxelFog {
             id: "froxel-fog",
             paper: "Wronski, Volumetric fog: unified compute shader based solution to atmospheric scattering, SIGGRAPH 2014 Advances; Hillaire, Physically based and unified volumetric rendering in Frostbite, SIGGRAPH 2015",
             summary: "Frustum-aligned froxel grid: inject, integrate front to back (Hillaire's slice integral), one lookup per pixel",
+            baseline: false,
+            medium: Medium::Both,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

@@ -8,8 +8,8 @@
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -58,6 +58,8 @@ impl Method for NoScatter {
             id: "no-scatter",
             paper: "baseline (fixed-function fog: attenuation only)",
             summary: "Attenuated surfaces, no in-scattering",
+            baseline: true,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

@@ -58,8 +58,8 @@ use bytemuck::{Pod, Zeroable};
 use harness::gpu::{PhaseTimer, phases};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -177,6 +177,8 @@ impl Method for PolygonalLightVolumes {
             id: "polygonal-light-volumes",
             paper: "Billeter, Sintorn, Assarsson, Real time volumetric shadows using polygonal light volumes, HPG 2010",
             summary: "Shadow-map grid displaced into closed light volumes; signed per-fragment unshadowed in-scatter from the eye",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

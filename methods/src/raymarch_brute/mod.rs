@@ -17,8 +17,8 @@ use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
@@ -108,6 +108,8 @@ impl Method for RaymarchBrute {
             id: "raymarch-brute",
             paper: "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008 (brute-force baseline)",
             summary: "Fixed-step per-pixel ray march with shadow-map visibility",
+            baseline: true,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

@@ -109,7 +109,9 @@ pub mod surface_shadow;
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
-use harness::{Aov, ConformanceCase, Knob, KnobRead, Method, MethodInfo, Prepared, Support};
+use harness::{
+    Aov, ConformanceCase, Knob, KnobRead, Medium, Method, MethodInfo, Prepared, Support,
+};
 use scenes::SceneFeatures;
 
 use crate::common::knobs;
@@ -206,6 +208,8 @@ impl Method for UmenhofferParticleBlocks {
             id: "umenhoffer-particle-blocks",
             paper: "Umenhoffer, Szirmay-Kalos, Szijártó, Participating media as hierarchies of particle blocks (2006)",
             summary: "Particle blocks as depth impostors; RGBA light slices; back-to-front gathering; depth-interval opacity at objects",
+            baseline: false,
+            medium: Medium::Particles,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }
@@ -284,6 +288,8 @@ impl Method for ParticleSplat {
             id: "particle-splat",
             paper: "baseline: per-particle billboards with a slice light pass and back-to-front gathering (the \"no block\" row of Umenhoffer et al. 2006, Fig. 5)",
             summary: "Every particle splatted with its exact sphere chord; no blocks",
+            baseline: true,
+            medium: Medium::Particles,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }

@@ -36,8 +36,8 @@ use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
 use harness::method::{AOV_FORMAT, PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Method, MethodInfo, Prepared, Support,
-    Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Support, Targets,
 };
 use scenes::{FrameState, Scene, SceneFeatures};
 
@@ -202,6 +202,8 @@ impl Method for WymanHybrid {
             id: "wyman-hybrid",
             paper: "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008",
             summary: "Shadow volumes bound where to march; Sun et al.'s analytic airlight elsewhere",
+            baseline: false,
+            medium: Medium::Homogeneous,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }
