@@ -3,20 +3,23 @@
 # from this bundle, on this machine's first hardware adapter, or on the one --adapter names.
 # Writes results.json, images and the HTML report; references come from the bundle's cache.
 #
-#   ./run.sh [--adapter NAME] [--res 256] [--out DIR] [other `scatterbench run` arguments]
+#   ./run.sh [--adapter NAME] [--res 256] [--out DIR] [--scenes all] [--methods all]
+#            [other `scatterbench run` arguments]
 #
 # Needs a Vulkan loader (libvulkan.so.1) and a driver; no Rust toolchain. `bin/scatterbench
 # adapters` lists what the loader finds.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 bin="$here/bin/scatterbench"
-adapter=""; res=256; out=""; rest=()
+adapter=""; res=256; out=""; scenes=all; methods=all; rest=()
 while [ $# -gt 0 ]; do
     case "$1" in
         --adapter) adapter=$2; shift 2 ;;
         --res) res=$2; shift 2 ;;
         --out) out=$2; shift 2 ;;
-        -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        --scenes) scenes=$2; shift 2 ;;
+        --methods) methods=$2; shift 2 ;;
+        -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) rest+=("$1"); shift ;;
     esac
 done
@@ -28,6 +31,6 @@ if [ -z "$adapter" ]; then
     }
 fi
 [ -n "$out" ] || out="$here/results/$(date -u +%Y-%m-%dT%H-%M-%SZ)-${res}"
-"$bin" run --scenes all --methods all --res "$res" --adapter "$adapter" \
+"$bin" run --scenes "$scenes" --methods "$methods" --res "$res" --adapter "$adapter" \
     --cache "$here/cache" --out "$out" "${rest[@]}"
 echo "results: $out/results.json"
