@@ -51,8 +51,10 @@ git rev-parse HEAD >"$out/COMMIT" 2>/dev/null || echo unknown >"$out/COMMIT"
 
 copy=()
 [ -d "$cache_from" ] && copy=(--copy-from "$cache_from")
+# 20 mantissa bits: at most 4.8e-7 relative, under half the reference's own quadrature
+# tolerance (1e-6); a quarter smaller than lossless (docs/ARCHITECTURE.md §9.1).
 NODEVICE_SELECT=1 "$out/bin/scatterbench" references --scenes "$scenes" --res "$res" \
-    --cache "$out/cache" "${copy[@]}"
+    --cache "$out/cache" --mantissa-bits 20 "${copy[@]}"
 
 size_kb=$(du -sk "$out" | cut -f1)
 echo "bundle: $out, $((size_kb / 1024)) MB ($(du -sh "$out/bin" | cut -f1) binary, $(du -sh "$out/cache" | cut -f1) references)"

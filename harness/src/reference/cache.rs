@@ -62,7 +62,7 @@ pub fn load(dir: &Path, key: &str) -> Option<ReferenceImages> {
     let stats: ReferenceStats =
         serde_json::from_str(&std::fs::read_to_string(e.join("stats.json")).ok()?).ok()?;
     let images = match std::fs::read(e.join(IMAGES)) {
-        Ok(bytes) => pack::decode(&bytes).ok()?,
+        Ok(bytes) => pack::decode(&bytes).ok()?.images,
         Err(_) => load_exrs(&e)?,
     };
     Some(ReferenceImages { stats, ..images })
@@ -87,17 +87,32 @@ fn load_exrs(e: &Path) -> Option<ReferenceImages> {
     })
 }
 
-/// Stores images under the key (written atomically; stats last, so a partial entry has no
-/// stats.json and is never loaded).
+/// Stores images under the key, losslessly (written atomically; stats last, so a partial entry
+/// has no stats.json and is never loaded).
 pub fn store(dir: &Path, key: &str, r: &ReferenceImages) -> Result<(), String> {
+    store_rounded(dir, key, r, pack::FULL_MANTISSA)
+}
+
+/// [`store`] with every value rounded to `mantissa_bits` ([`pack`]); the bits kept are noted in
+/// the entry's stats (`mantissa_bits`).
+pub fn store_rounded(
+    dir: &Path,
+    key: &str,
+    r: &ReferenceImages,
+    mantissa_bits: u32,
+) -> Result<(), String> {
     let e = entry(dir, key);
     std::fs::create_dir_all(&e)
         .map_err(|err| format!("{}: cannot create cache directory: {err}", e.display()))?;
     let _ = std::fs::remove_file(e.join("stats.json"));
-    crate::fsutil::write_atomic(&e.join(IMAGES), &pack::encode(r)?)?;
+    crate::fsutil::write_atomic(&e.join(IMAGES), &pack::encode(r, mantissa_bits)?)?;
+    let stats = ReferenceStats {
+        mantissa_bits: (mantissa_bits < pack::FULL_MANTISSA).then_some(mantissa_bits),
+        ..r.stats.clone()
+    };
     crate::fsutil::write_atomic(
         &e.join("stats.json"),
-        serde_json::to_string_pretty(&r.stats)
+        serde_json::to_string_pretty(&stats)
             .unwrap_or_default()
             .as_bytes(),
     )

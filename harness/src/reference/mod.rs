@@ -52,6 +52,10 @@ pub struct ReferenceStats {
     pub seconds: f64,
     pub settings: Option<Settings>,
     pub threads: usize,
+    /// Where a cache entry was stored rounded (a bundle's, ARCHITECTURE §9.1): the mantissa
+    /// bits its values kept; absent when lossless.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mantissa_bits: Option<u32>,
 }
 
 /// How far the reference is from its own 4×-tighter self.
@@ -160,6 +164,7 @@ pub fn render(
             seconds: start.elapsed().as_secs_f64(),
             settings: Some(settings),
             threads: rayon::current_num_threads(),
+            mantissa_bits: None,
         },
     })
 }
