@@ -10,11 +10,11 @@
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use harness::Gpu;
 use harness::method::{Method, Params, parse_knob, resolve_params};
+use harness::record::RecordSettings;
 use harness::results::{Record, Results, Status, record_key};
 use harness::runner::{Event, WorkItem, run_items};
 use report::analysis::{self, BUDGETS, TimeBasis};
@@ -24,16 +24,10 @@ use crate::papers::{Config, Experiment, Section, experiments};
 
 /// How to measure the tables.
 pub struct Options {
-    pub width: u32,
-    pub height: u32,
-    /// Timed frames per configuration.
-    pub frames: u32,
-    /// Warm-up frames per configuration.
-    pub warmup: u32,
-    /// The run directory (results.json, images, reproduce.md).
-    pub out: PathBuf,
-    /// Reference cache directory.
-    pub cache: PathBuf,
+    /// Resolution, timed and warm-up frames per configuration, the run directory
+    /// (results.json, images, reproduce.md) and the reference cache; no time budget
+    /// (ARCHITECTURE §4.2).
+    pub record: RecordSettings,
     pub run_id: String,
     /// Worker processes and the watchdog for every record (ARCHITECTURE §6).
     pub isolation: harness::isolate::Isolation,
@@ -132,7 +126,7 @@ pub fn plan(papers: &[&str]) -> Result<Plan> {
     })
 }
 
-/// Runs the plan into `opts.out` (results.json, images) and returns the tables' text, which
+/// Runs the plan into `opts.record.out_dir` (results.json, images) and returns the tables' text, which
 /// is also written to `OUT/reproduce.md`.
 pub fn run(
     gpu: &Gpu,
@@ -140,31 +134,24 @@ pub fn run(
     opts: &Options,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<String> {
-    let mut cfg = crate::run_config(
-        &opts.out,
-        (opts.width, opts.height),
-        (opts.frames, opts.warmup),
-        &opts.cache,
-        &opts.run_id,
-    );
-    cfg.isolation = opts.isolation.clone();
+    let cfg = crate::run_config(&opts.record, &opts.run_id, &opts.isolation);
     let results =
         run_items(gpu, &plan.scenes, &plan.work, &cfg, None, on_event).map_err(|e| anyhow!(e))?;
     let mut text = plan.notes.clone();
     let _ = writeln!(
         text,
         "# Paper reproductions — {}x{}, {} timed frames, {}\n",
-        opts.width, opts.height, opts.frames, results.run.machine.adapter
+        opts.record.width, opts.record.height, opts.record.frames, results.run.machine.adapter
     );
     for e in &plan.experiments {
         text.push_str(&match e.section {
-            Section::Configs => experiment_text(e, &results, &opts.out),
+            Section::Configs => experiment_text(e, &results, &opts.record.out_dir),
             Section::Triangles => triangles_text(e, &results, &plan.scenes),
             Section::Breakdown => breakdown_text(e, &results),
         });
     }
     text.push_str(&equal_error_text(&results));
-    let md = opts.out.join("reproduce.md");
+    let md = opts.record.out_dir.join("reproduce.md");
     std::fs::write(&md, &text).map_err(|e| anyhow!("{}: {e}", md.display()))?;
     Ok(text)
 }

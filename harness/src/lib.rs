@@ -1,5 +1,6 @@
 //! scatterbench harness: the CPU reference, image metrics and files, the GPU context, the
-//! Method contract, timing, the runner and the results schema.
+//! Method contract and its knobs, one record's measurement (`record`), process isolation
+//! (`isolate`), the runner on top of both, and the results schema (ARCHITECTURE §2.1).
 
 pub mod fsutil;
 pub mod gpu;
@@ -8,6 +9,7 @@ pub mod isolate;
 pub mod knobs;
 pub mod merge;
 pub mod method;
+pub mod record;
 pub mod reference;
 pub mod results;
 pub mod runner;

@@ -8,9 +8,9 @@ use scenes::{FrameState, Scene, SceneFeatures};
 use serde::{Deserialize, Serialize};
 
 use crate::gpu::{Gpu, PhaseTimer};
+use crate::knobs;
 pub use crate::knobs::{
-    Knob, KnobError, KnobProblem, KnobRead, KnobType, ParamValue, Params, Range, parse_knob,
-    resolve_params,
+    Knob, KnobError, KnobProblem, KnobRead, KnobType, ParamValue, Params, Range, Requirement,
 };
 
 /// Who a method is.
@@ -243,4 +243,26 @@ impl ConformanceCase {
         self.knobs.push((name, v.into()));
         self
     }
+}
+
+/// The full parameter set of `method`: every knob at its default, `overrides` applied after
+/// checking their names, types, ranges and requirements (`crate::knobs::resolve`).
+pub fn resolve_params(method: &dyn Method, overrides: &Params) -> Result<Params, KnobError> {
+    knobs::resolve(method.id(), &method.knobs(), overrides)
+}
+
+/// Parses `name=text` for `method` as given on the command line, checked against its range.
+pub fn parse_knob(method: &dyn Method, name: &str, text: &str) -> Result<ParamValue, KnobError> {
+    knobs::parse(method.id(), &method.knobs(), name, text)
+}
+
+/// The parameter sets to run: the defaults with the overrides, and with `sweep` one set per
+/// declared sweep value of each knob (the others at their base values; a value's requirements
+/// set with it, `crate::knobs::sweep`).
+pub fn param_sets(
+    method: &dyn Method,
+    overrides: &Params,
+    sweep: bool,
+) -> Result<Vec<Params>, KnobError> {
+    knobs::sweep(method.id(), &method.knobs(), overrides, sweep)
 }

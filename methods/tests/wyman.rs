@@ -35,7 +35,7 @@ fn record(
 ) -> (Record, PathBuf) {
     let out = tmp(&format!("{tag}-{}", scene.name));
     let mut cfg = config(out.clone(), res, 1);
-    cfg.no_skip = no_skip;
+    cfg.record.no_skip = no_skip;
     cfg.overrides.insert("wyman-hybrid".into(), knobs(list));
     let entry = methods::find("wyman-hybrid").expect("registered");
     let r = run(

@@ -4,7 +4,7 @@
 
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use harness::reference::Settings;
+use harness::record::RecordSettings;
 use harness::stress::{self, StressConfig};
 
 use crate::args::{self, MethodList, Output, Resume, Size, refuse};
@@ -53,14 +53,13 @@ pub fn run(a: StressArgs) -> Result<()> {
     args::check_resume(a.resume.resume, &out)?;
     let mut gpu = super::open_gpu()?;
     let cfg = StressConfig {
-        out_dir: out.clone(),
-        width: a.size.res.width,
-        height: a.size.res.height,
+        record: RecordSettings {
+            cache_dir: Some(a.output.cache.clone()),
+            ..stress::one_frame(&out, (a.size.res.width, a.size.res.height))
+        },
         cases,
         triangles: a.triangles,
         resume: a.resume.resume,
-        reference: Settings::default(),
-        cache_dir: Some(a.output.cache.clone()),
         run_id,
         isolation: a.isolate.isolation()?,
     };

@@ -1,0 +1,288 @@
+//! The device: one headless wgpu device with its queue, the adapter summary, the wgpu errors
+//! it raised, and the bytes a method allocated through it.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+use serde::{Deserialize, Serialize};
+
+use super::mapping;
+use super::stats::{Counted, FrameWork, PassCounter};
+
+/// What adapter a result was measured on (DESIGN §4: every record carries the machine).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+pub struct AdapterSummary {
+    pub adapter: String,
+    pub backend: String,
+    pub driver: String,
+    pub driver_info: String,
+    pub device_type: String,
+    /// True for software rasterisers (lavapipe, llvmpipe, WARP): their timings compare only
+    /// as ratios within one run.
+    pub software: bool,
+}
+
+pub struct Gpu {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub summary: AdapterSummary,
+    errors: Arc<Mutex<Vec<String>>>,
+    lost: Arc<Mutex<Option<String>>>,
+    allocated: AtomicU64,
+    /// Pipeline-statistics queries of the current frame (counts nothing without the feature).
+    counter: PassCounter,
+}
+
+/// The fix to print when no adapter is found.
+pub const NO_ADAPTER_HELP: &str = "no GPU adapter found. On a machine without a GPU install Mesa's software Vulkan driver \
+(lavapipe): `apt-get install -y mesa-vulkan-drivers` (Debian/Ubuntu). WGPU_BACKEND=vulkan|gl and WGPU_ADAPTER_NAME=<substring> select an adapter.";
+
+impl Gpu {
+    /// Creates the device. Errors (never panics) when no adapter matches.
+    pub fn new() -> Result<Gpu, String> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        if adapters.is_empty() {
+            return Err(NO_ADAPTER_HELP.to_string());
+        }
+        let wanted = std::env::var("WGPU_ADAPTER_NAME")
+            .ok()
+            .map(|s| s.to_lowercase());
+        let rank = |a: &wgpu::Adapter| {
+            let i = a.get_info();
+            let ty = match i.device_type {
+                wgpu::DeviceType::DiscreteGpu => 4,
+                wgpu::DeviceType::IntegratedGpu => 3,
+                wgpu::DeviceType::VirtualGpu => 2,
+                wgpu::DeviceType::Cpu => 1,
+                wgpu::DeviceType::Other => 0,
+            };
+            // Vulkan first: the GL backend lacks float32 blending and stencil read-back.
+            let backend = match i.backend {
+                wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12 => 1,
+                _ => 0,
+            };
+            (ty, backend)
+        };
+        let adapter = match &wanted {
+            Some(w) => adapters
+                .into_iter()
+                .find(|a| a.get_info().name.to_lowercase().contains(w))
+                .ok_or_else(|| {
+                    format!("WGPU_ADAPTER_NAME={w}: no adapter of that name. {NO_ADAPTER_HELP}")
+                })?,
+            None => adapters.into_iter().max_by_key(rank).expect("non-empty"),
+        };
+        let info = adapter.get_info();
+        let optional = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::FLOAT32_BLENDABLE
+            | wgpu::Features::DEPTH32FLOAT_STENCIL8
+            | wgpu::Features::PIPELINE_STATISTICS_QUERY
+            // Shadow planes between the eye and the near plane are rasterised (depth clamped)
+            // instead of clipped, so z-pass counts from the eye stay exact (Everitt & Kilgard).
+            | wgpu::Features::DEPTH_CLIP_CONTROL;
+        let features = adapter.features() & optional;
+        let limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("scatterbench"),
+            required_features: features,
+            required_limits: limits,
+            ..Default::default()
+        }))
+        .map_err(|e| format!("cannot open a device on '{}': {e}", info.name))?;
+        let errors: Arc<Mutex<Vec<String>>> = Arc::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let lost: Arc<Mutex<Option<String>>> = Arc::default();
+        let lost_sink = lost.clone();
+        device.set_device_lost_callback(move |reason, msg| {
+            if let Ok(mut l) = lost_sink.lock() {
+                *l = Some(format!("device lost ({reason:?}): {msg}"));
+            }
+        });
+        let software = info.device_type == wgpu::DeviceType::Cpu
+            || ["llvmpipe", "lavapipe", "swiftshader", "warp"]
+                .iter()
+                .any(|s| info.name.to_lowercase().contains(s));
+        let summary = AdapterSummary {
+            adapter: info.name.clone(),
+            backend: format!("{:?}", info.backend).to_lowercase(),
+            driver: info.driver.clone(),
+            driver_info: info.driver_info.clone(),
+            device_type: format!("{:?}", info.device_type),
+            software,
+        };
+        let counter = PassCounter::new(&device);
+        Ok(Gpu {
+            adapter,
+            device,
+            queue,
+            summary,
+            errors,
+            lost,
+            allocated: AtomicU64::new(0),
+            counter,
+        })
+    }
+
+    pub fn features(&self) -> wgpu::Features {
+        self.device.features()
+    }
+
+    /// Errors the device raised since the last call (validation, out of memory, internal),
+    /// and device loss.
+    pub fn take_errors(&self) -> Vec<String> {
+        let mut out: Vec<String> = self
+            .errors
+            .lock()
+            .map(|mut v| std::mem::take(&mut *v))
+            .unwrap_or_default();
+        if let Ok(l) = self.lost.lock()
+            && let Some(m) = l.as_ref()
+        {
+            out.push(m.clone());
+        }
+        out
+    }
+
+    pub fn is_lost(&self) -> bool {
+        self.lost.lock().map(|l| l.is_some()).unwrap_or(true)
+    }
+
+    /// Blocks until all submitted work is done.
+    pub fn wait(&self) -> Result<(), String> {
+        mapping::wait(&self.device)
+    }
+
+    /// Creates a buffer and counts its bytes toward the current method's memory.
+    pub fn buffer(&self, desc: &wgpu::BufferDescriptor) -> wgpu::Buffer {
+        self.allocated.fetch_add(desc.size, Ordering::Relaxed);
+        self.device.create_buffer(desc)
+    }
+
+    /// Creates a buffer with contents, counted like [`Gpu::buffer`].
+    pub fn buffer_init(
+        &self,
+        label: &str,
+        contents: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        use wgpu::util::DeviceExt;
+        self.allocated
+            .fetch_add(contents.len() as u64, Ordering::Relaxed);
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+    }
+
+    /// Creates a texture and counts its bytes (all mips and layers) toward the method's memory.
+    pub fn texture(&self, desc: &wgpu::TextureDescriptor) -> wgpu::Texture {
+        let block = desc
+            .format
+            .block_copy_size(Some(wgpu::TextureAspect::All))
+            .or_else(|| {
+                desc.format
+                    .block_copy_size(Some(wgpu::TextureAspect::DepthOnly))
+                    .map(|d| d + 1)
+            })
+            .unwrap_or(4) as u64;
+        let mut bytes = 0u64;
+        for mip in 0..desc.mip_level_count {
+            let s = desc.size.mip_level_size(mip, desc.dimension);
+            bytes += s.width as u64 * s.height as u64 * s.depth_or_array_layers as u64 * block;
+        }
+        self.allocated
+            .fetch_add(bytes * desc.sample_count as u64, Ordering::Relaxed);
+        self.device.create_texture(desc)
+    }
+
+    /// A single-layer, single-mip 2-D texture, counted like [`Gpu::texture`].
+    pub fn texture_2d(
+        &self,
+        label: &str,
+        width: u32,
+        height: u32,
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> wgpu::Texture {
+        self.texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    }
+
+    /// Bytes allocated through [`Gpu::buffer`] and [`Gpu::texture`] since the last reset.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.allocated.load(Ordering::Relaxed)
+    }
+
+    pub fn reset_allocated(&self) {
+        self.allocated.store(0, Ordering::Relaxed);
+    }
+
+    /// Begins a render pass whose work is counted in the frame's pipeline statistics. Every
+    /// pass a method encodes in `render` goes through this, [`Gpu::compute_pass`] or a
+    /// [`PassCounter`] from [`Gpu::pass_counter`].
+    pub fn render_pass<'e>(
+        &self,
+        enc: &'e mut wgpu::CommandEncoder,
+        desc: &wgpu::RenderPassDescriptor<'_>,
+    ) -> Counted<wgpu::RenderPass<'e>> {
+        self.counter.render_pass(enc, desc)
+    }
+
+    /// Begins a compute pass whose work is counted, like [`Gpu::render_pass`].
+    pub fn compute_pass<'e>(
+        &self,
+        enc: &'e mut wgpu::CommandEncoder,
+        desc: &wgpu::ComputePassDescriptor<'_>,
+    ) -> Counted<wgpu::ComputePass<'e>> {
+        self.counter.compute_pass(enc, desc)
+    }
+
+    /// A handle that begins counted passes without the [`Gpu`] (see [`PassCounter`]).
+    pub fn pass_counter(&self) -> PassCounter {
+        self.counter.clone()
+    }
+
+    /// True when the device counts pipeline statistics.
+    pub fn counts_work(&self) -> bool {
+        self.counter.counts_work()
+    }
+
+    /// Starts counting a new frame (forgets the passes begun since the last call).
+    pub fn stats_begin_frame(&self) {
+        self.counter.begin_frame()
+    }
+
+    /// Resolves the frame's queries into `enc`, after the frame's last pass.
+    pub fn stats_resolve(&self, enc: &mut wgpu::CommandEncoder) {
+        self.counter.resolve(enc)
+    }
+
+    /// The resolved frame's work, once it has completed on the GPU; None where the device does
+    /// not count or no frame was resolved.
+    pub fn stats_read(&self) -> Result<Option<FrameWork>, String> {
+        self.counter.read(&self.device)
+    }
+}
