@@ -1,6 +1,7 @@
-//! The Method contract (DESIGN §2): what every technique implements, and what the harness gives
-//! it. A method declares its knobs and what it supports; the harness owns timing, read-back and
-//! metrics — a method never times itself.
+//! The Method contract (ARCHITECTURE §2.3): what every technique implements, and what the
+//! harness gives it. A method declares its knobs and what it supports; the harness owns timing,
+//! read-back and metrics — a method never times itself. The knob functions that take a method
+//! (`resolve_params`, `parse_knob`, `param_sets`) are here, over `crate::knobs`.
 
 use std::collections::BTreeMap;
 
@@ -42,7 +43,8 @@ pub enum Support {
     No(String),
 }
 
-/// A pass the method did not run this frame, and why (DESIGN §2, "skip what a scene doesn't need").
+/// A pass the method did not run this frame, and why (ARCHITECTURE §2.4, "skip what a scene
+/// doesn't need").
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct SkippedPass {
     pub pass: String,
@@ -74,7 +76,7 @@ impl FrameReport {
 
 /// The three AOV targets (Rgba32Float, `width`×`height`, RENDER_ATTACHMENT | STORAGE_BINDING |
 /// TEXTURE_BINDING | COPY_SRC), cleared to zero by the harness before each frame. A method writes
-/// linear radiance to all three (DESIGN §1: inscatter, surface, total).
+/// linear radiance to all three (ARCHITECTURE §1: inscatter, surface, total).
 pub struct Targets<'a> {
     pub inscatter: &'a wgpu::TextureView,
     pub surface: &'a wgpu::TextureView,
@@ -216,7 +218,7 @@ pub enum Aov {
 
 /// One case of the conformance test: a library scene, a square resolution, knobs over the
 /// defaults, and a bound on the relative RMSE of one AOV against the reference renderer. The
-/// test also renders the case with `no_skip` and requires the same image (DESIGN §2).
+/// test also renders the case with `no_skip` and requires the same image (ARCHITECTURE §2.4).
 #[derive(Clone, Debug)]
 pub struct ConformanceCase {
     pub scene: &'static str,

@@ -1,4 +1,4 @@
-//! The results schema (DESIGN §5). Field names are a contract scripts rely on; add fields,
+//! The results schema (ARCHITECTURE §5.1). Field names are a contract scripts rely on; add fields,
 //! never rename them, and bump `SCHEMA_VERSION` when a change is incompatible.
 
 use std::collections::BTreeMap;
@@ -44,7 +44,7 @@ pub struct RunInfo {
     pub headline: Option<String>,
 }
 
-/// `RunInfo::kind` of a `scatterbench stress` run (DESIGN §6).
+/// `RunInfo::kind` of a `scatterbench stress` run (ARCHITECTURE §6).
 pub const STRESS_KIND: &str = "stress";
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]

@@ -7,7 +7,7 @@
 //! specialised with the scene constants of every library scene; and on GPU, each of its
 //! conformance cases (`Method::conformance`) renders finite AOVs whose error against the
 //! reference renderer is within the case's bound, and the same image with `--no-skip` as
-//! without (DESIGN §2: skipping a pass a scene does not need must not change the image; the
+//! without (ARCHITECTURE §2.4: skipping a pass a scene does not need must not change the image; the
 //! check runs on the case's scene and on `clear-fog`, where nothing casts a shadow).
 //!
 //! Without an adapter the GPU part skips with a message — except when `CI` is set.

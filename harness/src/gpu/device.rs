@@ -9,7 +9,8 @@ use serde::{Deserialize, Serialize};
 use super::mapping;
 use super::stats::{Counted, FrameWork, PassCounter};
 
-/// What adapter a result was measured on (DESIGN §4: every record carries the machine).
+/// What adapter a result was measured on (ARCHITECTURE §4.3: every record's run carries the
+/// machine).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
 pub struct AdapterSummary {
     pub adapter: String,
