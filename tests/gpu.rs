@@ -93,7 +93,7 @@ fn rasterised_distance_matches_reference_hits() {
             // The reference stores distances as f32: a miss is the far distance to f32 precision.
             let ref_hit = ref_d < far * (1.0 - 1e-6);
             total += 1;
-            if (gpu_d < 0.0) == !ref_hit
+            if (gpu_d < 0.0) != ref_hit
                 && (!ref_hit || ((gpu_d as f64) - ref_d).abs() < 1e-3 * ref_d)
             {
                 agree += 1;

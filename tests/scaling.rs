@@ -20,7 +20,14 @@ fn kept_scored_frame_equals_a_fresh_render_of_frame_0() {
     let out = temp_dir("kept-scored");
     let mut cfg = run_config(out.clone(), 32, 2);
     cfg.record.warmup = 1;
-    let results = run(&gpu, &[scene.clone()], &[entry], &cfg, &mut |_| {}).unwrap();
+    let results = run(
+        &gpu,
+        std::slice::from_ref(&scene),
+        &[entry],
+        &cfg,
+        &mut |_| {},
+    )
+    .unwrap();
     let rec = &results.records[0];
     assert_eq!(rec.status, harness::results::Status::Ok, "{:?}", rec.reason);
     let scored = harness::image::io::read_exr(&out.join(&rec.images["inscatter"])).unwrap();

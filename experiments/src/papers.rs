@@ -494,48 +494,6 @@ fn umenhoffer() -> Experiment {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The tables name real knobs with valid values (so a renamed knob fails here, not in a
-    /// long run), labels are unique, and every claim compares two labels of its table.
-    #[test]
-    fn tables_resolve_against_the_registry() {
-        let exps = experiments();
-        for p in PAPERS {
-            assert!(exps.iter().any(|e| e.paper == *p), "no table for {p}");
-        }
-        for e in &exps {
-            let labels: Vec<&str> = e.configs.iter().map(|c| c.label).collect();
-            let mut unique = labels.clone();
-            unique.sort();
-            unique.dedup();
-            assert_eq!(unique.len(), labels.len(), "{}: duplicate labels", e.paper);
-            for claim in &e.claims {
-                assert!(labels.contains(&claim.faster) && labels.contains(&claim.slower));
-                if let Some(s) = claim.scene {
-                    assert!(e.scenes.contains(&s), "{}: claim on scene {s}", e.paper);
-                }
-            }
-            for c in &e.configs {
-                let Some(entry) = methods::find(c.method) else {
-                    continue; // not implemented yet: `reproduce` says so
-                };
-                for (k, v) in c.params {
-                    harness::method::parse_knob(entry, k, v)
-                        .unwrap_or_else(|err| panic!("{}: {err}", e.paper));
-                }
-            }
-            if e.configs.iter().all(|c| methods::find(c.method).is_some()) {
-                for s in e.scenes {
-                    scenes::library::resolve(s).unwrap_or_else(|err| panic!("{}: {err}", e.paper));
-                }
-            }
-        }
-    }
-}
-
 /// Yusov, "Outdoor light scattering", GPU Pro 5 (2014), Tables 2.1–2.3.
 fn yusov() -> Experiment {
     Experiment {
@@ -611,5 +569,47 @@ fn yusov() -> Experiment {
         ],
         needs: &["epipolar-minmax", "raymarch-brute"],
         section: Section::Configs,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tables name real knobs with valid values (so a renamed knob fails here, not in a
+    /// long run), labels are unique, and every claim compares two labels of its table.
+    #[test]
+    fn tables_resolve_against_the_registry() {
+        let exps = experiments();
+        for p in PAPERS {
+            assert!(exps.iter().any(|e| e.paper == *p), "no table for {p}");
+        }
+        for e in &exps {
+            let labels: Vec<&str> = e.configs.iter().map(|c| c.label).collect();
+            let mut unique = labels.clone();
+            unique.sort();
+            unique.dedup();
+            assert_eq!(unique.len(), labels.len(), "{}: duplicate labels", e.paper);
+            for claim in &e.claims {
+                assert!(labels.contains(&claim.faster) && labels.contains(&claim.slower));
+                if let Some(s) = claim.scene {
+                    assert!(e.scenes.contains(&s), "{}: claim on scene {s}", e.paper);
+                }
+            }
+            for c in &e.configs {
+                let Some(entry) = methods::find(c.method) else {
+                    continue; // not implemented yet: `reproduce` says so
+                };
+                for (k, v) in c.params {
+                    harness::method::parse_knob(entry, k, v)
+                        .unwrap_or_else(|err| panic!("{}: {err}", e.paper));
+                }
+            }
+            if e.configs.iter().all(|c| methods::find(c.method).is_some()) {
+                for s in e.scenes {
+                    scenes::library::resolve(s).unwrap_or_else(|err| panic!("{}: {err}", e.paper));
+                }
+            }
+        }
     }
 }

@@ -265,6 +265,10 @@ fn biri_table2_exponent() -> f64 {
     (31.0f64 / 7.6).ln() / (136_266.0f64 / 14_785.0).ln()
 }
 
+/// A scene family of Biri 2006 Table II and its measured points: (triangles, silhouette edges,
+/// ms) per variant, in the order run.
+type Family<'a> = (&'a str, Vec<(f64, f64, f64)>);
+
 /// Biri 2006 Table II: per scene variant its triangles, silhouette edges, shadow-plane
 /// counters and time; per family the fitted exponent of time vs triangles and vs silhouette
 /// edges, next to the paper's.
@@ -281,7 +285,7 @@ fn triangles_text(e: &Experiment, results: &Results, scenes: &[Scene]) -> String
         "| scene | triangles | silhouette edges | shadow-plane counters | ms | × time of the family's first |"
     );
     let _ = writeln!(t, "|---|---|---|---|---|---|");
-    let mut families: Vec<(&str, Vec<(f64, f64, f64)>)> = Vec::new();
+    let mut families: Vec<Family> = Vec::new();
     for (scene, r) in &recs {
         let tris = scenes
             .iter()

@@ -448,7 +448,7 @@ fn spot_light_in_infinite_medium_matches_independent_quadrature() {
         }
     }
     assert!(
-        lit >= 8 && lit < 32,
+        (8..32).contains(&lit),
         "the row crosses the cone ({lit} of 32 pixels lit)"
     );
     println!("spot: worst relative error {worst:e} (samples), {worst_row:e} (row)");

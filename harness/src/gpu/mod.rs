@@ -12,7 +12,7 @@ mod stats;
 mod timer;
 
 pub use attachments::{color_attachment, depth_attachment, depth_stencil_attachment};
-pub use device::{AdapterSummary, Gpu, NO_ADAPTER_HELP};
+pub use device::{AdapterSummary, Gpu, NO_ADAPTER_HELP, texture_2d};
 pub use phases::PhaseTimer;
 pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use stats::{Counted, FrameWork, PassCounter, StatsQuery, WORK_COUNTERS};

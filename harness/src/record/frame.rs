@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use scenes::Scene;
 
-use crate::gpu::{Gpu, GpuTimer, color_attachment, read_rgba32f};
+use crate::gpu::{Gpu, GpuTimer, color_attachment, read_rgba32f, texture_2d};
 use crate::image::Image;
 use crate::method::{AOV_FORMAT, FrameReport, Prepared, Targets};
 
@@ -20,24 +20,14 @@ pub struct AovTargets {
 
 impl AovTargets {
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> AovTargets {
+        // The harness's own targets: created on the device, not counted as the method's memory.
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
         let make = |label: &str| {
-            gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: AOV_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::STORAGE_BINDING
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
+            gpu.device
+                .create_texture(&texture_2d(label, width, height, AOV_FORMAT, usage))
         };
         let textures = [
             make("aov inscatter"),

@@ -11,7 +11,7 @@ use crate::gpu::Gpu;
 use crate::image::metrics::ToneMap;
 use crate::isolate::{Dispatch, marker};
 use crate::method::{Method, Params, Support};
-use crate::record::write_aovs;
+use crate::record::{RecordSettings, write_aovs};
 use crate::reference::{self, ReferenceImages};
 use crate::results::{
     Machine, Record, Results, RunInfo, SCHEMA_VERSION, Status, git_commit, record_key,
@@ -107,7 +107,7 @@ fn open_results(gpu: &Gpu, cfg: &RunConfig, shard_info: Option<Shard>) -> Result
         .map_err(|e| format!("{}: cannot create the output directory: {e}", out.display()))?;
     let results_path = out.join("results.json");
     if !(cfg.resume && results_path.exists()) {
-        return Ok(fresh_results(gpu, cfg, shard_info));
+        return Ok(fresh_results(gpu, &cfg.record, &cfg.run_id, shard_info));
     }
     let r = Results::load(&results_path)?;
     if r.run.shard != shard_info {
@@ -123,12 +123,13 @@ fn open_results(gpu: &Gpu, cfg: &RunConfig, shard_info: Option<Shard>) -> Result
     Ok(r)
 }
 
-fn fresh_results(gpu: &Gpu, cfg: &RunConfig, shard_info: Option<Shard>) -> Results {
-    let s = &cfg.record;
+/// A run with no records yet: `run_id`, measured as `s` says on `gpu`'s adapter, `shard` (None:
+/// the whole run).
+pub fn fresh_results(gpu: &Gpu, s: &RecordSettings, run_id: &str, shard: Option<Shard>) -> Results {
     Results {
         schema_version: SCHEMA_VERSION,
         run: RunInfo {
-            id: cfg.run_id.clone(),
+            id: run_id.to_string(),
             git_commit: git_commit(),
             resolution: [s.width, s.height],
             frames: s.frames,
@@ -141,7 +142,7 @@ fn fresh_results(gpu: &Gpu, cfg: &RunConfig, shard_info: Option<Shard>) -> Resul
                 "timings compare as ratios within one run and machine".into()
             },
             kind: None,
-            shard: shard_info,
+            shard,
             headline: Some(HEADLINE_NAME.into()),
         },
         records: Vec::new(),

@@ -25,5 +25,5 @@ pub use crate::record::{
     render_frame,
 };
 pub use config::{Event, RunConfig};
-pub use items::{WorkItem, run_items};
+pub use items::{WorkItem, fresh_results, run_items};
 pub use work::{run, run_shard, work_list};

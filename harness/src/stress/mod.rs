@@ -22,9 +22,7 @@ use crate::gpu::Gpu;
 use crate::isolate::Isolation;
 use crate::method::{Method, Params, resolve_params};
 use crate::record::{RecordSettings, panic_message};
-use crate::results::{
-    Machine, Record, Results, RunInfo, SCHEMA_VERSION, STRESS_KIND, Status, git_commit, record_key,
-};
+use crate::results::{Record, Results, STRESS_KIND, Status, record_key};
 use crate::runner::{self, Event, RunConfig};
 
 /// Counter name under which a record carries the bound it was judged against.
@@ -107,24 +105,10 @@ fn apply(rec: &mut Record, bound: Option<f64>) {
 }
 
 fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
-    let s = &cfg.record;
-    Results {
-        schema_version: SCHEMA_VERSION,
-        run: RunInfo {
-            id: cfg.run_id.clone(),
-            git_commit: git_commit(),
-            resolution: [s.width, s.height],
-            frames: s.frames,
-            warmup: s.warmup,
-            machine: Machine::detect(&gpu.summary),
-            scored_frame: 0,
-            note: "stress run: one frame per case × method; timings are not meaningful".into(),
-            kind: Some(STRESS_KIND.into()),
-            shard: None,
-            headline: Some(crate::verdict::HEADLINE_NAME.into()),
-        },
-        records: Vec::new(),
-    }
+    let mut r = runner::fresh_results(gpu, &cfg.record, &cfg.run_id, None);
+    r.run.note = "stress run: one frame per case × method; timings are not meaningful".into();
+    r.run.kind = Some(STRESS_KIND.into());
+    r
 }
 
 /// Runs every case × method. `gpu` is replaced by a fresh device when a method loses it.
