@@ -437,7 +437,7 @@ fn light_core_through_a_worker_equals_in_process() {
     let score = |name: &str, iso: Isolation| {
         let mut cfg = harness::testing::run_config(scratch(name), 64, 1);
         cfg.isolation = iso;
-        cfg.cache_dir = Some(cache.clone());
+        cfg.record.cache_dir = Some(cache.clone());
         run_items(
             &gpu,
             std::slice::from_ref(&scene),

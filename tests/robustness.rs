@@ -356,14 +356,10 @@ fn validation_errors_and_device_loss_are_recorded_as_failed() {
     let Some(mut gpu) = have_gpu() else { return };
     let out = tmp("faulty");
     let cfg = StressConfig {
-        out_dir: out.clone(),
-        width: 16,
-        height: 16,
+        record: stress::one_frame(&out, (16, 16)),
         cases: vec![stress::find("sigma-t-1e-6").unwrap()],
         triangles: 1000,
         resume: false,
-        reference: Settings::default(),
-        cache_dir: None,
         run_id: "test".into(),
         isolation: Default::default(),
     };
@@ -397,7 +393,7 @@ fn validation_errors_and_device_loss_are_recorded_as_failed() {
         &mut gpu,
         &[no_scatter],
         &StressConfig {
-            out_dir: tmp("faulty2"),
+            record: stress::one_frame(tmp("faulty2"), (16, 16)),
             ..cfg
         },
         &mut |_| {},

@@ -19,7 +19,7 @@ fn kept_scored_frame_equals_a_fresh_render_of_frame_0() {
     let entry = methods::find("raymarch-brute").unwrap();
     let out = temp_dir("kept-scored");
     let mut cfg = run_config(out.clone(), 32, 2);
-    cfg.warmup = 1;
+    cfg.record.warmup = 1;
     let results = run(
         &gpu,
         std::slice::from_ref(&scene),
@@ -71,9 +71,9 @@ fn a_time_budget_records_its_frame_counts() {
     let entry = methods::find("no-scatter").unwrap();
     let out = temp_dir("budget-counts");
     let mut cfg = run_config(out.clone(), 32, 6);
-    cfg.warmup = 2;
+    cfg.record.warmup = 2;
     // A budget of 1 µs: every frame overruns it, so the minimums apply.
-    cfg.budget_ms = Some(1e-3);
+    cfg.record.budget_ms = Some(1e-3);
     let results = run(&gpu, &[scene], &[entry], &cfg, &mut |_| {}).unwrap();
     let c = &results.records[0].counters;
     assert_eq!(c.get("warmup_frames"), Some(&1.0), "{c:?}");
@@ -82,13 +82,13 @@ fn a_time_budget_records_its_frame_counts() {
         Some(&(harness::runner::MIN_TIMED_FRAMES as f64))
     );
     // Without a budget the counters are absent (the run is the plain W + K).
-    cfg.budget_ms = None;
-    cfg.out_dir = temp_dir("budget-none");
+    cfg.record.budget_ms = None;
+    cfg.record.out_dir = temp_dir("budget-none");
     let scene = scenes::library::resolve("clear-fog").unwrap();
     let results = run(&gpu, &[scene], &[entry], &cfg, &mut |_| {}).unwrap();
     assert!(!results.records[0].counters.contains_key("timed_frames"));
     let _ = std::fs::remove_dir_all(out);
-    let _ = std::fs::remove_dir_all(&cfg.out_dir);
+    let _ = std::fs::remove_dir_all(&cfg.record.out_dir);
 }
 
 #[test]

@@ -2,33 +2,17 @@
 //! everything but timing; `merge` refuses runs that do not compare, with a clear message.
 
 use harness::testing::{gpu_or_skip as gpu, temp_dir as tmp};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use harness::merge::{MergeOptions, merge};
-use harness::reference::Settings;
+use harness::record::RecordSettings;
 use harness::results::{Record, Results};
 use harness::runner::{RunConfig, run, run_shard};
 use harness::shard::Shard;
 
 fn config(out: PathBuf) -> RunConfig {
-    RunConfig {
-        out_dir: out,
-        width: 32,
-        height: 32,
-        frames: 1,
-        warmup: 0,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: BTreeMap::new(),
-        reference: Settings::default(),
-        cache_dir: None,
-        run_id: "shard-test".into(),
-        budget_ms: None,
-        isolation: Default::default(),
-    }
+    RunConfig::new(RecordSettings::new(out, (32, 32), (1, 0)), "shard-test")
 }
 
 /// A record without its timing and memory (the only fields that legitimately differ

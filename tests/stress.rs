@@ -3,7 +3,6 @@
 //! declared bound, or a clean "unsupported"). `many-triangles` runs at 100k triangles here; the
 //! manual `scatterbench stress` runs it at 1M.
 
-use harness::reference::Settings;
 use harness::results::Status;
 use harness::stress::{self, CASES, StressConfig, Verdict, judge};
 use harness::testing::{gpu_or_skip as gpu, temp_dir as tmp};
@@ -47,14 +46,10 @@ fn stress_suite_passes_on_every_method_at_64() {
     let Some(mut gpu) = gpu() else { return };
     let out = tmp("suite");
     let cfg = StressConfig {
-        out_dir: out.clone(),
-        width: 64,
-        height: 64,
+        record: stress::one_frame(&out, (64, 64)),
         cases: Vec::new(),
         triangles: 100_000,
         resume: false,
-        reference: Settings::default(),
-        cache_dir: None,
         run_id: "test".into(),
         isolation: Default::default(),
     };

@@ -54,7 +54,7 @@ fn every_method_is_validation_clean_on_every_light_kind_and_medium() {
         .collect();
     let out = harness::testing::temp_dir("validation");
     let mut cfg = harness::testing::run_config(out, 32, 1);
-    cfg.cache_dir = Some(harness::testing::temp_dir("validation-cache"));
+    cfg.record.cache_dir = Some(harness::testing::temp_dir("validation-cache"));
     let results = run(&gpu, &scenes, methods::REGISTRY, &cfg, &mut |_| {}).unwrap();
     let mut problems = Vec::new();
     for r in &results.records {

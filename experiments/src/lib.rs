@@ -17,10 +17,9 @@ pub mod reproduce;
 pub mod scaling;
 pub mod stress;
 
-use std::path::Path;
-
+use harness::isolate::Isolation;
 use harness::method::{Method, Params, find};
-use harness::reference::Settings;
+use harness::record::RecordSettings;
 use harness::runner::RunConfig;
 
 /// The knobs of `params` that differ from the defaults of `method` (looked up in `registry`;
@@ -46,29 +45,11 @@ pub fn params_text(registry: &[&dyn Method], method: &str, params: &Params) -> S
     }
 }
 
-/// The runner configuration of an experiment: explicit work items (no sweep, no overrides),
-/// every pass as the scene needs it, no time budget, the reference cache in `cache`.
-pub fn run_config(
-    out: &Path,
-    (width, height): (u32, u32),
-    (frames, warmup): (u32, u32),
-    cache: &Path,
-    run_id: &str,
-) -> RunConfig {
+/// The runner configuration of an experiment: its records measured as `record` says, run
+/// `run_id`, with `isolation`; explicit work items (no sweep, no overrides), not resumed.
+pub fn run_config(record: &RecordSettings, run_id: &str, isolation: &Isolation) -> RunConfig {
     RunConfig {
-        out_dir: out.to_path_buf(),
-        width,
-        height,
-        frames,
-        warmup,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: Default::default(),
-        reference: Settings::default(),
-        cache_dir: Some(cache.to_path_buf()),
-        run_id: run_id.to_string(),
-        budget_ms: None,
-        isolation: Default::default(),
+        isolation: isolation.clone(),
+        ..RunConfig::new(record.clone(), run_id)
     }
 }

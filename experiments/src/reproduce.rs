@@ -11,11 +11,11 @@
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use harness::Gpu;
 use harness::method::{Method, Params, find, parse_knob, resolve_params};
+use harness::record::RecordSettings;
 use harness::results::{Record, Results, Status, record_key};
 use harness::runner::{Event, WorkItem, run_items};
 use report::analysis::{self, BUDGETS, TimeBasis};
@@ -28,16 +28,10 @@ type Registry<'r> = &'r [&'static dyn Method];
 
 /// How to measure the tables.
 pub struct Options {
-    pub width: u32,
-    pub height: u32,
-    /// Timed frames per configuration.
-    pub frames: u32,
-    /// Warm-up frames per configuration.
-    pub warmup: u32,
-    /// The run directory (results.json, images, reproduce.md).
-    pub out: PathBuf,
-    /// Reference cache directory.
-    pub cache: PathBuf,
+    /// Resolution, timed and warm-up frames per configuration, the run directory
+    /// (results.json, images, reproduce.md) and the reference cache; no time budget
+    /// (ARCHITECTURE §4.2).
+    pub record: RecordSettings,
     pub run_id: String,
     /// Worker processes and the watchdog for every record (ARCHITECTURE §6).
     pub isolation: harness::isolate::Isolation,
@@ -139,7 +133,7 @@ pub fn plan(papers: &[&str], registry: &[&'static dyn Method]) -> Result<Plan> {
     })
 }
 
-/// Runs the plan into `opts.out` (results.json, images) and returns the tables' text, which
+/// Runs the plan into `opts.record.out_dir` (results.json, images) and returns the tables' text, which
 /// is also written to `OUT/reproduce.md`.
 pub fn run(
     gpu: &Gpu,
@@ -147,32 +141,25 @@ pub fn run(
     opts: &Options,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<String> {
-    let mut cfg = crate::run_config(
-        &opts.out,
-        (opts.width, opts.height),
-        (opts.frames, opts.warmup),
-        &opts.cache,
-        &opts.run_id,
-    );
-    cfg.isolation = opts.isolation.clone();
+    let cfg = crate::run_config(&opts.record, &opts.run_id, &opts.isolation);
     let results =
         run_items(gpu, &plan.scenes, &plan.work, &cfg, None, on_event).map_err(|e| anyhow!(e))?;
     let mut text = plan.notes.clone();
     let _ = writeln!(
         text,
         "# Paper reproductions — {}x{}, {} timed frames, {}\n",
-        opts.width, opts.height, opts.frames, results.run.machine.adapter
+        opts.record.width, opts.record.height, opts.record.frames, results.run.machine.adapter
     );
     let registry = &plan.registry;
     for e in &plan.experiments {
         text.push_str(&match e.section {
-            Section::Configs => experiment_text(registry, e, &results, &opts.out),
+            Section::Configs => experiment_text(registry, e, &results, &opts.record.out_dir),
             Section::Triangles => triangles_text(registry, e, &results, &plan.scenes),
             Section::Breakdown => breakdown_text(registry, e, &results),
         });
     }
     text.push_str(&equal_error_text(registry, &results));
-    let md = opts.out.join("reproduce.md");
+    let md = opts.record.out_dir.join("reproduce.md");
     std::fs::write(&md, &text).map_err(|e| anyhow!("{}: {e}", md.display()))?;
     Ok(text)
 }
@@ -300,8 +287,9 @@ fn biri_table2_exponent() -> f64 {
     (31.0f64 / 7.6).ln() / (136_266.0f64 / 14_785.0).ln()
 }
 
-/// One variant of a scene family: (triangles, silhouette edges, ms).
-type FamilyPoint = (f64, f64, f64);
+/// A scene family of Biri 2006 Table II and its measured points: (triangles, silhouette edges,
+/// ms) per variant, in the order run.
+type Family<'a> = (&'a str, Vec<(f64, f64, f64)>);
 
 /// Biri 2006 Table II: per scene variant its triangles, silhouette edges, shadow-plane
 /// counters and time; per family the fitted exponent of time vs triangles and vs silhouette
@@ -327,7 +315,7 @@ fn triangles_text(
         "| scene | triangles | silhouette edges | shadow-plane counters | ms | × time of the family's first |"
     );
     let _ = writeln!(t, "|---|---|---|---|---|---|");
-    let mut families: Vec<(&str, Vec<FamilyPoint>)> = Vec::new();
+    let mut families: Vec<Family> = Vec::new();
     for (scene, r) in &recs {
         let tris = scenes
             .iter()

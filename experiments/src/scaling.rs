@@ -16,11 +16,11 @@
 //! (`report::scaling`).
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use harness::Gpu;
 use harness::method::{Method, Params, resolve_params};
+use harness::record::RecordSettings;
 use harness::results::{Results, Status};
 use harness::runner::{Event, RunConfig, WorkItem, run_items};
 use report::scaling::{Spec, Sweep, SweepPoint};
@@ -34,18 +34,15 @@ pub struct Options {
     pub base: Scene,
     /// Caster triangle targets (empty: no triangle sweep).
     pub triangles: Vec<usize>,
-    /// Resolution of the triangle sweep.
-    pub triangles_res: (u32, u32),
     /// Square sizes of the pixel sweep (empty: no pixel sweep).
     pub resolutions: Vec<u32>,
     /// Pixel sweep: a method is not run at a size where its frame time, extrapolated
     /// ∝ pixels from the previous size, would exceed this many seconds (0 = no cap).
     pub max_frame_s: f64,
-    pub frames: u32,
-    pub warmup: u32,
-    /// The run directory; must not hold a results.json yet.
-    pub out: PathBuf,
-    pub cache: PathBuf,
+    /// Frames per record, the run directory (which must not hold a results.json yet) and the
+    /// reference cache; its resolution is the triangle sweep's (the pixel sweep sets its own).
+    /// No time budget (ARCHITECTURE §4.2).
+    pub record: RecordSettings,
     pub run_id: String,
     /// Worker processes and the watchdog for every record (ARCHITECTURE §6).
     pub isolation: harness::isolate::Isolation,
@@ -63,10 +60,11 @@ impl Options {
                 self.base.name
             ));
         }
-        if self.out.join("results.json").exists() {
+        let out = &self.record.out_dir;
+        if out.join("results.json").exists() {
             return Err(format!(
                 "--out: {} already holds a results.json; pass a new directory",
-                self.out.display()
+                out.display()
             ));
         }
         Ok(())
@@ -105,7 +103,7 @@ pub struct Outcome {
     pub capped: Vec<String>,
 }
 
-/// Runs both sweeps into `opts.out`: results.json (kind "scaling") and scaling.json.
+/// Runs both sweeps into `opts.record.out_dir`: results.json (kind "scaling") and scaling.json.
 pub fn run(
     gpu: &Gpu,
     plan: &Plan,
@@ -117,15 +115,8 @@ pub fn run(
         .iter()
         .map(|e| resolve_params(*e, &Params::new()).map_err(anyhow::Error::from))
         .collect::<Result<_>>()?;
-    let (tw, th) = opts.triangles_res;
-    let mut cfg = crate::run_config(
-        &opts.out,
-        (tw, th),
-        (opts.frames, opts.warmup),
-        &opts.cache,
-        &opts.run_id,
-    );
-    cfg.isolation = opts.isolation.clone();
+    let (tw, th) = (opts.record.width, opts.record.height);
+    let mut cfg = crate::run_config(&opts.record, &opts.run_id, &opts.isolation);
     // Each batch appends to the same results.json (resume after the first), since the
     // resolution is per batch.
     let items = |n_scenes: usize| -> Vec<WorkItem> {
@@ -148,7 +139,7 @@ pub fn run(
         cfg.resume = true;
     }
     let capped = pixel_sweep(gpu, plan, opts, &mut cfg, &items(1), on_event)?;
-    let results_path = opts.out.join("results.json");
+    let results_path = opts.record.out_dir.join("results.json");
     let mut results = Results::load(&results_path).map_err(|e| anyhow!(e))?;
     results.run.kind = Some("scaling".into());
     results.run.note = format!(
@@ -157,7 +148,7 @@ pub fn run(
     );
     results.save(&results_path).map_err(|e| anyhow!(e))?;
     let spec = spec(plan, opts, &capped);
-    spec.save(&opts.out)?;
+    spec.save(&opts.record.out_dir)?;
     Ok(Outcome {
         spec,
         results,
@@ -181,7 +172,7 @@ fn pixel_sweep(
     let mut capped: Vec<String> = Vec::new();
     for i in order {
         let (n, scene) = &plan.pixels[i];
-        (cfg.width, cfg.height) = (*n, *n);
+        (cfg.record.width, cfg.record.height) = (*n, *n);
         let work: Vec<WorkItem> = per_scene
             .iter()
             .filter(|w| {
@@ -223,7 +214,7 @@ fn pixel_sweep(
 
 /// The sweep description written to `scaling.json`.
 fn spec(plan: &Plan, opts: &Options, capped: &[String]) -> Spec {
-    let (tw, th) = opts.triangles_res;
+    let (tw, th) = (opts.record.width, opts.record.height);
     let base = &opts.base;
     let base_tris = caster_triangles(base);
     let mut sweeps = Vec::new();
@@ -233,7 +224,7 @@ fn spec(plan: &Plan, opts: &Options, capped: &[String]) -> Spec {
             label: "caster triangles".into(),
             note: format!(
                 "{} with its casters tessellated by midpoint subdivision (spheres from a 32×16 UV sphere), at {tw}×{th}, default parameters, {} timed frames",
-                base.name, opts.frames
+                base.name, opts.record.frames
             ),
             points: plan
                 .triangles
@@ -260,7 +251,7 @@ fn spec(plan: &Plan, opts: &Options, capped: &[String]) -> Spec {
                     .map(|n| n.to_string())
                     .collect::<Vec<_>>()
                     .join(", "),
-                opts.frames,
+                opts.record.frames,
                 if capped.is_empty() {
                     String::new()
                 } else {

@@ -1,6 +1,7 @@
-//! The Method contract (DESIGN §2): what every technique implements, and what the harness gives
-//! it. A method declares its knobs and what it supports; the harness owns timing, read-back and
-//! metrics — a method never times itself.
+//! The Method contract (ARCHITECTURE §2.3): what every technique implements, and what the
+//! harness gives it. A method declares its knobs and what it supports; the harness owns timing,
+//! read-back and metrics — a method never times itself. The knob functions that take a method
+//! (`resolve_params`, `parse_knob`, `param_sets`) are here, over `crate::knobs`.
 
 use std::collections::BTreeMap;
 
@@ -8,9 +9,9 @@ use scenes::{FrameState, Scene, SceneFeatures};
 use serde::{Deserialize, Serialize};
 
 use crate::gpu::{Gpu, PhaseTimer};
+use crate::knobs;
 pub use crate::knobs::{
-    Knob, KnobError, KnobProblem, KnobRead, KnobType, ParamValue, Params, Range, parse_knob,
-    resolve_params,
+    Knob, KnobError, KnobProblem, KnobRead, KnobType, ParamValue, Params, Range, Requirement,
 };
 
 /// Who a method is.
@@ -78,7 +79,8 @@ pub enum Support {
     No(String),
 }
 
-/// A pass the method did not run this frame, and why (DESIGN §2, "skip what a scene doesn't need").
+/// A pass the method did not run this frame, and why (ARCHITECTURE §2.4, "skip what a scene
+/// doesn't need").
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct SkippedPass {
     pub pass: String,
@@ -110,7 +112,7 @@ impl FrameReport {
 
 /// The three AOV targets (Rgba32Float, `width`×`height`, RENDER_ATTACHMENT | STORAGE_BINDING |
 /// TEXTURE_BINDING | COPY_SRC), cleared to zero by the harness before each frame. A method writes
-/// linear radiance to all three (DESIGN §1: inscatter, surface, total).
+/// linear radiance to all three (ARCHITECTURE §1: inscatter, surface, total).
 pub struct Targets<'a> {
     pub inscatter: &'a wgpu::TextureView,
     pub surface: &'a wgpu::TextureView,
@@ -252,7 +254,7 @@ pub enum Aov {
 
 /// One case of the conformance test: a library scene, a square resolution, knobs over the
 /// defaults, and a bound on the relative RMSE of one AOV against the reference renderer. The
-/// test also renders the case with `no_skip` and requires the same image (DESIGN §2).
+/// test also renders the case with `no_skip` and requires the same image (ARCHITECTURE §2.4).
 #[derive(Clone, Debug)]
 pub struct ConformanceCase {
     pub scene: &'static str,
@@ -279,4 +281,26 @@ impl ConformanceCase {
         self.knobs.push((name, v.into()));
         self
     }
+}
+
+/// The full parameter set of `method`: every knob at its default, `overrides` applied after
+/// checking their names, types, ranges and requirements (`crate::knobs::resolve`).
+pub fn resolve_params(method: &dyn Method, overrides: &Params) -> Result<Params, KnobError> {
+    knobs::resolve(method.id(), &method.knobs(), overrides)
+}
+
+/// Parses `name=text` for `method` as given on the command line, checked against its range.
+pub fn parse_knob(method: &dyn Method, name: &str, text: &str) -> Result<ParamValue, KnobError> {
+    knobs::parse(method.id(), &method.knobs(), name, text)
+}
+
+/// The parameter sets to run: the defaults with the overrides, and with `sweep` one set per
+/// declared sweep value of each knob (the others at their base values; a value's requirements
+/// set with it, `crate::knobs::sweep`).
+pub fn param_sets(
+    method: &dyn Method,
+    overrides: &Params,
+    sweep: bool,
+) -> Result<Vec<Params>, KnobError> {
+    knobs::sweep(method.id(), &method.knobs(), overrides, sweep)
 }

@@ -1,4 +1,4 @@
-//! The results schema (DESIGN §5). Field names are a contract scripts rely on; add fields,
+//! The results schema (ARCHITECTURE §5.1). Field names are a contract scripts rely on; add fields,
 //! never rename them, and bump `SCHEMA_VERSION` when a change is incompatible.
 
 use std::collections::BTreeMap;
@@ -49,7 +49,7 @@ pub struct RunInfo {
     pub methods: RunMethods,
 }
 
-/// `RunInfo::kind` of a `scatterbench stress` run (DESIGN §6).
+/// `RunInfo::kind` of a `scatterbench stress` run (ARCHITECTURE §6).
 pub const STRESS_KIND: &str = "stress";
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]

@@ -1,6 +1,7 @@
-//! Scoring a record's timed frames as a sequence (DESIGN §4, issue 17): every timed frame of an
-//! animated scene is scored against its own frame's reference (`errors_per_frame`), and every
-//! record with two or more timed frames gets the temporal-stability figure
+//! Scoring a record's timed frames as a sequence (ARCHITECTURE §4.1, §4.4; issue 17): every
+//! timed frame of an animated scene is scored against its own frame's reference
+//! (`errors_per_frame`), and every record with two or more timed frames gets the
+//! temporal-stability figure
 //! (`errors.<aov>.temporal`, [`crate::image::headline::Temporal`]) — on a static scene too,
 //! where it measures flicker of the method alone.
 //!

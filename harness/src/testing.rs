@@ -2,7 +2,6 @@
 //! "get an adapter or skip", of a scratch directory and of a small run configuration, and the
 //! test kit the method tests share (prepare, render, compare with the reference).
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use crate::gpu::Gpu;
@@ -11,8 +10,9 @@ use crate::image::metrics::{ToneMap, compare};
 use crate::method::{
     Aov, FrameReport, Method, ParamValue, Params, PrepareContext, Prepared, resolve_params,
 };
+use crate::record::{AovTargets, RecordSettings, render_frame};
 use crate::reference::{ReferenceImages, Settings};
-use crate::runner::{AovTargets, RunConfig, render_frame};
+use crate::runner::RunConfig;
 
 /// The GPU, or None with a message when there is no adapter — except when `CI` is set, where a
 /// missing adapter panics: a CI machine that cannot run the GPU tests must not pass silently.
@@ -38,22 +38,7 @@ pub fn temp_dir(name: &str) -> PathBuf {
 
 /// A square `res`² run of `frames` timed frames, no warm-up, no cache, no overrides.
 pub fn run_config(out: PathBuf, res: u32, frames: u32) -> RunConfig {
-    RunConfig {
-        out_dir: out,
-        width: res,
-        height: res,
-        frames,
-        warmup: 0,
-        no_skip: false,
-        resume: false,
-        sweep: false,
-        overrides: BTreeMap::new(),
-        reference: Settings::default(),
-        cache_dir: None,
-        run_id: "test".into(),
-        budget_ms: None,
-        isolation: Default::default(),
-    }
+    RunConfig::new(RecordSettings::new(out, (res, res), (frames, 0)), "test")
 }
 
 /// Knob overrides from (name, value) pairs.

@@ -1,4 +1,4 @@
-//! The reference on particle media (DESIGN §1, "particles") against things it does not
+//! The reference on particle media (ARCHITECTURE §1, "particles") against things it does not
 //! compute itself: optical depth by dense point sampling of the density, closed forms for a
 //! single sphere, an independent midpoint quadrature with its own ray–sphere chords, and its
 //! own 4×-tighter convergence report on the library's particle scenes.

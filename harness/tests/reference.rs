@@ -6,7 +6,7 @@
 //! or from an independent query (dense point sampling of visibility). Nothing is a recorded
 //! output of the code under test.
 //!
-//! Physics (DESIGN §1): for a camera ray o + x d, 0 ≤ x ≤ D,
+//! Physics (ARCHITECTURE §1): for a camera ray o + x d, 0 ≤ x ≤ D,
 //! L_in = ∫_0^D σ_s p(θ) V(x) I(ω) e^(−σ_t (x + r(x))) / r(x)² dx, r the distance to the light,
 //! θ the angle between the light's propagation direction at x (x − L) and the direction toward
 //! the eye (−d). A ray that hits nothing ends at the far plane (view depth = far).
@@ -448,7 +448,7 @@ fn spot_light_in_infinite_medium_matches_independent_quadrature() {
         }
     }
     assert!(
-        lit >= 8 && lit < 32,
+        (8..32).contains(&lit),
         "the row crosses the cone ({lit} of 32 pixels lit)"
     );
     println!("spot: worst relative error {worst:e} (samples), {worst_row:e} (row)");

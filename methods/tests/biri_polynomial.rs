@@ -9,7 +9,7 @@ use harness::testing::gpu_or_skip as gpu;
 use methods::biri_polynomial::{KERNEL_WGSL, poly};
 use scenes::Phase;
 
-/// The hazy Mie phase of DESIGN §1 (scenes::Phase::HazyMie), as the including module supplies it.
+/// The hazy Mie phase of ARCHITECTURE §1 (scenes::Phase::HazyMie), as the including module supplies it.
 const PHASE: &str = "fn biri_phase(c: f32) -> f32 {\n    let h = pow(0.5 * (1.0 + c), 8.0);\n    return (1.0 + 9.0 * h) / (8.0 * 3.14159265358979);\n}\n";
 
 const ENTRY: &str = r#"
@@ -620,13 +620,20 @@ fn fence_spot_band_is_gone() {
 
 /// The per-pixel resolve evaluates Γ per pixel and sums it itself: the paper's per-vertex Γ
 /// and its blended 8-bit frame buffer belong to the plane draws, so asking for them with
-/// `resolve = per-pixel` is a clear error, not a silent switch.
+/// `resolve = per-pixel` is a clear error, not a silent switch — refused when the knobs are
+/// resolved (the declared requirement, naming both knobs), and by `prepare` if handed the pair.
 #[test]
 fn per_pixel_refuses_plane_only_knobs() {
+    for (k, v) in [("eval", "vertex"), ("accumulate", "unorm8")] {
+        let err = resolve_params(&BiriPolynomial, &knobs(&[(k, text(v))])).unwrap_err();
+        assert_eq!(err.knob, k, "{err}");
+        assert!(err.to_string().contains("resolve = planes"), "{err}");
+    }
     let Some(gpu) = gpu() else { return };
     let scene = scenes::library::resolve("sphere-point").unwrap();
     for (k, v) in [("eval", "vertex"), ("accumulate", "unorm8")] {
-        let params = resolve_params(&BiriPolynomial, &knobs(&[(k, text(v))])).unwrap();
+        let mut params = resolve_params(&BiriPolynomial, &Default::default()).unwrap();
+        params.insert(k.to_string(), text(v));
         let err = BiriPolynomial
             .prepare(&PrepareContext {
                 gpu: &gpu,

@@ -35,7 +35,7 @@ fn record(
 ) -> (Record, PathBuf) {
     let out = tmp(&format!("{tag}-{}", scene.name));
     let mut cfg = config(out.clone(), res, 1);
-    cfg.no_skip = no_skip;
+    cfg.record.no_skip = no_skip;
     cfg.overrides.insert("wyman-hybrid".into(), knobs(list));
     let entry = methods::find("wyman-hybrid").expect("registered");
     let r = run(
@@ -186,7 +186,7 @@ fn airlight_table_agrees_with_quadrature_on_sphere_point() {
     assert!(between < 1e-4, "table vs quadrature: {between}");
 }
 
-/// Pass-level skipping (DESIGN §2): clear-fog has no shadow caster, so neither shadow maps nor
+/// Pass-level skipping (ARCHITECTURE §2.4): clear-fog has no shadow caster, so neither shadow maps nor
 /// shadow volumes are rendered, and the image equals the `--no-skip` image (shadow maps of an
 /// empty caster set, volumes of no silhouettes) to 1e-5 of its largest value.
 #[test]

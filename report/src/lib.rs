@@ -1,5 +1,5 @@
 //! `scatterbench report`: a run directory's results.json → `RUN_DIR/report/index.html`, a
-//! page that opens from disk with no server and no network (DESIGN §5).
+//! page that opens from disk with no server and no network (ARCHITECTURE §5.2).
 //!
 //! It opens with the verdict ([`verdict`]): per scene the methods on the time-vs-error
 //! Pareto front and the fastest configuration under 1 %, 5 % and 10 % error, in a table and

@@ -1,4 +1,4 @@
-//! The stability table of a `scatterbench stress` run (DESIGN §5, §6): stress case × method,
+//! The stability table of a `scatterbench stress` run (ARCHITECTURE §5.2, §6): stress case × method,
 //! each cell the verdict of the four stress criteria — no panic, no wgpu error, no non-finite
 //! pixel, total-AOV error within the bound the method declares for the case — with the numbers
 //! behind it, and below the table every failure's and refusal's reason in full.

@@ -55,8 +55,7 @@ fn triangle_estimate(s: &Shape) -> Option<u64> {
             sides,
             ..
         } => {
-            let rows =
-                (turns.max(0.0).min(1e6) as f64 * *segments_per_turn as f64).ceil() as u64 + 1;
+            let rows = (turns.clamp(0.0, 1e6) as f64 * *segments_per_turn as f64).ceil() as u64 + 1;
             2 * rows * n(*sides) + 2 * n(*sides)
         }
         Shape::Pencil { .. } => 64,

@@ -863,8 +863,7 @@ fn particle_media_problems_are_listed_with_their_paths() {
             "sky": [0, -1, 0]},
         "lights": [{"kind": "point", "position": [0, 3, 0], "intensity": [1, 1, 1]}]}"#;
     let err = parse_scene(text, "p.json", "p", Path::new("."))
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     for path in [
         "medium.particles[0].radius",

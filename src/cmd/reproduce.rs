@@ -5,6 +5,7 @@ use anyhow::Result;
 use clap::Args;
 use experiments::papers::PAPERS;
 use experiments::reproduce::{self, Options};
+use harness::record::RecordSettings;
 
 use crate::Registry;
 use crate::args::{Frames, Output, Size};
@@ -39,12 +40,14 @@ pub fn run(a: ReproduceArgs, registry: Registry) -> Result<()> {
     let plan = reproduce::plan(&papers, registry)?;
     let run_id = format!("reproduce-{}", harness::results::run_id_now());
     let opts = Options {
-        width: a.size.res.width,
-        height: a.size.res.height,
-        frames: a.frames.frames,
-        warmup: a.frames.warmup,
-        out: a.output.dir(&run_id),
-        cache: a.output.cache.clone(),
+        record: RecordSettings {
+            cache_dir: Some(a.output.cache.clone()),
+            ..RecordSettings::new(
+                a.output.dir(&run_id),
+                (a.size.res.width, a.size.res.height),
+                (a.frames.frames, a.frames.warmup),
+            )
+        },
         run_id,
         isolation: a.isolate.isolation()?,
     };
@@ -52,18 +55,18 @@ pub fn run(a: ReproduceArgs, registry: Registry) -> Result<()> {
     eprintln!(
         "{} configurations at {}x{}, {} frames",
         plan.work.len(),
-        opts.width,
-        opts.height,
-        opts.frames
+        opts.record.width,
+        opts.record.height,
+        opts.record.frames
     );
     let mut progress = Progress::new(Some(plan.work.len()), registry);
     let text = reproduce::run(&gpu, &plan, &opts, &mut |ev| progress.event(ev))?;
     print!("{text}");
     println!(
         "\nwritten: {} and {}",
-        opts.out.join("reproduce.md").display(),
-        opts.out.join("results.json").display()
+        opts.record.out_dir.join("reproduce.md").display(),
+        opts.record.out_dir.join("results.json").display()
     );
-    super::write_report(&opts.out);
+    super::write_report(&opts.record.out_dir);
     Ok(())
 }

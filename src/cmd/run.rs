@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use harness::reference::Settings;
+use harness::record::RecordSettings;
 use harness::runner::RunConfig;
 use harness::shard::Shard;
 
@@ -67,19 +67,20 @@ pub fn run(a: RunArgs, registry: Registry) -> Result<()> {
     args::check_resume(a.resume.resume, &out)?;
     let gpu = a.isolate.device.open()?;
     let cfg = RunConfig {
-        out_dir: out.clone(),
-        width: a.size.res.width,
-        height: a.size.res.height,
-        frames: a.frames.frames,
-        warmup: a.frames.warmup,
-        no_skip: a.no_skip,
+        record: RecordSettings {
+            no_skip: a.no_skip,
+            cache_dir: Some(a.output.cache.clone()),
+            budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
+            ..RecordSettings::new(
+                &out,
+                (a.size.res.width, a.size.res.height),
+                (a.frames.frames, a.frames.warmup),
+            )
+        },
         resume: a.resume.resume,
         sweep: a.sweep,
         overrides,
-        reference: Settings::default(),
-        cache_dir: Some(a.output.cache.clone()),
         run_id,
-        budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
         isolation: a.isolate.isolation()?,
     };
     let mut progress = Progress::new(None, registry);

@@ -4,6 +4,7 @@
 use anyhow::Result;
 use clap::Args;
 use experiments::scaling::{self, Options};
+use harness::record::RecordSettings;
 
 use crate::Registry;
 use crate::args::{self, Frames, MethodList, Output, Res, refuse};
@@ -53,13 +54,16 @@ pub fn run(a: ScalingArgs, registry: Registry) -> Result<()> {
         methods: args::pick_methods(&a.methods.methods, registry)?,
         base: args::scene(&a.scene)?,
         triangles: a.triangles,
-        triangles_res: (a.triangles_res.width, a.triangles_res.height),
         resolutions: a.res,
         max_frame_s: a.max_frame_s,
-        frames: a.frames.frames,
-        warmup: a.frames.warmup,
-        out: a.output.dir(&run_id),
-        cache: a.output.cache.clone(),
+        record: RecordSettings {
+            cache_dir: Some(a.output.cache.clone()),
+            ..RecordSettings::new(
+                a.output.dir(&run_id),
+                (a.triangles_res.width, a.triangles_res.height),
+                (a.frames.frames, a.frames.warmup),
+            )
+        },
         run_id,
         isolation: a.isolate.isolation()?,
     };
@@ -72,10 +76,10 @@ pub fn run(a: ScalingArgs, registry: Registry) -> Result<()> {
         "{} methods × ({} triangle variants at {}x{} + {} resolutions), {} frames",
         opts.methods.len(),
         plan.triangles.len(),
-        opts.triangles_res.0,
-        opts.triangles_res.1,
+        opts.record.width,
+        opts.record.height,
         plan.pixels.len(),
-        opts.frames
+        opts.record.frames
     );
     let mut progress = Progress::new(None, registry);
     let outcome = scaling::run(&gpu, &plan, &opts, &mut |ev| progress.event(ev))?;
@@ -87,7 +91,10 @@ pub fn run(a: ScalingArgs, registry: Registry) -> Result<()> {
         );
     }
     print!("{}", scaling::summary_text(&outcome.spec, &outcome.results));
-    println!("written: {}", opts.out.join("results.json").display());
-    super::write_report(&opts.out);
+    println!(
+        "written: {}",
+        opts.record.out_dir.join("results.json").display()
+    );
+    super::write_report(&opts.record.out_dir);
     Ok(())
 }

@@ -4,7 +4,7 @@
 
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use harness::reference::Settings;
+use harness::record::RecordSettings;
 use harness::stress::{self, StressConfig};
 
 use crate::Registry;
@@ -54,14 +54,13 @@ pub fn run(a: StressArgs, registry: Registry) -> Result<()> {
     args::check_resume(a.resume.resume, &out)?;
     let mut gpu = a.isolate.device.open()?;
     let cfg = StressConfig {
-        out_dir: out.clone(),
-        width: a.size.res.width,
-        height: a.size.res.height,
+        record: RecordSettings {
+            cache_dir: Some(a.output.cache.clone()),
+            ..stress::one_frame(&out, (a.size.res.width, a.size.res.height))
+        },
         cases,
         triangles: a.triangles,
         resume: a.resume.resume,
-        reference: Settings::default(),
-        cache_dir: Some(a.output.cache.clone()),
         run_id,
         isolation: a.isolate.isolation()?,
     };

@@ -4,7 +4,8 @@
 //! `gpu_ms_<phase>` (see `Method::phase_timer`). Optional: None without timestamp queries inside
 //! encoders, and methods that do not offer a timer need no change.
 
-use super::Gpu;
+use super::device::Gpu;
+use super::readback::map_read;
 
 /// Phase marks of one frame: phase `names[i]` runs from timestamp i to timestamp i + 1.
 pub struct PhaseTimer {
@@ -93,7 +94,7 @@ impl PhaseTimer {
         if names.is_empty() || self.written != 0 {
             return Ok(Vec::new());
         }
-        let data = super::readback::map_read(gpu, &self.read)?;
+        let data = map_read(gpu, &self.read)?;
         let t: Vec<u64> = data
             .chunks_exact(8)
             .take(names.len() + 1)

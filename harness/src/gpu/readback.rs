@@ -1,6 +1,7 @@
 //! Copies float textures (Rgba32Float, R32Float) back to the CPU.
 
-use super::Gpu;
+use super::device::Gpu;
+use super::mapping;
 use crate::image::Image;
 
 /// Reads a 2-D Rgba32Float texture (mip 0, layer 0) into an image, top row first.
@@ -72,19 +73,5 @@ fn read_floats(gpu: &Gpu, texture: &wgpu::Texture, channels: u32) -> Result<Vec<
 
 /// Waits for the queue, maps a MAP_READ buffer and returns a copy of its bytes (unmapped again).
 pub fn map_read(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, String> {
-    let slice = buffer.slice(..);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    gpu.wait()?;
-    rx.recv()
-        .map_err(|_| "map callback never ran".to_string())?
-        .map_err(|e| format!("buffer map failed: {e}"))?;
-    let bytes = slice
-        .get_mapped_range()
-        .map_err(|e| format!("buffer map range: {e}"))?
-        .to_vec();
-    buffer.unmap();
-    Ok(bytes)
+    mapping::read_buffer(&gpu.device, buffer)
 }

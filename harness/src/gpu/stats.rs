@@ -7,8 +7,14 @@
 //! wrap the pass in one pipeline-statistics query; the runner opens a frame
 //! ([`Gpu::stats_begin_frame`]), resolves the queries into the frame's encoder
 //! ([`Gpu::stats_resolve`]) and reads the sums once the frame has completed
-//! ([`Gpu::stats_read`]). Where the device lacks `PIPELINE_STATISTICS_QUERY` the guards are plain
-//! passes and nothing is counted.
+//! ([`Gpu::stats_read`]); those delegate to the device's [`PassCounter`]. Where the device
+//! lacks `PIPELINE_STATISTICS_QUERY` the guards are plain passes and nothing is counted.
+//!
+//! [`Gpu::render_pass`]: crate::Gpu::render_pass
+//! [`Gpu::compute_pass`]: crate::Gpu::compute_pass
+//! [`Gpu::stats_begin_frame`]: crate::Gpu::stats_begin_frame
+//! [`Gpu::stats_resolve`]: crate::Gpu::stats_resolve
+//! [`Gpu::stats_read`]: crate::Gpu::stats_read
 //!
 //! Caveats (documented with the counters): fragment invocations include helper lanes of 2×2
 //! quads; lavapipe (llvmpipe) runs fragment shaders on 4×4 blocks and reports invocations per
@@ -19,7 +25,7 @@ use std::ops::{Deref, DerefMut};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
-use super::Gpu;
+use super::mapping;
 
 /// Passes one frame may count; further passes run uncounted and are reported in
 /// [`FrameWork::uncounted_passes`].
@@ -73,7 +79,7 @@ struct PipelineStats {
     read: wgpu::Buffer,
     /// Queries begun since the frame was opened.
     begun: AtomicU32,
-    /// Queries resolved into `read` by the last [`Gpu::stats_resolve`] (None: nothing to read).
+    /// Queries resolved into `read` by the last [`PassCounter::resolve`] (None: nothing to read).
     resolved: Mutex<Option<u32>>,
 }
 
@@ -203,7 +209,8 @@ impl<P: StatsQuery> DerefMut for Counted<P> {
 
 /// Begins counted passes: a cheap handle on the device's pipeline-statistics queries that a
 /// long-lived pass object (a shadow-map or surface renderer) can keep from `prepare`, so it need
-/// not be handed the [`Gpu`] in every `encode`. [`Gpu::render_pass`] uses the same handle.
+/// not be handed the `Gpu` in every `encode`. [`Gpu::render_pass`] uses the same handle, and
+/// the frame's statistics are opened, resolved and read through it.
 #[derive(Clone, Default)]
 pub struct PassCounter(Option<Arc<PipelineStats>>);
 
@@ -227,48 +234,23 @@ impl PassCounter {
     }
 }
 
-impl Gpu {
-    /// Begins a render pass whose work is counted in the frame's pipeline statistics. Every
-    /// pass a method encodes in `render` goes through this, [`Gpu::compute_pass`] or a
-    /// [`PassCounter`] from [`Gpu::pass_counter`].
-    pub fn render_pass<'e>(
-        &self,
-        enc: &'e mut wgpu::CommandEncoder,
-        desc: &wgpu::RenderPassDescriptor<'_>,
-    ) -> Counted<wgpu::RenderPass<'e>> {
-        self.counter.render_pass(enc, desc)
-    }
-
-    /// Begins a compute pass whose work is counted, like [`Gpu::render_pass`].
-    pub fn compute_pass<'e>(
-        &self,
-        enc: &'e mut wgpu::CommandEncoder,
-        desc: &wgpu::ComputePassDescriptor<'_>,
-    ) -> Counted<wgpu::ComputePass<'e>> {
-        self.counter.compute_pass(enc, desc)
-    }
-
-    /// A handle that begins counted passes without the [`Gpu`] (see [`PassCounter`]).
-    pub fn pass_counter(&self) -> PassCounter {
-        self.counter.clone()
-    }
-
+impl PassCounter {
     /// True when the device counts pipeline statistics.
     pub fn counts_work(&self) -> bool {
-        self.counter.0.is_some()
+        self.0.is_some()
     }
 
     /// Starts counting a new frame (forgets the passes begun since the last call).
-    pub fn stats_begin_frame(&self) {
-        if let Some(s) = &self.counter.0 {
+    pub fn begin_frame(&self) {
+        if let Some(s) = &self.0 {
             s.begun.store(0, Ordering::Relaxed);
             *s.resolved.lock().unwrap_or_else(|e| e.into_inner()) = None;
         }
     }
 
     /// Resolves the frame's queries into `enc`, after the frame's last pass.
-    pub fn stats_resolve(&self, enc: &mut wgpu::CommandEncoder) {
-        let Some(s) = &self.counter.0 else { return };
+    pub fn resolve(&self, enc: &mut wgpu::CommandEncoder) {
+        let Some(s) = &self.0 else { return };
         let n = s.begun.load(Ordering::Relaxed).min(CAPACITY);
         *s.resolved.lock().unwrap_or_else(|e| e.into_inner()) = Some(n);
         if n == 0 {
@@ -278,10 +260,10 @@ impl Gpu {
         enc.copy_buffer_to_buffer(&s.resolve, 0, &s.read, 0, 8 * VALUES * n as u64);
     }
 
-    /// The resolved frame's work, once it has completed on the GPU; None where the device does
-    /// not count or no frame was resolved.
-    pub fn stats_read(&self) -> Result<Option<FrameWork>, String> {
-        let Some(s) = &self.counter.0 else {
+    /// The resolved frame's work, once it has completed on `device`; None where the device
+    /// does not count or no frame was resolved.
+    pub fn read(&self, device: &wgpu::Device) -> Result<Option<FrameWork>, String> {
+        let Some(s) = &self.0 else {
             return Ok(None);
         };
         let Some(n) = *s.resolved.lock().unwrap_or_else(|e| e.into_inner()) else {
@@ -294,7 +276,7 @@ impl Gpu {
         if n == 0 {
             return Ok(Some(work));
         }
-        let data = super::readback::map_read(self, &s.read)?;
+        let data = mapping::read_buffer(device, &s.read)?;
         let values: Vec<u64> = data
             .chunks_exact(8)
             .take((VALUES * n as u64) as usize)

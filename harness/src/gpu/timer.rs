@@ -1,6 +1,7 @@
 //! GPU frame time from timestamp queries written at the start and end of a frame's encoder.
 
-use super::Gpu;
+use super::device::Gpu;
+use super::readback::map_read;
 
 pub struct GpuTimer {
     set: wgpu::QuerySet,
@@ -54,7 +55,7 @@ impl GpuTimer {
 
     /// Milliseconds between begin and end of the last submitted frame (call after it finished).
     pub fn read_ms(&self, gpu: &Gpu) -> Result<f64, String> {
-        let data = super::readback::map_read(gpu, &self.read)?;
+        let data = map_read(gpu, &self.read)?;
         let t0 = u64::from_le_bytes(data[0..8].try_into().expect("16-byte buffer"));
         let t1 = u64::from_le_bytes(data[8..16].try_into().expect("16-byte buffer"));
         Ok(t1.saturating_sub(t0) as f64 * self.period_ns as f64 * 1e-6)

@@ -10,9 +10,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::method::Params;
+use crate::record::{Phase, failed};
 use crate::results::{Results, Status};
-
-use super::phase::Phase;
 
 pub const FILE: &str = "in-flight.json";
 
@@ -80,7 +79,7 @@ pub fn resume(results: &mut Results, run_dir: &Path, retry_failed: bool) -> Resu
                 .pid
                 .map(|p| format!(" (worker pid {p})"))
                 .unwrap_or_default();
-            results.records.push(super::failed_record(&m.scene, &m.method, &m.params, format!(
+            results.records.push(failed(&m.scene, &m.method, &m.params, format!(
                 "interrupted: the run stopped while this record was in {}{pid}; not run again — \
                  pass --retry-failed with --resume to run it again",
                 m.phase

@@ -14,13 +14,12 @@ use std::time::{Duration, Instant};
 
 use scenes::Scene;
 
+use super::config::{Reuse, WorkerCommand};
+use super::protocol::{FromWorker, ToWorker, read_line, write_line, write_scene};
+use super::worker::PARENT_ENV;
+use crate::record::{Phase, RecordSettings};
 use crate::reference::ReferenceImages;
 use crate::results::Record;
-
-use super::phase::Phase;
-use super::protocol::{FromWorker, JobConfig, ToWorker, read_line, write_line, write_scene};
-use super::worker::PARENT_ENV;
-use super::{Reuse, WorkerCommand};
 
 /// Lines of a crashed worker's stderr kept for its record.
 const STDERR_TAIL: usize = 8;
@@ -45,7 +44,7 @@ pub struct Job<'a> {
     pub reference: &'a ReferenceImages,
     pub method: &'a str,
     pub params: &'a crate::method::Params,
-    pub cfg: JobConfig,
+    pub settings: &'a RecordSettings,
 }
 
 /// How a job ended when no record came back.
@@ -107,7 +106,7 @@ impl Pool {
         let msg = ToWorker::Job {
             method: job.method.to_string(),
             params: job.params.clone(),
-            cfg: job.cfg.clone(),
+            settings: job.settings.clone(),
         };
         sent = sent
             .and_then(|()| write_line(&mut w.stdin, &msg))

@@ -20,32 +20,21 @@ use serde::{Deserialize, Serialize};
 
 use crate::image::Image;
 use crate::method::Params;
+use crate::record::{Phase, RecordSettings};
 use crate::reference::{ReferenceImages, ReferenceStats};
 use crate::results::Record;
-
-use super::phase::Phase;
-
-/// The parts of a run's configuration a record depends on.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct JobConfig {
-    pub out_dir: PathBuf,
-    pub width: u32,
-    pub height: u32,
-    pub frames: u32,
-    pub warmup: u32,
-    pub no_skip: bool,
-    pub budget_ms: Option<f64>,
-}
 
 #[derive(Debug, Serialize, Deserialize)]
 pub enum ToWorker {
     /// The scene of the following jobs; the payload (`meshes` then three `reference` images)
     /// follows the line.
     Scene(SceneHeader),
+    /// One record: the method, its full parameter set and how to measure it — the run's
+    /// settings, the same the in-process runner uses.
     Job {
         method: String,
         params: Params,
-        cfg: JobConfig,
+        settings: RecordSettings,
     },
 }
 

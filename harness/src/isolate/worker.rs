@@ -18,15 +18,14 @@ use std::rc::Rc;
 
 use scenes::Scene;
 
+use super::protocol::{FromWorker, ToWorker, read_line, read_scene, write_line};
 use crate::gpu::Gpu;
 use crate::image::metrics::ToneMap;
 use crate::method::Method;
+use crate::record::phase::{self, Phase};
+use crate::record::run_one;
 use crate::reference::ReferenceImages;
 use crate::results::Record;
-use crate::runner::{self, RunConfig};
-
-use super::phase::{self, Phase};
-use super::protocol::{FromWorker, JobConfig, ToWorker, read_line, read_scene, write_line};
 
 /// Environment variable naming the parent's pid; its presence is what makes a process a worker.
 pub const PARENT_ENV: &str = "SCATTERBENCH_WORKER_PARENT";
@@ -86,7 +85,7 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
             ToWorker::Job {
                 method,
                 params,
-                cfg,
+                settings,
             } => {
                 let (s, r, tone) = scene.as_ref().ok_or("a job before any scene")?;
                 let entry = registry.iter().find(|m| m.id() == method).ok_or_else(|| {
@@ -98,7 +97,7 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
                         // A parent that cannot hear the phase will see the record or the exit.
                         let _ = write_line(&mut *out.borrow_mut(), &FromWorker::Phase(p));
                     },
-                    || runner::run_one(&gpu, s, *entry, &params, &run_config(&cfg), r, tone),
+                    || run_one(&gpu, s, *entry, &params, &settings, r, tone),
                 );
                 send(
                     &mut proto.borrow_mut(),
@@ -108,26 +107,6 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// The full run configuration a record needs, rebuilt from the job's part of it.
-fn run_config(c: &JobConfig) -> RunConfig {
-    RunConfig {
-        out_dir: c.out_dir.clone(),
-        width: c.width,
-        height: c.height,
-        frames: c.frames,
-        warmup: c.warmup,
-        no_skip: c.no_skip,
-        resume: false,
-        sweep: false,
-        overrides: Default::default(),
-        reference: Default::default(),
-        cache_dir: None,
-        run_id: String::new(),
-        budget_ms: c.budget_ms,
-        isolation: Default::default(),
-    }
 }
 
 /// A duplicate of fd 1 for the protocol; fd 1 itself then points at stderr.

@@ -37,8 +37,21 @@ const PLANES: usize = 10;
 /// minutes to render it.
 const LEVEL: i32 = 19;
 
-/// The images as one compressed byte string (see the module doc).
-pub fn encode(r: &ReferenceImages) -> Result<Vec<u8>, String> {
+/// Decoded images and how many mantissa bits they kept.
+pub struct Packed {
+    pub images: ReferenceImages,
+    /// [`FULL_MANTISSA`] when the file is lossless.
+    pub mantissa_bits: u32,
+}
+
+/// The images as one compressed byte string (see the module doc), each value rounded to
+/// `mantissa_bits` (1..=23; 23 is lossless).
+pub fn encode(r: &ReferenceImages, mantissa_bits: u32) -> Result<Vec<u8>, String> {
+    if !(1..=FULL_MANTISSA).contains(&mantissa_bits) {
+        return Err(format!(
+            "mantissa bits {mantissa_bits} outside 1..={FULL_MANTISSA}"
+        ));
+    }
     let (w, h) = (r.total.width, r.total.height);
     let n = w as usize * h as usize;
     if [&r.inscatter, &r.surface]
@@ -50,6 +63,13 @@ pub fn encode(r: &ReferenceImages) -> Result<Vec<u8>, String> {
             "reference images of different sizes (total {w}x{h})"
         ));
     }
+    let rounded;
+    let r = if mantissa_bits < FULL_MANTISSA {
+        rounded = round_images(r, mantissa_bits);
+        &rounded
+    } else {
+        r
+    };
     let mut planes: Vec<Vec<u32>> = Vec::with_capacity(PLANES);
     for img in [&r.inscatter, &r.surface] {
         for c in 0..3 {
@@ -284,8 +304,9 @@ mod tests {
         let r = images(37, 23, &mut |_, _, _| {
             f32::from_bits(xorshift(&mut s) as u32)
         });
-        let back = decode(&encode(&r).unwrap()).unwrap();
-        assert!(same_bits(&r, &back));
+        let back = decode(&encode(&r, FULL_MANTISSA).unwrap()).unwrap();
+        assert!(same_bits(&r, &back.images));
+        assert_eq!(back.mantissa_bits, FULL_MANTISSA);
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! `scatterbench stress` (DESIGN §6): extreme but valid scenes × every method, each judged by
+//! `scatterbench stress` (ARCHITECTURE §6): extreme but valid scenes × every method, each judged by
 //! four criteria — no panic, no wgpu error, zero non-finite pixels, and an error within the
 //! bound the method declares for the case ([`crate::method::Method::stress_bound`]) — or a clean
 //! "unsupported" with the method's reason.
@@ -19,31 +19,34 @@ use std::path::PathBuf;
 pub use cases::{BuildContext, CASES, Case, find, names};
 
 use crate::gpu::Gpu;
-use crate::method::{Method, Params};
-use crate::reference::Settings;
-use crate::results::{
-    Machine, Record, Results, RunInfo, SCHEMA_VERSION, STRESS_KIND, Status, git_commit, record_key,
-};
+use crate::isolate::Isolation;
+use crate::method::{Method, Params, resolve_params};
+use crate::record::{RecordSettings, panic_message};
+use crate::results::{Record, Results, STRESS_KIND, Status, record_key};
 use crate::runner::{self, Event, RunConfig};
 
 /// Counter name under which a record carries the bound it was judged against.
 pub const BOUND_COUNTER: &str = "stress_bound_total_rel_rmse";
 
 pub struct StressConfig {
-    pub out_dir: PathBuf,
-    pub width: u32,
-    pub height: u32,
+    /// How each case × method is measured: made by [`one_frame`] (the output directory, the
+    /// resolution, and the reference cache where one is set).
+    pub record: RecordSettings,
     /// Cases to run (all when empty).
     pub cases: Vec<&'static Case>,
     /// Triangle count of `many-triangles`.
     pub triangles: usize,
     pub resume: bool,
-    pub reference: Settings,
-    pub cache_dir: Option<PathBuf>,
     pub run_id: String,
     /// Worker processes and the watchdog for every record; `retry_failed` (with `resume`)
     /// runs failed records again.
-    pub isolation: crate::isolate::Isolation,
+    pub isolation: Isolation,
+}
+
+/// The stress protocol's record settings: one frame per case × method, no warm-up, no time
+/// budget, at `width`×`height`, written under `out_dir`.
+pub fn one_frame(out_dir: impl Into<PathBuf>, (width, height): (u32, u32)) -> RecordSettings {
+    RecordSettings::new(out_dir, (width, height), (1, 0))
 }
 
 /// How one case × method came out.
@@ -102,24 +105,10 @@ fn apply(rec: &mut Record, bound: Option<f64>) {
 }
 
 fn fresh(gpu: &Gpu, cfg: &StressConfig) -> Results {
-    Results {
-        schema_version: SCHEMA_VERSION,
-        run: RunInfo {
-            id: cfg.run_id.clone(),
-            git_commit: git_commit(),
-            resolution: [cfg.width, cfg.height],
-            frames: 1,
-            warmup: 0,
-            machine: Machine::detect(&gpu.summary),
-            scored_frame: 0,
-            note: "stress run: one frame per case × method; timings are not meaningful".into(),
-            kind: Some(STRESS_KIND.into()),
-            shard: None,
-            headline: Some(crate::verdict::HEADLINE_NAME.into()),
-            methods: Default::default(),
-        },
-        records: Vec::new(),
-    }
+    let mut r = runner::fresh_results(gpu, &cfg.record, &cfg.run_id, None);
+    r.run.note = "stress run: one frame per case × method; timings are not meaningful".into();
+    r.run.kind = Some(STRESS_KIND.into());
+    r
 }
 
 /// Runs every case × method. `gpu` is replaced by a fresh device when a method loses it.
@@ -131,13 +120,10 @@ pub fn run(
     cfg: &StressConfig,
     on_event: &mut dyn FnMut(Event),
 ) -> Result<Results, String> {
-    std::fs::create_dir_all(&cfg.out_dir).map_err(|e| {
-        format!(
-            "{}: cannot create the output directory: {e}",
-            cfg.out_dir.display()
-        )
-    })?;
-    let path = cfg.out_dir.join("results.json");
+    let out = &cfg.record.out_dir;
+    std::fs::create_dir_all(out)
+        .map_err(|e| format!("{}: cannot create the output directory: {e}", out.display()))?;
+    let path = out.join("results.json");
     let mut start = if cfg.resume && path.exists() {
         Results::load(&path)?
     } else {
@@ -145,10 +131,10 @@ pub fn run(
     };
     crate::run_methods::describe(&mut start.run.methods, methods.iter().copied());
     start.save(&path)?;
-    let mesh_dir = cfg.out_dir.join("stress-meshes");
+    let mesh_dir = out.join("stress-meshes");
     let ctx = BuildContext {
-        width: cfg.width,
-        height: cfg.height,
+        width: cfg.record.width,
+        height: cfg.record.height,
         mesh_dir: &mesh_dir,
         triangles: cfg.triangles,
     };
@@ -159,11 +145,10 @@ pub fn run(
     };
     for case in cases {
         let scene = std::panic::catch_unwind(|| case.scene(&ctx))
-            .unwrap_or_else(|p| Err(format!("panicked: {}", crate::runner::panic_message(p))));
+            .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))));
         for entry in methods {
             let bound = entry.stress_bound(case.name);
-            let params =
-                crate::method::resolve_params(*entry, &Params::new()).map_err(|e| e.to_string())?;
+            let params = resolve_params(*entry, &Params::new()).map_err(|e| e.to_string())?;
             let key = record_key(case.name, entry.id(), &params);
             let mut results = Results::load(&path)?;
             let retry = |r: &Record| cfg.isolation.retry_failed && r.status == Status::Failed;
@@ -175,20 +160,9 @@ pub fn run(
                 Err(e) => Err(format!("the case could not be built: {e}")),
                 Ok(scene) => {
                     let rc = RunConfig {
-                        out_dir: cfg.out_dir.clone(),
-                        width: cfg.width,
-                        height: cfg.height,
-                        frames: 1,
-                        warmup: 0,
-                        no_skip: false,
                         resume: true,
-                        sweep: false,
-                        overrides: Default::default(),
-                        reference: cfg.reference,
-                        cache_dir: cfg.cache_dir.clone(),
-                        run_id: cfg.run_id.clone(),
-                        budget_ms: None,
                         isolation: cfg.isolation.clone(),
+                        ..RunConfig::new(cfg.record.clone(), &cfg.run_id)
                     };
                     let g: &Gpu = gpu;
                     // Swallow the runner's own record events: the judged record is reported below.
@@ -200,9 +174,7 @@ pub fn run(
                     std::panic::catch_unwind(AssertUnwindSafe(|| {
                         runner::run(g, std::slice::from_ref(scene), &[*entry], &rc, &mut inner)
                     }))
-                    .unwrap_or_else(|p| {
-                        Err(format!("panicked: {}", crate::runner::panic_message(p)))
-                    })
+                    .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))))
                     .map_err(|e| format!("no record (reference or harness): {e}"))
                 }
             };

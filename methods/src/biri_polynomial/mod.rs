@@ -198,6 +198,7 @@ impl Method for BiriPolynomial {
                 .sweep(["planes"])
                 .meaning("per-pixel: crossing lists sorted and walked per pixel, Γ over the lit intervals (modern, exact shadow in shadow); planes: the paper's eq. 13/14 front-to-back plane order under §4.4's stencil rules"),
             Knob::choice("eval", "fragment", &["fragment", "vertex"])
+                .requires("vertex", "resolve", "planes")
                 .meaning("where Γ is evaluated: per fragment (modern), or per vertex with Gouraud interpolation (the paper; needs resolve = planes)"),
             // Each level multiplies the triangles by 4: 6 levels is 4096× the scene's.
             Knob::int("tessellation", 3, 0..=6)
@@ -214,6 +215,7 @@ impl Method for BiriPolynomial {
                 .meaning("shadow-map resolution per face (surface_shadows = shadow-map only)"),
             knobs::pattern_res(512),
             Knob::choice("accumulate", "float", &["float", "unorm8"])
+                .requires("unorm8", "resolve", "planes")
                 .meaning("float: signed Rgba32Float sums; unorm8: the paper's 8-bit frame buffer, clamped after each blend (§5.2's quantization problem; needs resolve = planes)"),
             // 48 × 96 half circles × 128 γ samples is the largest table the uniforms index.
             Knob::int("half_circles", 32, 2..=48)

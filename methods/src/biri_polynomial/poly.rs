@@ -6,7 +6,7 @@
 //! Geometry (paper, Fig. 3): a ray from the eye O with unit direction u; the light L projects on
 //! the ray at parameter `t` (may be negative) at distance `h` > 0. A point x along the ray is at
 //! angle θ = atan((x − t)/h) from that foot. With x = t + h tanθ, dx/r² = dθ/h and
-//! x + r = t + h (sinθ + 1)/cosθ, so DESIGN §1's in-scattered radiance of a lit segment is
+//! x + r = t + h (sinθ + 1)/cosθ, so ARCHITECTURE §1's in-scattered radiance of a lit segment is
 //!
 //!   L_in = σ_s I e^(−σ_t t) / h · ∫_{θa}^{θb} Λ(θ) dθ,  Λ(θ) = e^(−k (sinθ+1)/cosθ) p(θ + π/2),
 //!

@@ -164,7 +164,7 @@ fn taylor_error_has_the_right_order() {
     }
 }
 
-/// The angular form (eq. 3) is the distance-domain integral of DESIGN §1: the same segment by
+/// The angular form (eq. 3) is the distance-domain integral of ARCHITECTURE §1: the same segment by
 /// Gauss–Legendre in x (no change of variable) and by `segment` with a high-order Chebyshev fit.
 #[test]
 fn angular_form_equals_distance_integral() {

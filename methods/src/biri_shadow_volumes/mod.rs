@@ -11,7 +11,7 @@
 //! drop crossings inside another shadow.
 //!
 //! Faithful: Γ by quadrature per phase function, L_dss from two lookups (the Fig. 7 shader), the
-//! constants of eq. 7 (converted to DESIGN §1: p normalised to 1 over the sphere, so the paper's
+//! constants of eq. 7 (converted to ARCHITECTURE §1: p normalised to 1 over the sphere, so the paper's
 //! k_t²Ω/4π · 1/(k_t h) becomes σ_s/h). Modernised: float targets; the table's axes are
 //! u = λ/(1+λ) and w = tan(γ/2+π/4)/(1+tan(γ/2+π/4)) instead of linear λ and γ (w follows the
 //! integrand's e^(−λ tan(γ/2+π/4)) and needs no atan texture), bilinear lookups done in the
@@ -157,6 +157,7 @@ impl Method for BiriShadowVolumes {
                 .meaning("resolve=stencil: step 5's stencil rules (draw only the lit/shadow boundaries, in the CPU order); false: every crossing counts (exact without overlapping volumes)"),
             Knob::choice("accumulate", "float", &["float", "unorm8"])
                 .sweep(["unorm8"])
+                .requires("unorm8", "resolve", "stencil")
                 .meaning("resolve=stencil: crossing accumulation target; unorm8 is the paper's 8-bit target with reverse-subtract blending (clamps and quantises; needs resolve=stencil)"),
             Knob::boolean("indirect", true)
                 .meaning("scenes with indirect_single_scattering: add §III.C's term (Γ_L, Γ_P tables, the Fig. 8 pass); false skips it"),

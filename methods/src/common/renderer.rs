@@ -3,7 +3,7 @@
 //! (group 0 in `wgsl/frame_bindings.wgsl`) and the forward surface pass that writes the
 //! `surface` AOV and a per-pixel ray-distance texture (−1 where the ray hits nothing).
 //!
-//! Pass-level skipping (DESIGN §2): without shadow casters the shadow-map passes are skipped
+//! Pass-level skipping (ARCHITECTURE §2.4): without shadow casters the shadow-map passes are skipped
 //! (and lights carry no shadow map) unless `no_skip`.
 
 use harness::gpu::{PassCounter, color_attachment, depth_attachment};

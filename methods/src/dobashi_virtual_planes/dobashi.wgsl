@@ -23,7 +23,7 @@ const FLAG_CLIP_LAST: u32 = 4u;
 
 // ξ of light k at world point x, distance t from the eye along the unit ray `dir` (eye → x):
 // σ_s p(α) e^(−σt (t + r)) / r² for point and spot lights (eq. 5), σ_s p(α) e^(−σt t) for a
-// parallel light, whose light leg is not attenuated (DESIGN §1).
+// parallel light, whose light leg is not attenuated (ARCHITECTURE §1).
 fn xi(k: u32, x: vec3<f32>, dir: vec3<f32>, t: f32) -> vec3<f32> {
     if (light_kind(k) == LIGHT_DIRECTIONAL) {
         let l = lights.lights[k].direction.xyz;

@@ -1,4 +1,4 @@
-// The unshadowed in-scatter of one light over [a, b] of a view ray from the eye (DESIGN §1's
+// The unshadowed in-scatter of one light over [a, b] of a view ray from the eye (ARCHITECTURE §1's
 // ∫ σ_s p(θ) I(ω) e^(−σ_t (x + r)) / r² dx), shared by the volume pass (∫ from the eye to each
 // volume fragment) and the resolve (∫ to the visible surface for lights without a volume).
 // Point lights: Biri et al.'s Γ table (biri_shadow_volumes::LDSS_WGSL, composed before this

@@ -384,7 +384,7 @@ fn mean_inv_r2(k: u32, o: vec3<f32>, dir: vec3<f32>, a: f32, b: f32) -> f32 {
     return (atan((b - t0) / h) - atan((a - t0) / h)) / (h * (b - a));
 }
 
-// What σ_s multiplies in DESIGN §1's L_in at x: every light's radiance times the particles'
+// What σ_s multiplies in ARCHITECTURE §1's L_in at x: every light's radiance times the particles'
 // transmittance toward it (from its slices), summed.
 fn incident(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
     var l = vec3<f32>(0.0);

@@ -76,7 +76,7 @@
 //! light transmittance from the slices at both ends of its depth interval, averaged in closed
 //! form (the paper: one lookup per block pixel); for a local light, the mean of 1/r² over the
 //! block pixel's interval in closed form (Biri's angle variable) instead of its midpoint value;
-//! DESIGN §1 radiometry (phase normalised to 1, irradiance E for the sun not attenuated outside
+//! ARCHITECTURE §1 radiometry (phase normalised to 1, irradiance E for the sun not attenuated outside
 //! the cloud, 1/r² and e^(−σt r) of a background medium for local lights); objects shadow the
 //! cloud through the shared shadow maps; the cloud shadows surfaces through the slices; several
 //! lights, the cube of light maps, held blocks drawn as particles, background dimming (above).

@@ -1,7 +1,7 @@
 //! Sun et al. (2005)'s airlight special function, tabulated:
 //! F(u, v) = ∫_0^v exp(−u tan ξ) dξ, u ≥ 0, v ∈ [0, π/2).
 //!
-//! In the project's convention (DESIGN §1) the unshadowed in-scatter of an isotropic point light
+//! In the project's convention (ARCHITECTURE §1) the unshadowed in-scatter of an isotropic point light
 //! of intensity I over the ray interval [a, b] is, with t₀ the ray parameter closest to the light,
 //! h that distance and ξ(x) = π/4 + ½ atan((x − t₀)/h):
 //!

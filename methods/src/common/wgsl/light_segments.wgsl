@@ -1,5 +1,5 @@
 // The unshadowed in-scatter of one light over a stretch [a, b] of a view ray from the eye
-// (DESIGN §1's ∫ σ_s p(θ) I(ω) e^(−σ_t (x + r)) / r² dx, or σ_s p(θ) E ∫ e^(−σ_t x) dx for a
+// (ARCHITECTURE §1's ∫ σ_s p(θ) I(ω) e^(−σ_t (x + r)) / r² dx, or σ_s p(θ) E ∫ e^(−σ_t x) dx for a
 // directional light) where no table applies: directional light in closed form (the scattering
 // angle is constant along the ray), spot lights (falloff and pattern make it not closed-form) by
 // Gauss–Legendre quadrature in the angle seen from the light over the ray's stretch inside the
@@ -7,7 +7,7 @@
 // `lit_between`) and biri-polynomial (directional Γ). Needs PRELUDE.
 
 // σ_s E p(θ) ∫_a^b e^(−σ_t x) dx of directional light k (no 1/r², constant angle; the light leg
-// is not attenuated, DESIGN §1).
+// is not attenuated, ARCHITECTURE §1).
 fn sunlight_between(k: u32, dir: vec3<f32>, a: f32, b: f32) -> vec3<f32> {
     let st = max(medium.sigma_t.rgb, vec3<f32>(1e-12));
     let cos_theta = dot(lights.lights[k].direction.xyz, -dir);

@@ -1,4 +1,4 @@
-// Lights (DESIGN §1) with the spot falloff and the pattern texture. Mirrors
+// Lights (ARCHITECTURE §1) with the spot falloff and the pattern texture. Mirrors
 // common::uniforms::{LightUniform, LightsUniform}.
 const MAX_LIGHTS: u32 = 4u;
 const LIGHT_POINT: u32 = 0u;

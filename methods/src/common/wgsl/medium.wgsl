@@ -1,4 +1,4 @@
-// Homogeneous medium and phase functions, normalised so that ∫ p dω = 1 (DESIGN §1).
+// Homogeneous medium and phase functions, normalised so that ∫ p dω = 1 (ARCHITECTURE §1).
 // Mirrors common::uniforms::MediumUniform.
 struct Medium {
     sigma_a: vec4<f32>,

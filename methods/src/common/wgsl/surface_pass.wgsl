@@ -1,5 +1,5 @@
 // The forward surface pass: Lambert + Phong with shadow-mapped visibility, attenuated toward the
-// eye (DESIGN §1's e^(−σt d) L_surf), and the distance along each pixel's ray. Needs PRELUDE.
+// eye (ARCHITECTURE §1's e^(−σt d) L_surf), and the distance along each pixel's ray. Needs PRELUDE.
 
 struct VsOut {
     // Invariant: passes that redraw the surfaces over this depth (depth test Equal) get the

@@ -1,5 +1,5 @@
-//! The phase a record is in (start, prepare, render, score), announced by the runner before it
-//! enters each one so a watchdog or a crash report can say where a record stopped.
+//! The phase a record is in (start, prepare, render, score), announced by [`super::run_one`]
+//! before it enters each one so a watchdog or a crash report can say where a record stopped.
 //!
 //! The announcement goes to a hook scoped to the current thread ([`with_hook`]): a worker
 //! process forwards it to its parent over the protocol pipe; the in-process runner writes it

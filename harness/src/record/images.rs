@@ -1,0 +1,67 @@
+//! The files a record writes beside results.json: its AOVs as EXR and PNG under
+//! `<scene>/<method>/<params slug>/`, and the error maps' scale (ARCHITECTURE §5.1).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::image::metrics::ToneMap;
+use crate::image::{Image, io};
+use crate::method::Params;
+
+/// A filesystem-safe slug of a parameter set: `steps-128_jitter-false`.
+pub fn params_slug(params: &Params) -> String {
+    let s: Vec<String> = params.iter().map(|(k, v)| format!("{k}-{v}")).collect();
+    let s = s.join("_");
+    let s: String = s
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() { "default".into() } else { s }
+}
+
+/// The error that maps to the top of an error map's colour bar: a tenth of the reference's
+/// 99th-percentile luminance, so 10% errors saturate.
+pub fn error_scale(reference: &Image) -> f32 {
+    let mut l = reference.luminance();
+    l.retain(|v| v.is_finite());
+    if l.is_empty() {
+        return 1.0;
+    }
+    l.sort_by(f32::total_cmp);
+    let p99 = l[((l.len() as f64 * 0.99) as usize).min(l.len() - 1)];
+    (0.1 * p99).max(1e-12)
+}
+
+/// Writes the three AOVs under `out/rel_dir` as EXR and tone-mapped PNG; returns their paths
+/// relative to `out` (`inscatter`, `inscatter_png`, …).
+pub fn write_aovs(
+    out: &Path,
+    rel_dir: &str,
+    inscatter: &Image,
+    surface: &Image,
+    total: &Image,
+    tone: &ToneMap,
+) -> Result<BTreeMap<String, String>, String> {
+    let mut paths = BTreeMap::new();
+    for (name, img) in [
+        ("inscatter", inscatter),
+        ("surface", surface),
+        ("total", total),
+    ] {
+        let exr = format!("{rel_dir}/{name}.exr");
+        let png = format!("{rel_dir}/{name}.png");
+        std::fs::create_dir_all(out.join(rel_dir))
+            .map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
+        io::write_exr(&out.join(&exr), img)?;
+        io::write_png(&out.join(&png), img, tone)?;
+        paths.insert(name.to_string(), exr);
+        paths.insert(format!("{name}_png"), png);
+    }
+    Ok(paths)
+}
