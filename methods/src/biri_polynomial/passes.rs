@@ -19,6 +19,7 @@ use crate::common::crossing_lists;
 use crate::common::gpu_scene::GpuScene;
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
+use crate::common::stencil::PlaneVertex;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
@@ -33,8 +34,9 @@ pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN, wgsl::LIGHT_SEGMENTS]].concat(),
         &format!(
-            "{}\n{}\n{}\n{}\n{}\n{}\n{}",
+            "{}\n{}\n{}\n{}\n{}\n{}\n{}\n{}",
             super::KERNEL_WGSL,
+            crate::common::stencil::PLANE_WGSL,
             include_str!("passes.wgsl"),
             include_str!("spot.wgsl"),
             include_str!("spot_rays.wgsl"),
@@ -265,7 +267,7 @@ impl Passes {
             Eval::Vertex => self.cfg.plane_segments.max(1),
             Eval::Fragment => 1,
         };
-        let mut verts: Vec<[f32; 3]> = Vec::new();
+        let mut verts: Vec<PlaneVertex> = Vec::new();
         for (light, state) in planes.iter().zip(&frame.lights) {
             let lpos = crate::common::shadow_planes::light_pos(state);
             let mut keyed: Vec<(f32, &[Vec3; 6])> = light
@@ -277,7 +279,7 @@ impl Passes {
             let mut runs: Vec<(Range<u32>, bool)> = Vec::new();
             for (_, q) in keyed {
                 let start = verts.len() as u32;
-                verts.extend(mesh_quad(q, segments).iter().map(|p| p.to_array()));
+                verts.extend(PlaneVertex::on_quad(q, mesh_quad(q, segments)));
                 let end = verts.len() as u32;
                 let front = faces_eye(q, eye);
                 match runs.last_mut() {

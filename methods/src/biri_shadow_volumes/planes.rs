@@ -26,7 +26,7 @@ pub const VOLUMES: &str = "second_pass_volumes";
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
-pub(super) use crate::common::stencil::{DEPTH_STENCIL as DEPTH, PLANE_LAYOUT};
+pub(super) use crate::common::stencil::{DEPTH_STENCIL as DEPTH, PLANE_LAYOUT, PlaneVertex};
 /// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
 pub(super) const SLOT: u64 = 256;
 
@@ -35,8 +35,9 @@ pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
-            "{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
+            "{}\n{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
             super::LDSS_WGSL,
+            crate::common::stencil::PLANE_WGSL,
             crossing_lists::WGSL,
             crossing_lists::PASSES_WGSL
         ),
@@ -190,13 +191,13 @@ impl Planes {
             |l| 2.0 * (far + (l.position().unwrap_or(eye) - eye).length()) + 1.0,
             report,
         );
-        let mut verts: Vec<[f32; 3]> = Vec::new();
+        let mut verts: Vec<PlaneVertex> = Vec::new();
         self.ranges.clear();
         let mut eye_lit = 0u32;
         let mut slots = vec![0u8; SLOT as usize * crate::common::uniforms::MAX_LIGHTS];
         for (k, light) in planes.iter().enumerate() {
             let first = verts.len() as u32;
-            verts.extend(light.quads.iter().flat_map(|q| q.map(|p| p.to_array())));
+            verts.extend(light.quads.iter().flat_map(|q| PlaneVertex::on_quad(q, *q)));
             if light.eye_count == 0 {
                 eye_lit |= 1 << k;
             }

@@ -1,17 +1,52 @@
 //! Pipeline state of stencil shadow-volume passes, shared by the methods that draw shadow planes
 //! into a depth-stencil buffer (both Biri methods, `common::stencil_surfaces`).
 
+use glam::Vec3;
+
 use crate::common::pipeline::{self, Stage};
 
 /// The depth-stencil format of every shadow-plane pass.
 pub const DEPTH_STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
 
-/// Shadow-plane vertices: world positions.
+/// Shadow-plane vertices ([`PlaneVertex`]): world position, the unit normal of the plane.
 pub const PLANE_LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
-    array_stride: 12,
+    array_stride: std::mem::size_of::<PlaneVertex>() as u64,
     step_mode: wgpu::VertexStepMode::Vertex,
-    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
 };
+
+/// The WGSL side of [`PLANE_LAYOUT`]: `vs_plane`, its output `PlaneFrag` and `plane_distance`
+/// (where a fragment's pixel ray crosses its plane, exact whatever the rasteriser's sub-pixel
+/// precision). Needs PRELUDE.
+pub const PLANE_WGSL: &str = include_str!("wgsl/shadow_plane.wgsl");
+
+/// One shadow-plane vertex as [`PLANE_LAYOUT`] reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PlaneVertex {
+    pub position: [f32; 3],
+    /// The unit normal of the vertex's plane.
+    pub normal: [f32; 3],
+}
+
+impl PlaneVertex {
+    /// `points` on the quad [p, q, q', p, q', p'] (`silhouette::extrude`), each with the quad's
+    /// unit normal, taken across its edge q − p and its extrusion p' − p: both are accurate to
+    /// rounding, where the long near-parallel diagonals of a short edge's quad are not.
+    pub fn on_quad(
+        quad: &[Vec3; 6],
+        points: impl IntoIterator<Item = Vec3>,
+    ) -> impl Iterator<Item = PlaneVertex> {
+        let normal = (quad[1] - quad[0])
+            .cross(quad[5] - quad[0])
+            .normalize_or_zero()
+            .to_array();
+        points.into_iter().map(move |p| PlaneVertex {
+            position: p.to_array(),
+            normal,
+        })
+    }
+}
 
 /// One face's stencil test: `pass` where stencil and depth tests pass, `fail` where the stencil
 /// test fails (applied with no depth test), the stencil kept where only the depth test fails.
