@@ -50,3 +50,10 @@ fn camera_plane_distance(cam: Camera, frag: vec2<f32>, point: vec3<f32>, normal:
     let across = dot(n, camera_ray_dir(cam, frag));
     return select(dot(n, to_point) / across, length(to_point), abs(across) <= 1e-4);
 }
+
+// `camera_plane_distance` for the primitive being rasterised at `frag`, `world` its interpolated
+// world position: the normal of its plane from the screen derivatives of `world`, which lie in
+// it (exact for an axis-aligned surface). Derivatives: call in uniform control flow.
+fn camera_surface_distance(cam: Camera, frag: vec2<f32>, world: vec3<f32>) -> f32 {
+    return camera_plane_distance(cam, frag, world, cross(dpdx(world), dpdy(world)));
+}

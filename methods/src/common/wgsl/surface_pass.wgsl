@@ -91,17 +91,11 @@ struct Seen {
     d: f32,
 };
 
-// Distance from the eye to the visible point on the ray through pixel i.clip.xy: on the
-// triangle's plane, whose normal the screen derivatives of the world position give
-// (`camera_plane_distance`: the same on every adapter). Derivatives: call in uniform control flow.
-fn surface_distance(i: VsOut) -> f32 {
-    return camera_plane_distance(camera, i.clip.xy, i.world, cross(dpdx(i.world), dpdy(i.world)));
-}
-
 fn seen(i: VsOut, front: bool) -> Seen {
     let o = objects[i.object];
     let to_eye = camera.position.xyz - i.world;
-    return Seen(i.world, facing_normal(i.normal, front, o), normalize(to_eye), o, surface_distance(i));
+    let d = camera_surface_distance(camera, i.clip.xy, i.world);
+    return Seen(i.world, facing_normal(i.normal, front, o), normalize(to_eye), o, d);
 }
 
 @fragment
@@ -113,7 +107,8 @@ fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0)
 
 @fragment
 fn fs(i: VsOut, @builtin(front_facing) front: bool) -> FsOut {
-    let d = surface_distance(i);
+    // On the pixel's own ray, whatever the adapter's sub-pixel precision.
+    let d = camera_surface_distance(camera, i.clip.xy, i.world);
     let l = shade(i.world, i.normal, front, objects[i.object]) * transmittance(medium, d);
     return FsOut(vec4<f32>(l, 1.0), vec4<f32>(d, 0.0, 0.0, 0.0));
 }
