@@ -63,7 +63,8 @@ pub fn face(
     }
 }
 
-/// A `DEPTH_STENCIL` state with full stencil masks and no depth bias.
+/// A `DEPTH_STENCIL` state with full stencil masks and no depth bias (a test that never reads
+/// the reference as [`reads_reference`] words it).
 pub fn depth_stencil(
     compare: wgpu::CompareFunction,
     write: bool,
@@ -74,13 +75,45 @@ pub fn depth_stencil(
         format: DEPTH_STENCIL,
         depth_write_enabled: Some(write),
         depth_compare: Some(compare),
-        stencil: wgpu::StencilState {
+        stencil: reads_reference(wgpu::StencilState {
             front,
             back,
             read_mask: 0xff,
             write_mask: 0xff,
-        },
+        }),
         bias: Default::default(),
+    }
+}
+
+/// The same stencil test, worded so that it reads the reference. wgpu 30 makes the stencil
+/// reference dynamic state of every Vulkan pipeline (wgpu-hal `vulkan/device.rs`,
+/// `create_render_pipeline`) but sets it only when a pipeline whose test reads it is bound
+/// (wgpu-core `device/resource.rs`, `PipelineFlags::STENCIL_REFERENCE` from `needs_ref_value`;
+/// `command/render.rs`, `set_pipeline`). A counting pass (faces `Always`, ops `IncrementWrap` /
+/// `DecrementWrap`) drawn before any such pipeline in its command buffer then draws with the
+/// reference unset: undefined state that the Khronos validation layer reports
+/// (VUID-vkCmdDraw-commandBuffer-02701, which layer 1.3.239 mislabels
+/// VK_DYNAMIC_STATE_LINE_WIDTH). `Always` is `Equal` under a zero read mask (0 = 0), which does
+/// read the reference, so wgpu sets it; nothing else changes. A test that already reads it, or
+/// no test at all (both faces `IGNORE`), is returned as it is.
+pub fn reads_reference(state: wgpu::StencilState) -> wgpu::StencilState {
+    let always = |f: &wgpu::StencilFaceState| f.compare == wgpu::CompareFunction::Always;
+    if !state.is_enabled()
+        || state.needs_ref_value()
+        || !always(&state.front)
+        || !always(&state.back)
+    {
+        return state;
+    }
+    let equal = |f: wgpu::StencilFaceState| wgpu::StencilFaceState {
+        compare: wgpu::CompareFunction::Equal,
+        ..f
+    };
+    wgpu::StencilState {
+        front: equal(state.front),
+        back: equal(state.back),
+        read_mask: 0,
+        ..state
     }
 }
 
