@@ -163,3 +163,61 @@ pub fn near_plane_safe(device: &wgpu::Device) -> bool {
         .features()
         .contains(wgpu::Features::DEPTH_CLIP_CONTROL)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wgpu::{CompareFunction as C, StencilOperation as S};
+
+    /// Whether `face`'s test passes for the value `stencil` against the reference `reference`,
+    /// both through `state`'s read mask.
+    fn passes(
+        state: &wgpu::StencilState,
+        face: &wgpu::StencilFaceState,
+        reference: u32,
+        stencil: u32,
+    ) -> bool {
+        let (r, s) = (reference & state.read_mask, stencil & state.read_mask);
+        match face.compare {
+            C::Always => true,
+            C::Equal => r == s,
+            C::NotEqual => r != s,
+            other => panic!("not expected here: {other:?}"),
+        }
+    }
+
+    /// A counting test (both faces `Always`) comes back reading the reference — what makes wgpu
+    /// set it — and passing whatever the reference and the stencil, with the same operations.
+    #[test]
+    fn a_counting_test_reads_the_reference_and_still_always_passes() {
+        let ds = depth_stencil(
+            C::Less,
+            false,
+            face(C::Always, S::IncrementWrap, S::Keep),
+            face(C::Always, S::DecrementWrap, S::Keep),
+        );
+        let st = &ds.stencil;
+        assert!(st.is_enabled() && st.needs_ref_value());
+        assert_eq!(
+            (st.front.pass_op, st.back.pass_op),
+            (S::IncrementWrap, S::DecrementWrap)
+        );
+        assert_eq!(st.write_mask, 0xff);
+        for (reference, stencil) in [(0, 0), (0, 1), (1, 0), (1, 255), (3, 7)] {
+            assert!(passes(st, &st.front, reference, stencil));
+            assert!(passes(st, &st.back, reference, stencil));
+        }
+    }
+
+    /// A test that reads the reference already, and no test at all, are left as they are.
+    #[test]
+    fn other_tests_are_unchanged() {
+        let keep = face(C::Always, S::Keep, S::Keep);
+        let equal = face(C::Equal, S::Keep, S::Keep);
+        for (front, back) in [(keep, keep), (equal, equal), (equal, keep)] {
+            let ds = depth_stencil(C::Less, false, front, back);
+            assert_eq!((ds.stencil.front, ds.stencil.back), (front, back));
+            assert_eq!(ds.stencil.read_mask, 0xff);
+        }
+    }
+}
