@@ -23,7 +23,7 @@ use crate::common::layouts::{
 };
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
-use crate::common::stencil::DEPTH_STENCIL;
+use crate::common::stencil::{DEPTH_STENCIL, PlaneVertex};
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
@@ -189,7 +189,7 @@ impl Passes {
             Eval::Vertex => self.cfg.plane_segments.max(1),
             Eval::Fragment => 1,
         };
-        let mut verts: Vec<[f32; 3]> = Vec::new();
+        let mut verts: Vec<PlaneVertex> = Vec::new();
         for (light, state) in planes.iter().zip(&frame.lights) {
             let lpos = crate::common::shadow_planes::light_pos(state);
             let mut keyed: Vec<(f32, &[Vec3; 6])> = light
@@ -201,7 +201,7 @@ impl Passes {
             let mut runs: Vec<(Range<u32>, bool)> = Vec::new();
             for (_, q) in keyed {
                 let start = verts.len() as u32;
-                verts.extend(mesh_quad(q, segments).iter().map(|p| p.to_array()));
+                verts.extend(PlaneVertex::on_quad(q, mesh_quad(q, segments)));
                 let end = verts.len() as u32;
                 let front = faces_eye(q, eye);
                 match runs.last_mut() {

@@ -161,16 +161,6 @@ fn fs_first_pass(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(textureLoad(surface, px, 0).rgb + ambient, 0.0);
 }
 
-struct PlaneFrag {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-};
-
-@vertex
-fn vs_plane(@location(0) p: vec3<f32>) -> PlaneFrag {
-    return PlaneFrag(camera.clip_from_world * vec4<f32>(p, 1.0), p);
-}
-
 fn plane_sign(front: bool, g: vec3<f32>) -> vec3<f32> {
     return select(g, select(-g, g, front), poly.signed_output == 1u);
 }
@@ -178,7 +168,7 @@ fn plane_sign(front: bool, g: vec3<f32>) -> vec3<f32> {
 // Shadow planes, per fragment: ±Γ at the plane point, on the pixel's own ray.
 @fragment
 fn fs_plane_frag(v: PlaneFrag, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let g = biri_gamma_frag(v.clip.xy, length(v.world - camera.position.xyz));
+    let g = biri_gamma_frag(v.clip.xy, plane_distance(v));
     return vec4<f32>(plane_sign(front, g), 0.0);
 }
 

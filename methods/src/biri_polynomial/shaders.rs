@@ -14,8 +14,9 @@ pub fn passes_source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN, wgsl::LIGHT_SEGMENTS]].concat(),
         &format!(
-            "{}\n{}\n{}\n{}\n{}\n{}\n{}",
+            "{}\n{}\n{}\n{}\n{}\n{}\n{}\n{}",
             KERNEL_WGSL,
+            crate::common::stencil::PLANE_WGSL,
             include_str!("passes.wgsl"),
             include_str!("spot.wgsl"),
             include_str!("spot_rays.wgsl"),

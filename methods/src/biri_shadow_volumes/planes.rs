@@ -14,7 +14,7 @@ use crate::common::gpu_scene::write_vertices;
 use crate::common::layouts::{dynamic_uniform, fragment_texture, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
-use crate::common::stencil::{DEPTH_STENCIL, PipelineBuilder};
+use crate::common::stencil::{DEPTH_STENCIL, PipelineBuilder, PlaneVertex};
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
@@ -36,8 +36,9 @@ pub fn source() -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
-            "{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
+            "{}\n{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
             wgsl::LDSS,
+            crate::common::stencil::PLANE_WGSL,
             crossing_lists::WGSL,
             crossing_lists::PASSES_WGSL
         ),
@@ -159,13 +160,13 @@ impl Planes {
             |l| 2.0 * (far + (l.position().unwrap_or(eye) - eye).length()) + 1.0,
             report,
         );
-        let mut verts: Vec<[f32; 3]> = Vec::new();
+        let mut verts: Vec<PlaneVertex> = Vec::new();
         self.ranges.clear();
         let mut eye_lit = 0u32;
         let mut slots = vec![0u8; SLOT as usize * MAX_LIGHTS];
         for (k, light) in planes.iter().enumerate() {
             let first = verts.len() as u32;
-            verts.extend(light.quads.iter().flat_map(|q| q.map(|p| p.to_array())));
+            verts.extend(light.quads.iter().flat_map(|q| PlaneVertex::on_quad(q, *q)));
             if light.eye_count == 0 {
                 eye_lit |= 1 << k;
             }

@@ -20,20 +20,10 @@ fn vs_scene(v: VertexIn) -> @builtin(position) @invariant vec4<f32> {
     return camera.clip_from_world * (objects[v.object].world_from_local * vec4<f32>(v.position, 1.0));
 }
 
-struct PlaneOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-};
-
-@vertex
-fn vs_plane(@location(0) p: vec3<f32>) -> PlaneOut {
-    return PlaneOut(camera.clip_from_world * vec4<f32>(p, 1.0), p);
-}
-
 @fragment
-fn fs_plane(v: PlaneOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+fn fs_plane(v: PlaneFrag, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, v.clip.xy);
-    let term = crossing_term(gamma_table, cfg.light.x, dir, length(v.world - camera.position.xyz), cfg.light.w);
+    let term = crossing_term(gamma_table, cfg.light.x, dir, plane_distance(v), cfg.light.w);
     return vec4<f32>(select(-term, term, front), 0.0);
 }
 
@@ -48,9 +38,9 @@ fn fs_surface(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 // eye to it, front faces added and back faces reverse-subtracted by the blend state, so the
 // eye's term cancels and each value is ≥ 0 as the paper's Fig. 7 shader outputs.
 @fragment
-fn fs_plane_full(v: PlaneOut) -> @location(0) vec4<f32> {
+fn fs_plane_full(v: PlaneFrag) -> @location(0) vec4<f32> {
     let dir = camera_ray_dir(camera, v.clip.xy);
-    let d = length(v.world - camera.position.xyz);
+    let d = plane_distance(v);
     return vec4<f32>(lit_between(gamma_table, cfg.light.x, dir, 0.0, d, cfg.light.w), 0.0);
 }
 

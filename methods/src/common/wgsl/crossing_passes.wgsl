@@ -1,27 +1,22 @@
-// The method side of the crossing lists (after PRELUDE and crossing_lists.wgsl): the count and
-// gather fragment entries of the shadow-plane draws, and the walk over a sorted list. The
-// planes' vertex stage must output the clip position and, at location 0, the world position.
+// The method side of the crossing lists (after PRELUDE, shadow_plane.wgsl and
+// crossing_lists.wgsl): the count and gather fragment entries of the shadow-plane draws
+// (`vs_plane`), and the walk over a sorted list.
 // The including module supplies `fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32>`:
 // the method's in-scatter of the lit interval [a, b] (distances from the eye) on pixel px's ray,
 // so each method keeps its own per-interval integral (biri-shadow-volumes: eq. 7 between two
 // distances; biri-polynomial: Γ(b) − Γ(a)).
 
-struct CrossingFrag {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-};
-
 // Pass 1: one count per plane fragment in front of the visible surface.
 @fragment
-fn fs_crossing_count(v: CrossingFrag) {
+fn fs_crossing_count(v: PlaneFrag) {
     crossing_count_fragment(vec2<u32>(v.clip.xy));
 }
 
 // Pass 3: the fragment's distance along the view ray, + front-facing (entering a shadow volume),
 // − back-facing (leaving one).
 @fragment
-fn fs_crossing_gather(v: CrossingFrag, @builtin(front_facing) front: bool) {
-    let d = length(v.world - camera.position.xyz);
+fn fs_crossing_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
+    let d = plane_distance(v);
     crossing_append(vec2<u32>(v.clip.xy), select(-d, d, front));
 }
 

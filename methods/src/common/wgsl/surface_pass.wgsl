@@ -94,7 +94,8 @@ struct Seen {
 fn seen(i: VsOut, front: bool) -> Seen {
     let o = objects[i.object];
     let to_eye = camera.position.xyz - i.world;
-    return Seen(i.world, facing_normal(i.normal, front, o), normalize(to_eye), o, length(to_eye));
+    let d = camera_surface_distance(camera, i.clip.xy, i.world);
+    return Seen(i.world, facing_normal(i.normal, front, o), normalize(to_eye), o, d);
 }
 
 @fragment
@@ -106,7 +107,8 @@ fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0)
 
 @fragment
 fn fs(i: VsOut, @builtin(front_facing) front: bool) -> FsOut {
-    let d = length(i.world - camera.position.xyz);
+    // On the pixel's own ray, whatever the adapter's sub-pixel precision.
+    let d = camera_surface_distance(camera, i.clip.xy, i.world);
     let l = shade(i.world, i.normal, front, objects[i.object]) * transmittance(medium, d);
     return FsOut(vec4<f32>(l, 1.0), vec4<f32>(d, 0.0, 0.0, 0.0));
 }
