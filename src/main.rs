@@ -43,6 +43,8 @@ enum Command {
     Stress(cmd::stress::StressArgs),
     /// Merge run directories (e.g. the shards of `run --shard i/n`) into one run with its report.
     Merge(cmd::merge::MergeArgs),
+    /// Runs of one work list on different adapters → compare.html and compare.json.
+    Compare(cmd::compare::CompareArgs),
     /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
     /// measured ratio) and the equal-error table.
     #[command(
@@ -74,6 +76,7 @@ fn main() -> ExitCode {
         Command::Run(a) => cmd::run::run(a),
         Command::Stress(a) => cmd::stress::run(a),
         Command::Merge(a) => cmd::merge::run(a),
+        Command::Compare(a) => cmd::compare::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a),
         Command::Scaling(a) => cmd::scaling::run(a),
         Command::Worker => cmd::worker::serve(),

@@ -1,6 +1,7 @@
 //! One module per subcommand: its arguments (clap) and a `run` that checks them and calls
 //! library code (ARCHITECTURE §8).
 
+pub mod compare;
 pub mod list;
 pub mod merge;
 pub mod pipe;
