@@ -5,7 +5,7 @@ window.addEventListener("error", function (e) { window.__pageErrors.push("error:
 window.addEventListener("unhandledrejection", function (e) { window.__pageErrors.push("unhandled rejection: " + e.reason); });
 (function () { var ce = console.error; console.error = function () { window.__pageErrors.push("console.error: " + Array.prototype.join.call(arguments, " ")); ce.apply(console, arguments); }; })();
 
-// A self-test's verdict as JSON in <pre id="selftest-result">, which `chromium --dump-dom`
+// A self-test's verdict as JSON in a pre element (id selftest-result), which `chromium --dump-dom`
 // prints for the browser tests; any error the page logged makes it a failure.
 function report(result) {
   result.pageErrors = window.__pageErrors.slice();
