@@ -234,11 +234,7 @@ fn json_and_page_state_the_tolerance_and_the_summary_names_the_changes() {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "scatterbench-compare-{name}-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
+    let d = harness::testing::temp_dir(&format!("compare-{name}"));
     std::fs::create_dir_all(&d).unwrap();
     d
 }
