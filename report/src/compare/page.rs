@@ -6,7 +6,7 @@ use anyhow::Result;
 use harness::method::Params;
 use serde::Serialize;
 
-use super::model::{Cell, Comparison, Pick, Row, SceneComparison};
+use super::model::{Cell, Comparison, Row, SceneComparison};
 use super::scene::pairs;
 use crate::format::{anchor, knobs_text, ms, rel, status_text};
 
@@ -105,6 +105,7 @@ struct FlagView {
     scene: String,
     anchor: String,
     name: String,
+    params: String,
     headlines: Vec<String>,
     difference: String,
     allowed: String,
@@ -114,14 +115,22 @@ struct FlagView {
 struct StatusView {
     scene: String,
     name: String,
+    params: String,
     statuses: Vec<String>,
 }
 
+/// The configurations of one scene that the same runs lack.
 #[derive(Serialize)]
 struct UnmatchedView {
     scene: String,
-    name: String,
     in_runs: String,
+    configs: Vec<Config>,
+}
+
+#[derive(Serialize)]
+struct Config {
+    method: String,
+    params: String,
 }
 
 /// A fraction as a percentage with three significant digits ("0.00400 %", "12.3 %").
@@ -187,15 +196,7 @@ fn view(c: &Comparison) -> View {
         changed: c.scenes.iter().filter(|s| s.changed.any()).count(),
         flags: flags(c),
         status: status(c),
-        unmatched: c
-            .not_in_every_run
-            .iter()
-            .map(|u| UnmatchedView {
-                scene: u.scene.clone(),
-                name: format!("{} ({})", u.method, knobs_text(&u.params)),
-                in_runs: u.in_runs.join(", "),
-            })
-            .collect(),
+        unmatched: unmatched(c),
         notes: c.notes.clone(),
         scenes,
         generator: format!("scatterbench compare {}", env!("CARGO_PKG_VERSION")),
@@ -219,59 +220,13 @@ fn run(r: &super::model::RunSummary) -> RunView {
 }
 
 fn scene(s: &SceneComparison, labels: &[String]) -> SceneView {
-    let several_pairs = labels.len() > 2;
-    let line = |run: usize, p: &Pick| VerdictLine {
-        run: labels[run].clone(),
-        text: name(&p.method, &p.params, &s.rows),
-        detail: match s.floor_ms[run] {
-            Some(f) => format!("{}× · {}", rel(p.time_ms / f), percent(p.error)),
-            None => format!("{} ms · {}", ms(p.time_ms), percent(p.error)),
-        },
-    };
-    let front = VerdictCell {
-        changed: s.changed.front,
-        lines: s
-            .verdicts
-            .iter()
-            .enumerate()
-            .map(|(i, v)| VerdictLine {
-                run: labels[i].clone(),
-                text: match v.front.is_empty() {
-                    true => "—".into(),
-                    false => v
-                        .front
-                        .iter()
-                        .map(|p| name(&p.method, &p.params, &s.rows))
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                },
-                detail: String::new(),
-            })
-            .collect(),
-    };
-    let budgets = (0..s.changed.budgets.len()).map(|b| VerdictCell {
-        changed: s.changed.budgets[b],
-        lines: s
-            .verdicts
-            .iter()
-            .enumerate()
-            .map(|(i, v)| match &v.budgets[b] {
-                Some(p) => line(i, p),
-                None => VerdictLine {
-                    run: labels[i].clone(),
-                    text: "none".into(),
-                    detail: String::new(),
-                },
-            })
-            .collect(),
-    });
     SceneView {
         name: s.scene.clone(),
         anchor: anchor(&s.scene),
         basis: if s.time_basis == "gpu" { "GPU" } else { "wall" },
         taus: pairs(labels.len())
             .zip(&s.tau)
-            .map(|((a, b), t)| match several_pairs {
+            .map(|((a, b), t)| match labels.len() > 2 {
                 true => format!("{}–{} {}", labels[a], labels[b], tau_text(t.tau)),
                 false => tau_text(t.tau),
             })
@@ -282,9 +237,58 @@ fn scene(s: &SceneComparison, labels: &[String]) -> SceneView {
             .zip(labels)
             .map(|(f, l)| format!("{l} {}", opt(*f, |f| format!("{} ms", ms(f)))))
             .collect(),
-        verdicts: std::iter::once(front).chain(budgets).collect(),
+        verdicts: verdict_cells(s, labels),
         rows: s.rows.iter().map(|r| row(r, &s.rows)).collect(),
     }
+}
+
+/// The front, then the winner of each budget: one line per run.
+fn verdict_cells(s: &SceneComparison, labels: &[String]) -> Vec<VerdictCell> {
+    let line = |run: usize, text: String, detail: String| VerdictLine {
+        run: labels[run].clone(),
+        text,
+        detail,
+    };
+    let front = |run: usize| {
+        let names: Vec<String> = s.verdicts[run]
+            .front
+            .iter()
+            .map(|p| name(&p.method, &p.params, &s.rows))
+            .collect();
+        let text = if names.is_empty() {
+            "—".into()
+        } else {
+            names.join(", ")
+        };
+        line(run, text, String::new())
+    };
+    let winner = |run: usize, b: usize| match &s.verdicts[run].budgets[b] {
+        None => line(run, "none".into(), String::new()),
+        Some(p) => line(
+            run,
+            name(&p.method, &p.params, &s.rows),
+            match s.floor_ms[run] {
+                Some(f) => format!("{}× · {}", rel(p.time_ms / f), percent(p.error)),
+                None => format!("{} ms · {}", ms(p.time_ms), percent(p.error)),
+            },
+        ),
+    };
+    let runs = 0..labels.len();
+    let mut cells = vec![VerdictCell {
+        changed: s.changed.front,
+        lines: runs.clone().map(front).collect(),
+    }];
+    cells.extend(
+        s.changed
+            .budgets
+            .iter()
+            .enumerate()
+            .map(|(b, &changed)| VerdictCell {
+                changed,
+                lines: runs.clone().map(|run| winner(run, b)).collect(),
+            }),
+    );
+    cells
 }
 
 fn row(r: &Row, rows: &[Row]) -> RowView {
@@ -311,13 +315,24 @@ fn cell(c: &Cell) -> CellView {
     }
 }
 
+/// A configuration's name in a list of `scene`'s configurations (see [`name`]).
+fn name_in(c: &Comparison, scene: &str, method: &str, params: &Params) -> String {
+    let rows = c
+        .scenes
+        .iter()
+        .find(|s| s.scene == scene)
+        .map(|s| &s.rows[..]);
+    name(method, params, rows.unwrap_or_default())
+}
+
 fn flags(c: &Comparison) -> Vec<FlagView> {
     c.headline_flags
         .iter()
         .map(|f| FlagView {
             anchor: anchor(&f.scene),
             scene: f.scene.clone(),
-            name: format!("{} ({})", f.method, knobs_text(&f.params)),
+            name: name_in(c, &f.scene, &f.method, &f.params),
+            params: knobs_text(&f.params),
             headlines: f.headlines.iter().map(|h| opt(*h, percent)).collect(),
             difference: percent(f.difference),
             allowed: percent(f.allowed),
@@ -330,7 +345,8 @@ fn status(c: &Comparison) -> Vec<StatusView> {
         .iter()
         .map(|s| StatusView {
             scene: s.scene.clone(),
-            name: format!("{} ({})", s.method, knobs_text(&s.params)),
+            name: name_in(c, &s.scene, &s.method, &s.params),
+            params: knobs_text(&s.params),
             statuses: s
                 .statuses
                 .iter()
@@ -342,4 +358,28 @@ fn status(c: &Comparison) -> Vec<StatusView> {
                 .collect(),
         })
         .collect()
+}
+
+/// The work some run lacks, one line per scene and set of runs that have it.
+fn unmatched(c: &Comparison) -> Vec<UnmatchedView> {
+    let mut out: Vec<UnmatchedView> = Vec::new();
+    for u in &c.not_in_every_run {
+        let in_runs = u.in_runs.join(", ");
+        let config = Config {
+            method: u.method.clone(),
+            params: knobs_text(&u.params),
+        };
+        match out
+            .iter_mut()
+            .find(|v| v.scene == u.scene && v.in_runs == in_runs)
+        {
+            Some(v) => v.configs.push(config),
+            None => out.push(UnmatchedView {
+                scene: u.scene.clone(),
+                in_runs,
+                configs: vec![config],
+            }),
+        }
+    }
+    out
 }

@@ -18,7 +18,7 @@ fn m(time_ms: f64, headline: f64) -> Option<Measured> {
 type Spec<'a> = [(&'a str, &'a str, Option<Measured>)];
 
 fn results(adapter: &str, spec: &Spec) -> Results {
-    let mut r = run(adapter, 64);
+    let mut r = run(adapter, 128);
     let none = Params::new();
     for (scene, method, measured) in spec {
         r.records.push(record(scene, method, &none, *measured));
@@ -193,6 +193,18 @@ fn work_in_one_run_only_and_status_changes_are_listed() {
     assert!(c.notes.is_empty(), "{:?}", c.notes);
 }
 
+/// Below 128 px edge rasterisation alone exceeds the tolerance: the comparison says so.
+#[test]
+fn a_comparison_below_128_px_warns_that_flags_may_be_rasterisation() {
+    let mut runs = pair();
+    for r in &mut runs {
+        r.results.run.resolution = [64, 64];
+    }
+    let c = compare(&runs);
+    assert_eq!(c.notes.len(), 1, "{:?}", c.notes);
+    assert!(c.notes[0].contains("at 64 px high") && c.notes[0].contains("128 px"));
+}
+
 #[test]
 fn json_and_page_state_the_tolerance_and_the_summary_names_the_changes() {
     let c = compare(&pair());
@@ -259,13 +271,13 @@ fn runs_of_different_work_are_refused_and_unreadable_files_fail() {
     assert_eq!(loaded[1].label, "B");
 
     let mut other = rb.clone();
-    other.run.resolution = [128, 128];
+    other.run.resolution = [256, 256];
     std::fs::create_dir_all(&c).unwrap();
     save(&c, &other);
     match load(&[a.clone(), c.clone()]) {
         Err(CompareError::Refused(m)) => {
             assert!(
-                m.contains("resolution") && m.contains("64x64") && m.contains("128x128"),
+                m.contains("resolution") && m.contains("128x128") && m.contains("256x256"),
                 "{m}"
             )
         }
