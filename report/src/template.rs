@@ -1,12 +1,14 @@
 //! The compiled-in templates and the one minijinja environment every page renders through:
-//! the report (`index.html`), the comparison (`compare.html`), and what both inline — the
-//! shared style (`base.css`) and the self-check script (`selfcheck.js`: error capture, the
-//! `#layout` check, the JSON verdict the browser tests read).
+//! the report (`index.html`) and the comparison (`compare.html`) both extend `page.html`,
+//! which inlines what they share — the style (`base.css`) and the self-check script
+//! (`selfcheck.js`: error capture, the `#layout` check, the JSON verdict the browser tests
+//! read).
 
 use anyhow::{Result, anyhow};
 use serde::Serialize;
 
-const TEMPLATES: [(&str, &str); 4] = [
+const TEMPLATES: [(&str, &str); 5] = [
+    ("page.html", include_str!("../templates/page.html")),
     ("index.html", include_str!("../templates/index.html")),
     ("compare.html", include_str!("../templates/compare.html")),
     ("base.css", include_str!("../templates/base.css")),
