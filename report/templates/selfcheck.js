@@ -28,19 +28,26 @@ function describe(el) {
   return el.tagName.toLowerCase() + (el.id ? "#" + el.id : "") + (el.className && typeof el.className === "string" ? "." + el.className.trim().split(/\s+/).join(".") : "");
 }
 // #layout: does the page fit the window without scrolling sideways? Lists the elements that
-// stick out (outermost first) and counts the selectors named in <body data-selfcheck="…">.
+// stick out (outermost first), the boxes that scroll sideways inside the page (named by their
+// first child), and counts the selectors named in <body data-selfcheck="…">.
 function layoutCheck() {
   var de = document.documentElement, width = de.clientWidth, out = [];
   document.querySelectorAll("body *").forEach(function (el) {
     var r = el.getBoundingClientRect();
     if (r.right > width + 0.5 && out.length < 12 && !clipped(el)) out.push(describe(el) + " right " + Math.round(r.right));
   });
+  // Boxes that scroll inside the page (allowed where a table cannot fit, but listed).
+  var scrolling = [];
+  document.querySelectorAll("body *").forEach(function (el) {
+    var o = getComputedStyle(el).overflowX;
+    if ((o === "auto" || o === "scroll") && el.scrollWidth > el.clientWidth) scrolling.push(describe(el.firstElementChild || el));
+  });
   var counts = {};
   (document.body.dataset.selfcheck || "").split(",").filter(Boolean).forEach(function (s) { counts[s] = document.querySelectorAll(s).length; });
   return {
     scrollWidth: de.scrollWidth, clientWidth: width, innerWidth: window.innerWidth,
     fits: de.scrollWidth <= width && de.scrollWidth <= window.innerWidth,
-    overflowing: out, counts: counts
+    overflowing: out, scrolling: scrolling, counts: counts
   };
 }
 if (location.hash === "#layout") window.addEventListener("load", function () {

@@ -319,6 +319,14 @@ fn the_report_of_every_scene_and_method_fits_a_1280_px_window() {
     assert_eq!(counts["table.records"], scenes.len(), "{t:#}");
     assert_eq!(counts["table.matrix"], 1, "{t:#}");
     assert!(counts["table.verdicts"].as_u64() >= Some(1), "{t:#}");
+    // The matrix fits without scrolling inside its box either.
+    let scrolling = t["layout"]["scrolling"].as_array().expect("scrolling");
+    assert!(
+        !scrolling
+            .iter()
+            .any(|s| s.as_str().unwrap().contains("matrix")),
+        "{t:#}"
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 
