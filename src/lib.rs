@@ -60,6 +60,8 @@ enum Command {
     /// non-finite pixel, error within the method's declared bound, or a clean "unsupported").
     #[command(mut_arg("res", |a| a.default_value("64")))]
     Stress(cmd::stress::StressArgs),
+    /// Runs of one work list on different adapters → compare.html and compare.json.
+    Compare(cmd::compare::CompareArgs),
     /// Merge run directories (e.g. the shards of `run --shard i/n`) into one run with its report.
     Merge(cmd::merge::MergeArgs),
     /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
@@ -104,6 +106,7 @@ pub fn main_with(registry: Registry) -> ExitCode {
         Command::Run(a) => cmd::run::run(a, registry),
         Command::Stress(a) => cmd::stress::run(a, registry),
         Command::Merge(a) => cmd::merge::run(a),
+        Command::Compare(a) => cmd::compare::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a, registry),
         Command::Scaling(a) => cmd::scaling::run(a, registry),
         Command::Worker => cmd::worker::serve(registry),

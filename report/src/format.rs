@@ -13,7 +13,12 @@ pub struct PlotLinks {
 
 /// The record's parameters as `k=v k=v`, sorted by knob name.
 pub fn params_text(r: &Record) -> String {
-    let p: Vec<String> = r.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    knobs_text(&r.params)
+}
+
+/// Parameters as `k=v k=v`, sorted by knob name; "(none)" for none.
+pub fn knobs_text(params: &harness::method::Params) -> String {
+    let p: Vec<String> = params.iter().map(|(k, v)| format!("{k}={v}")).collect();
     if p.is_empty() {
         "(none)".into()
     } else {

@@ -26,6 +26,7 @@
 //! DOM (tests/browser.rs reads it through headless Chromium).
 
 pub mod analysis;
+pub mod compare;
 pub mod fit;
 pub mod fixture;
 pub mod format;
@@ -37,6 +38,7 @@ pub mod page;
 pub mod plot;
 pub mod scaling;
 pub mod stability;
+pub mod template;
 pub mod verdict;
 pub mod view;
 pub mod viewer;
@@ -48,12 +50,11 @@ use harness::results::Results;
 
 use crate::metric::Metric;
 
-const TEMPLATE: &str = include_str!("../templates/index.html");
 /// The page's script: viewer, metric switch, self-test (inlined into the page).
 const SCRIPT: &str = include_str!("../templates/viewer.js");
 
 /// Reads results.json and the optional fields newer than [`Results`] (see [`metric`]).
-fn load(results_path: &Path) -> Result<(Results, Option<String>)> {
+pub(crate) fn load(results_path: &Path) -> Result<(Results, Option<String>)> {
     let mut results = Results::load(results_path).map_err(|e| anyhow!(e))?;
     let text = std::fs::read_to_string(results_path)
         .with_context(|| format!("reading {}", results_path.display()))?;
@@ -203,11 +204,5 @@ fn scene_plot(
 
 /// Renders the page model through the compiled-in template.
 pub fn render(page: &page::Page) -> Result<String> {
-    let mut env = minijinja::Environment::new();
-    // The ".html" name turns on HTML auto-escaping of every interpolated value.
-    env.add_template("index.html", TEMPLATE)
-        .map_err(|e| anyhow!("report template: {e:#}"))?;
-    env.get_template("index.html")
-        .and_then(|t| t.render(minijinja::context! { page => page }))
-        .map_err(|e| anyhow!("rendering the report: {e:#}"))
+    template::render("index.html", page)
 }

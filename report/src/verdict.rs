@@ -91,7 +91,8 @@ fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
     }
 }
 
-fn pct(b: f64) -> String {
+/// An error budget as the page names it ("5 %").
+pub fn pct(b: f64) -> String {
     format!("{:.0} %", b * 100.0)
 }
 

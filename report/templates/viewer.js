@@ -214,14 +214,6 @@ function setup() {
 }
 
 // ---- self-test: drives the first viewer like a user and writes a JSON verdict into the DOM ----
-function report(result) {
-  result.pageErrors = window.__pageErrors.slice();
-  if (result.pageErrors.length) { result.ok = false; }
-  var pre = document.createElement("pre");
-  pre.id = "selftest-result";
-  pre.textContent = JSON.stringify(result);
-  document.body.appendChild(pre);
-}
 function openTiming() {
   var t = performance.timing;
   return { domContentLoaded: t.domContentLoadedEventEnd - t.navigationStart, load: t.loadEventEnd - t.navigationStart };

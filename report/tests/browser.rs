@@ -1,5 +1,7 @@
-//! The report in a real browser: headless Chromium opens the page built from the synthetic
-//! fixture run with `#selftest=X,Y`; the page's self-test drives the first scene's viewer
+//! The pages in a real browser (headless Chromium, `--dump-dom`).
+//!
+//! The viewer: the page built from the synthetic fixture run is opened with `#selftest=X,Y`;
+//! the page's self-test drives the first scene's viewer
 //! through its real event handlers (wheel and `+` zoom at the pixel, key `1` to a method,
 //! `F` to flip back, `E` for the error map), reads the pixel out and writes a JSON verdict
 //! into the DOM, which `--dump-dom` prints. This test then checks that verdict against the
@@ -7,26 +9,45 @@
 //! the stated half-float precision, the displayed colour is the harness tone map of that
 //! value, the flips change what is shown, and the page logged no error.
 //!
-//! Chromium is Debian's `chromium` (scripts/test.sh installs it). Without it the test is
-//! skipped with a message — except when `CI` is set, where it fails.
+//! The layout: the report of a run with every library scene and every registered method
+//! (generated, the widest a default run can be) and the compare page of two such runs, opened
+//! with `#layout` in a 1280 px window, must not scroll sideways (the shared self-check script
+//! measures `scrollWidth` against the window and names what sticks out).
+//!
+//! Chromium is Debian's `chromium` (scripts/test.sh installs it). Without it the tests are
+//! skipped with a message — except when `CI` is set, where they fail.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use harness::image::io::read_exr;
 use harness::image::metrics::{ToneMap, quantize_u8};
-use harness::results::Status;
+use harness::results::{Results, Status};
+use report::fixture::{self, synthetic};
 use serde_json::Value;
 
 const FIXTURE: &str = include_str!("fixtures/results.json");
+/// Every registered method id, as `scatterbench list --json` gives them (the root crate's
+/// tests/compare.rs fails when the registry and this list part).
+const METHOD_IDS: &str = include_str!("fixtures/method-ids.txt");
+/// The window width the pages must fit (the `--window-size` of [`dump_dom`]).
+const WINDOW: u64 = 1280;
 /// The pixel the self-test reads: inside the fixture's glow, so the values are not zero.
 const PIXEL: (u32, u32) = (13, 9);
 
+/// Chromium, or None (with a message) when it is not installed and CI is not set.
 fn chromium() -> Option<PathBuf> {
-    ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
+    let found = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
         .iter()
         .map(PathBuf::from)
-        .find(|p| p.is_file())
+        .find(|p| p.is_file());
+    if found.is_none() {
+        if std::env::var_os("CI").is_some() {
+            panic!("CI is set and chromium is not installed: run scripts/test.sh (it installs it)");
+        }
+        eprintln!("browser test skipped: chromium is not installed (apt-get install -y chromium)");
+    }
+    found
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -69,6 +90,17 @@ fn dump_dom(chromium: &Path, url: &str, profile: &Path) -> (String, String) {
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
+}
+
+/// The page logged no error (its own record, and Chromium's console on stderr).
+fn assert_no_errors(t: &Value, stderr: &str) {
+    assert_eq!(t["pageErrors"], serde_json::json!([]), "page errors: {t:#}");
+    for line in stderr.lines() {
+        assert!(
+            !(line.contains("CONSOLE") && (line.contains("Uncaught") || line.contains("Error"))),
+            "console error: {line}"
+        );
+    }
 }
 
 /// The self-test's JSON from the dumped DOM (text content is HTML-escaped there).
@@ -123,10 +155,6 @@ fn assert_displayed(what: &str, got: [u8; 3], tone: &ToneMap, exr: [f32; 3]) {
 #[test]
 fn viewer_flips_zooms_and_reads_out_the_exr_value() {
     let Some(chromium) = chromium() else {
-        if std::env::var_os("CI").is_some() {
-            panic!("CI is set and chromium is not installed: run scripts/test.sh (it installs it)");
-        }
-        eprintln!("browser test skipped: chromium is not installed (apt-get install -y chromium)");
         return;
     };
     let dir = tmp("viewer");
@@ -143,13 +171,7 @@ fn viewer_flips_zooms_and_reads_out_the_exr_value() {
     let t = selftest_json(&dom);
 
     assert_eq!(t["ok"], Value::Bool(true), "self-test failed: {t:#}");
-    assert_eq!(t["pageErrors"], serde_json::json!([]), "page errors: {t:#}");
-    for line in stderr.lines() {
-        assert!(
-            !(line.contains("CONSOLE") && (line.contains("Uncaught") || line.contains("Error"))),
-            "console error: {line}"
-        );
-    }
+    assert_no_errors(&t, &stderr);
     assert_eq!(t["pixel"]["x"], PIXEL.0);
     assert_eq!(t["pixel"]["y"], PIXEL.1);
     // 32² in a 512² canvas fits at 16×; one wheel notch and one `+` make 64×.
@@ -234,4 +256,139 @@ fn viewer_flips_zooms_and_reads_out_the_exr_value() {
             .contains(&format!("pixel ({}, {})", PIXEL.0, PIXEL.1))
     );
     let _ = std::fs::remove_dir_all(dir);
+}
+
+fn method_ids() -> Vec<&'static str> {
+    METHOD_IDS.lines().filter(|l| !l.is_empty()).collect()
+}
+
+/// Opens `page` with `#layout` and returns the page's layout verdict, having checked that the
+/// page logged no error and that the window is [`WINDOW`] wide.
+fn layout(chromium: &Path, page: &Path, profile: &Path) -> Value {
+    let url = format!("file://{}#layout", page.display());
+    let (dom, stderr) = dump_dom(chromium, &url, profile);
+    let t = selftest_json(&dom);
+    assert_no_errors(&t, &stderr);
+    assert_eq!(t["layout"]["innerWidth"], WINDOW, "{t:#}");
+    t
+}
+
+/// No horizontal scroll: the document is no wider than the window's content area.
+fn assert_fits(t: &Value) {
+    let l = &t["layout"];
+    let width = |k: &str| l[k].as_u64().unwrap_or_else(|| panic!("{k} in {t:#}"));
+    let (scroll, client) = (width("scrollWidth"), width("clientWidth"));
+    assert!(
+        scroll <= client && scroll <= WINDOW,
+        "the page scrolls sideways in a {WINDOW} px window: scrollWidth {scroll} > {client}; \
+         sticking out: {}",
+        l["overflowing"]
+    );
+    assert_eq!(t["ok"], Value::Bool(true), "{t:#}");
+}
+
+fn widest(adapter: &str) -> Results {
+    synthetic::widest(adapter, &scenes::library::names(), &method_ids())
+}
+
+#[test]
+fn the_report_of_every_scene_and_method_fits_a_1280_px_window() {
+    let Some(chromium) = chromium() else {
+        return;
+    };
+    let scenes = scenes::library::names();
+    let dir = tmp("widest");
+    let run = widest("llvmpipe (LLVM 15.0.6, 256 bits)");
+    fixture::write_results(&dir, &run).expect("fixture");
+    // The run is as wide as promised: the first scene's front lists every ok method.
+    let tables = report::verdict::tables(&run, &[report::metric::Metric::Verdict]);
+    let ok = |s: &str| {
+        run.records
+            .iter()
+            .filter(|r| r.scene == s && r.status == Status::Ok)
+            .count()
+    };
+    assert_eq!(tables[0].rows[0].front.len(), ok(scenes[0]));
+    assert!(method_ids().len() >= 11 && scenes.len() >= 14);
+
+    let index = report::generate(&dir).expect("report");
+    let t = layout(&chromium, &index, &dir.join("chromium-profile"));
+    assert_fits(&t);
+    let counts = &t["layout"]["counts"];
+    assert_eq!(counts["section.scene"], scenes.len(), "{t:#}");
+    assert_eq!(counts["table.records"], scenes.len(), "{t:#}");
+    assert_eq!(counts["table.matrix"], 1, "{t:#}");
+    assert!(counts["table.verdicts"].as_u64() >= Some(1), "{t:#}");
+    // The matrix fits without scrolling inside its box either.
+    let scrolling = t["layout"]["scrolling"].as_array().expect("scrolling");
+    assert!(
+        !scrolling
+            .iter()
+            .any(|s| s.as_str().unwrap().contains("matrix")),
+        "{t:#}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Two runs of every scene × method: B is 5× slower, its order reversed on the first scene,
+/// and the longest-named method's error 30× larger on the second (which changes that
+/// scene's verdict). The page must fit and show exactly the changes the comparison found.
+#[test]
+fn the_compare_page_of_every_scene_and_method_fits_and_marks_the_changes() {
+    let Some(chromium) = chromium() else {
+        return;
+    };
+    let scenes = scenes::library::names();
+    let root = tmp("compare");
+    let a = widest("llvmpipe (LLVM 15.0.6, 256 bits)");
+    let mut b = widest("SwiftShader Device (Subzero) (0x0000C0DE)");
+    let longest = method_ids().into_iter().max_by_key(|m| m.len()).unwrap();
+    for r in &mut b.records {
+        let reverse = r.scene == scenes[0];
+        if let Some(t) = r.timing.as_mut() {
+            for stat in [Some(&mut t.wall_ms), t.gpu_ms.as_mut()]
+                .into_iter()
+                .flatten()
+            {
+                stat.median = if reverse {
+                    10_000.0 - stat.median
+                } else {
+                    5.0 * stat.median
+                };
+            }
+        }
+        if r.scene == scenes[1] && r.method == longest {
+            let e = r.errors.get_mut("inscatter").unwrap();
+            e.headline = e.headline.map(|h| 30.0 * h);
+        }
+    }
+    let dirs = [root.join("a"), root.join("b")];
+    for (dir, run) in dirs.iter().zip([&a, &b]) {
+        std::fs::create_dir_all(dir).unwrap();
+        run.save(&dir.join("results.json")).unwrap();
+    }
+    let runs = report::compare::load(&dirs).expect("same work");
+    let c = report::compare::compare(&runs);
+    assert_eq!(c.scenes[0].tau[0].tau, Some(-1.0));
+    assert_eq!(c.scenes[2].tau[0].tau, Some(1.0));
+    assert_eq!(c.headline_flags.len(), 1);
+    assert!(c.scenes[1].changed.any());
+    let written = report::compare::write(&root.join("out"), &c).expect("written");
+
+    let t = layout(&chromium, &written.html, &root.join("chromium-profile"));
+    assert_fits(&t);
+    let counts = &t["layout"]["counts"];
+    let changed: usize = c
+        .scenes
+        .iter()
+        .map(|s| usize::from(s.changed.front) + s.changed.budgets.iter().filter(|&&b| b).count())
+        .sum();
+    assert!(changed > 0);
+    assert_eq!(counts["td.changed"], changed, "{t:#}");
+    // The flagged record: once in the flag table, once in its scene's table.
+    assert_eq!(counts["tr.differ"], 2, "{t:#}");
+    assert_eq!(counts["section.scene"], scenes.len(), "{t:#}");
+    // Runs, τ, verdicts, flags, and one table per scene.
+    assert_eq!(counts["table"], 4 + scenes.len(), "{t:#}");
+    let _ = std::fs::remove_dir_all(root);
 }

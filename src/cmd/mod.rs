@@ -2,6 +2,7 @@
 //! library code (ARCHITECTURE §8).
 
 pub mod adapters;
+pub mod compare;
 pub mod device;
 pub mod list;
 pub mod merge;
