@@ -17,16 +17,12 @@ mod args;
 pub mod bench;
 mod cmd;
 mod progress;
+mod registry;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use harness::method::Method;
-
-/// The methods a command line serves: the built-in `methods::REGISTRY`, or a crate's own list
-/// (usually the built-in ones plus its methods). Entries are `'static` because work lists,
-/// plans and workers hold them for a whole command; a method is a unit struct in a `static`.
-pub type Registry<'r> = &'r [&'static dyn Method];
+pub use registry::Registry;
 
 #[derive(Parser)]
 #[command(

@@ -218,8 +218,8 @@ fn truncate(p: &Path) {
     std::fs::write(p, &bytes[..bytes.len() / 2]).unwrap();
 }
 
-/// A cached reference whose EXR was truncated is not trusted: it is recomputed, the images
-/// equal a fresh render, and the entry is whole again afterwards.
+/// A cached reference whose images file was truncated is not trusted: it is recomputed, the
+/// images equal a fresh render, and the entry is whole again afterwards.
 #[test]
 fn a_corrupt_cache_entry_is_recomputed_not_trusted() {
     let scene = scenes::library::resolve("sphere-point").unwrap();
@@ -230,29 +230,27 @@ fn a_corrupt_cache_entry_is_recomputed_not_trusted() {
     let (_, cached) = cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
     assert!(cached, "a whole entry is used");
     let key = cache::key(&scene, 0, w, h, &s);
-    for file in ["inscatter.exr", "total.exr", "distance.exr"] {
-        truncate(&dir.join(&key).join(file));
-        assert!(
-            cache::load(&dir, &key).is_none(),
-            "{file} truncated but the entry loads"
-        );
-        let (again, cached) =
-            cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
-        assert!(!cached, "{file} truncated but the entry was trusted");
-        let fresh = reference::render(&scene, 0, w, h, s, &|_| {}).unwrap();
-        for (a, b) in [
-            (&again.inscatter, &fresh.inscatter),
-            (&again.total, &fresh.total),
-            (&again.surface, &fresh.surface),
-        ] {
-            assert_eq!(a.pixels, b.pixels);
-        }
-        assert_eq!(again.total.pixels, first.total.pixels);
-        assert!(
-            cache::load(&dir, &key).is_some(),
-            "the entry is rewritten whole"
-        );
+    let file = "images.sbref";
+    truncate(&dir.join(&key).join(file));
+    assert!(
+        cache::load(&dir, &key).is_none(),
+        "{file} truncated but the entry loads"
+    );
+    let (again, cached) = cache::render_cached(Some(&dir), &scene, 0, w, h, s, &|_| {}).unwrap();
+    assert!(!cached, "{file} truncated but the entry was trusted");
+    let fresh = reference::render(&scene, 0, w, h, s, &|_| {}).unwrap();
+    for (a, b) in [
+        (&again.inscatter, &fresh.inscatter),
+        (&again.total, &fresh.total),
+        (&again.surface, &fresh.surface),
+    ] {
+        assert_eq!(a.pixels, b.pixels);
     }
+    assert_eq!(again.total.pixels, first.total.pixels);
+    assert!(
+        cache::load(&dir, &key).is_some(),
+        "the entry is rewritten whole"
+    );
     // Garbage in stats.json: not trusted either.
     std::fs::write(dir.join(&key).join("stats.json"), "{not json").unwrap();
     assert!(cache::load(&dir, &key).is_none());

@@ -23,6 +23,15 @@ pub const NO_EXTRA_DRIVERS_ENV: &str = "SCATTERBENCH_NO_EXTRA_DRIVERS";
 const ADAPTER_ENV: &str = "WGPU_ADAPTER_NAME";
 const VALIDATION_ENV: &str = "WGPU_VALIDATION";
 
+/// The fix to print when no adapter is found.
+pub const NO_ADAPTER_HELP: &str = "no GPU adapter found. On a machine without a GPU install Mesa's software Vulkan driver \
+(lavapipe): `apt-get install -y mesa-vulkan-drivers` (Debian/Ubuntu). WGPU_BACKEND=vulkan|gl and --adapter <substring> \
+(or WGPU_ADAPTER_NAME) select an adapter; `scatterbench adapters` lists them.";
+
+/// The fix to print when validation was asked for and the layer is absent.
+pub const VALIDATION_HELP: &str = "validation was asked for (--validate or WGPU_VALIDATION=1) but the Khronos validation \
+layer (VK_LAYER_KHRONOS_validation) is not installed: `apt-get install -y vulkan-validationlayers` (Debian/Ubuntu).";
+
 /// The adapter and validation a process renders with.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct DeviceChoice {
@@ -147,7 +156,7 @@ fn rank(i: &wgpu::AdapterInfo) -> (u8, u8, u8) {
 /// The error lists the adapters found.
 pub fn choose(ranked: Vec<wgpu::Adapter>, name: Option<&str>) -> Result<wgpu::Adapter, String> {
     if ranked.is_empty() {
-        return Err(super::NO_ADAPTER_HELP.to_string());
+        return Err(NO_ADAPTER_HELP.to_string());
     }
     let Some(name) = name else {
         return Ok(ranked.into_iter().next().expect("non-empty"));

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
-use super::adapters::{self, DeviceChoice};
+use super::adapters::{self, DeviceChoice, VALIDATION_HELP};
 use super::mapping;
 use super::stats::{Counted, FrameWork, PassCounter};
 use super::validation;
@@ -62,15 +62,6 @@ pub struct Gpu {
     /// Pipeline-statistics queries of the current frame (counts nothing without the feature).
     counter: PassCounter,
 }
-
-/// The fix to print when no adapter is found.
-pub const NO_ADAPTER_HELP: &str = "no GPU adapter found. On a machine without a GPU install Mesa's software Vulkan driver \
-(lavapipe): `apt-get install -y mesa-vulkan-drivers` (Debian/Ubuntu). WGPU_BACKEND=vulkan|gl and --adapter <substring> \
-(or WGPU_ADAPTER_NAME) select an adapter; `scatterbench adapters` lists them.";
-
-/// The fix to print when validation was asked for and the layer is absent.
-pub const VALIDATION_HELP: &str = "validation was asked for (--validate or WGPU_VALIDATION=1) but the Khronos validation \
-layer (VK_LAYER_KHRONOS_validation) is not installed: `apt-get install -y vulkan-validationlayers` (Debian/Ubuntu).";
 
 impl Gpu {
     /// Creates the device on the adapter `WGPU_ADAPTER_NAME` names (or the best one), with the

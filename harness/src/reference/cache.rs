@@ -140,3 +140,42 @@ pub fn render_cached(
     }
     Ok((r, false))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An entry of the first format (four EXRs, the distance in R) still loads, unchanged.
+    #[test]
+    fn entries_of_the_exr_format_still_load() {
+        let dir = crate::testing::temp_dir("cache-exr-format");
+        let e = entry(&dir, "k");
+        std::fs::create_dir_all(&e).unwrap();
+        let img = |k: f32| Image {
+            width: 3,
+            height: 2,
+            pixels: (0..6).map(|i| [k + i as f32, 2.0 * k, 0.5]).collect(),
+        };
+        for (name, k) in [
+            ("inscatter", 1.0),
+            ("surface", 2.0),
+            ("total", 3.0),
+            ("distance", 7.0),
+        ] {
+            io::write_exr(&e.join(format!("{name}.exr")), &img(k)).unwrap();
+        }
+        std::fs::write(
+            e.join("stats.json"),
+            "{\"seconds\": 1.5, \"settings\": null, \"threads\": 2}",
+        )
+        .unwrap();
+        let r = load(&dir, "k").expect("the old entry loads");
+        assert_eq!(r.inscatter.pixels, img(1.0).pixels);
+        assert_eq!(r.total.pixels, img(3.0).pixels);
+        assert_eq!(
+            r.distance,
+            (0..6).map(|i| 7.0 + i as f32).collect::<Vec<_>>()
+        );
+        assert_eq!(r.stats.seconds, 1.5);
+    }
+}
