@@ -47,7 +47,7 @@ cp -r scenes/library "$out/scenes"
 cp scripts/bundle/run.sh "$out/run.sh"
 cp scripts/bundle/README.md "$out/README.md"
 chmod +x "$out/run.sh"
-git rev-parse HEAD >"$out/COMMIT" 2>/dev/null || echo unknown >"$out/COMMIT"
+git describe --always --dirty --abbrev=12 >"$out/COMMIT" 2>/dev/null || echo unknown >"$out/COMMIT"
 
 copy=()
 [ -d "$cache_from" ] && copy=(--copy-from "$cache_from")

@@ -333,8 +333,14 @@ impl Machine {
     }
 }
 
-/// The current git commit, or "unknown" outside a checkout.
+/// The commit `SCATTERBENCH_COMMIT` names, else the working directory's git commit, or "unknown"
+/// outside a checkout.
 pub fn git_commit() -> String {
+    if let Ok(c) = std::env::var(COMMIT_ENV)
+        && !c.trim().is_empty()
+    {
+        return c.trim().to_string();
+    }
     std::process::Command::new("git")
         .args(["rev-parse", "--short=12", "HEAD"])
         .output()
@@ -343,6 +349,10 @@ pub fn git_commit() -> String {
         .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
         .unwrap_or_else(|| "unknown".into())
 }
+
+/// Names the commit a binary was built from where the working directory cannot (a bundle run
+/// elsewhere: its run.sh sets it from the bundle's COMMIT file).
+pub const COMMIT_ENV: &str = "SCATTERBENCH_COMMIT";
 
 /// A UTC timestamp usable as a directory name: 2026-11-22T08-30-05Z.
 pub fn run_id_now() -> String {

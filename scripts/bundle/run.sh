@@ -30,6 +30,9 @@ if [ -z "$adapter" ]; then
         exit 1
     }
 fi
+# The commit the binary was built from (results.json's run.git_commit), not the working
+# directory's.
+export SCATTERBENCH_COMMIT="$(cat "$here/COMMIT" 2>/dev/null || echo unknown)"
 [ -n "$out" ] || out="$here/results/$(date -u +%Y-%m-%dT%H-%M-%SZ)-${res}"
 "$bin" run --scenes "$scenes" --methods "$methods" --res "$res" --adapter "$adapter" \
     --cache "$here/cache" --out "$out" "${rest[@]}"
