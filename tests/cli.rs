@@ -2,25 +2,11 @@
 //! message naming the argument, the value and what is allowed, before any work starts; and
 //! every command accepts every scene name (library name, `-sub<L>` variant, or file).
 
-use std::process::Command;
-
 use harness::results::{Results, Status};
 use harness::testing::{gpu_or_skip, temp_dir};
 
-const BIN: &str = env!("CARGO_BIN_EXE_scatterbench");
-
-/// (exit code, stderr).
-fn cli(args: &[&str]) -> (i32, String) {
-    let o = Command::new(BIN)
-        .args(args)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+mod common;
+use common::cli;
 
 /// Exit 2, and stderr contains every one of `needles`.
 fn refused(args: &[&str], needles: &[&str]) {

@@ -5,28 +5,14 @@
 //! fixtures) equal to the registry's.
 
 use std::path::Path;
-use std::process::Command;
 
 use harness::method::Params;
 use harness::results::Results;
 use harness::testing::temp_dir;
 use report::fixture::synthetic::{Measured, record, run};
 
-const BIN: &str = env!("CARGO_BIN_EXE_scatterbench");
-
-/// (exit code, stdout, stderr).
-fn cli(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(BIN)
-        .args(args)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+mod common;
+use common::scatterbench as cli;
 
 /// One scene: the floor, a fast rough method and an exact one. `exact_error` is the exact
 /// method's headline, `rough_ms` the rough one's time.

@@ -17,19 +17,8 @@ use harness::results::{Results, Status};
 use harness::stress::{self, StressConfig};
 use scenes::{FrameState, SceneFeatures};
 
-const BIN: &str = env!("CARGO_BIN_EXE_scatterbench");
-
-fn cli(args: &[&str]) -> (i32, String) {
-    let o = Command::new(BIN)
-        .args(args)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+mod common;
+use common::{BIN, cli};
 
 /// Kills `scatterbench run` with SIGKILL once results.json holds a finished record: the file
 /// left behind is a valid results file with every record finished so far; `--resume` completes

@@ -10,7 +10,7 @@
 //! Needs Debian's `vulkan-validationlayers` (scripts/test.sh installs it). Without the layer or
 //! an adapter the tests skip with a message — except when `CI` is set, where they fail.
 
-use std::process::Command;
+mod common;
 
 use harness::Gpu;
 use harness::gpu::DeviceChoice;
@@ -85,31 +85,28 @@ fn every_method_is_validation_clean_on_every_light_kind_and_medium() {
 
 fn run_validate_reaches_the_workers() {
     let out = harness::testing::temp_dir("validation-cli");
-    let status = Command::new(env!("CARGO_BIN_EXE_scatterbench"))
-        .args([
-            "run",
-            "--validate",
-            "--scenes",
-            "sphere-point",
-            "--methods",
-            "no-scatter",
-            "--res",
-            "16",
-            "--frames",
-            "1",
-            "--warmup",
-            "0",
-            "--isolate",
-            "on",
-            "--cache",
-        ])
-        .arg(harness::testing::temp_dir("validation-cli-cache"))
-        .arg("--out")
-        .arg(&out)
-        .env("NODEVICE_SELECT", "1")
-        .status()
-        .expect("scatterbench runs");
-    assert!(status.success());
+    let cache = harness::testing::temp_dir("validation-cli-cache");
+    let (code, err) = common::cli(&[
+        "run",
+        "--validate",
+        "--scenes",
+        "sphere-point",
+        "--methods",
+        "no-scatter",
+        "--res",
+        "16",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--isolate",
+        "on",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
     let results = Results::load(&out.join("results.json")).unwrap();
     let r = &results.records[0];
     assert_eq!(r.status, Status::Ok, "{:?}", r.reason);
