@@ -5,25 +5,31 @@
 # a Vulkan loader and driver, without a Rust toolchain (docs/ARCHITECTURE.md §7).
 #
 #   scripts/bundle.sh OUT [--res 256,1024] [--scenes all] [--cache-from results/cache]
-#                         [--binary PATH] [--max-mb 60]
+#                         [--skip RES:SCENE,...] [--binary PATH] [--max-mb 60]
 #
 # --res          resolutions whose references are shipped (default 256,1024)
 # --scenes       scenes whose references are shipped (default all: the library)
 # --cache-from   a reference cache to copy entries from before rendering missing ones
+# --skip         ship no references of these scenes at this resolution (repeatable), e.g.
+#                1024:smoke-point, whose 1024² reference takes about 5 h on 2 cores; listed in
+#                the bundle's SKIPPED, and rendered by run.sh on the machine that needs them
 # --binary       use this scatterbench binary instead of building one (it is stripped in OUT)
 # --max-mb       refuse (exit 1) a bundle larger than this many MB (default 60)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 1 ] || usage
 out=$1; shift
-res=256,1024; scenes=all; cache_from=results/cache; binary=""; max_mb=60
+res=256,1024; scenes=all; cache_from=results/cache; binary=""; max_mb=60; skips=()
 while [ $# -gt 0 ]; do
     case "$1" in
         --res) res=$2; shift 2 ;;
         --scenes) scenes=$2; shift 2 ;;
         --cache-from) cache_from=$2; shift 2 ;;
+        --skip)
+            case "$2" in *:?*) skips+=("$2") ;; *) echo "bundle.sh: --skip '$2' is not RES:SCENE[,SCENE...]" >&2; exit 2 ;; esac
+            shift 2 ;;
         --binary) binary=$2; shift 2 ;;
         --max-mb) max_mb=$2; shift 2 ;;
         *) echo "bundle.sh: unknown argument '$1'" >&2; usage ;;
@@ -53,8 +59,28 @@ copy=()
 [ -d "$cache_from" ] && copy=(--copy-from "$cache_from")
 # 20 mantissa bits: at most 4.8e-7 relative, under half the reference's own quadrature
 # tolerance (1e-6); a quarter smaller than lossless (docs/ARCHITECTURE.md §9.1).
-NODEVICE_SELECT=1 "$out/bin/scatterbench" references --scenes "$scenes" --res "$res" \
-    --cache "$out/cache" --mantissa-bits 20 "${copy[@]}"
+[ "$scenes" = all ] && scenes=$(cd scenes/library && ls *.json | sed 's/\.json$//' | paste -sd,)
+# The scenes of `$scenes` shipped at resolution $1: those no --skip names for it.
+shipped_at() {
+    local r=$1 s skip kept=()
+    for s in ${scenes//,/ }; do
+        for skip in "${skips[@]}"; do
+            [ "${skip%%:*}" = "$r" ] && [[ ",${skip#*:}," == *",$s,"* ]] && continue 2
+        done
+        kept+=("$s")
+    done
+    (IFS=,; echo "${kept[*]}")
+}
+: >"$out/SKIPPED"
+for r in ${res//,/ }; do
+    kept=$(shipped_at "$r")
+    for s in ${scenes//,/ }; do
+        [[ ",$kept," == *",$s,"* ]] || echo "$r $s" >>"$out/SKIPPED"
+    done
+    [ -n "$kept" ] || continue
+    NODEVICE_SELECT=1 "$out/bin/scatterbench" references --scenes "$kept" --res "$r" \
+        --cache "$out/cache" --mantissa-bits 20 "${copy[@]}"
+done
 
 size_kb=$(du -sk "$out" | cut -f1)
 echo "bundle: $out, $((size_kb / 1024)) MB ($(du -sh "$out/bin" | cut -f1) binary, $(du -sh "$out/cache" | cut -f1) references)"
