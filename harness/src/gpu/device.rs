@@ -93,7 +93,15 @@ impl Gpu {
             // instead of clipped, so z-pass counts from the eye stay exact (Everitt & Kilgard).
             | wgpu::Features::DEPTH_CLIP_CONTROL;
         let features = adapter.features() & optional;
-        let limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        let supported = adapter.limits();
+        let limits = wgpu::Limits {
+            // Per-pixel lists at 1024² (a crossing pool holds 4 bytes per shadow-plane crossing:
+            // 370 MB on fence-spot) outgrow wgpu's portable defaults (256 MiB buffers, 128 MiB
+            // storage bindings): take what the adapter offers.
+            max_buffer_size: supported.max_buffer_size,
+            max_storage_buffer_binding_size: supported.max_storage_buffer_binding_size,
+            ..wgpu::Limits::default().using_resolution(supported)
+        };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("scatterbench"),
             required_features: features,

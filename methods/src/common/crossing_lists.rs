@@ -88,6 +88,22 @@ fn storage(gpu: &Gpu, label: &str, bytes: u64) -> wgpu::Buffer {
     })
 }
 
+/// Crossings the pool makes room for when `total` do not fit: a quarter of headroom, so a
+/// slowly growing count does not reallocate every frame, within `largest` bytes (the device's
+/// largest storage binding); an error naming both sizes when even `total` does not fit.
+fn pool_capacity(total: u64, largest: u64) -> Result<u64, String> {
+    let fits = largest / 4;
+    if total > fits {
+        return Err(format!(
+            "the crossing pool needs {} MB ({total} shadow-plane crossings × 4 bytes), above this \
+             device's largest storage buffer binding ({} MB): lower the resolution",
+            (4 * total).div_ceil(1 << 20),
+            largest >> 20
+        ));
+    }
+    Ok((total + total / 4).min(fits))
+}
+
 impl CrossingLists {
     /// Lists for `lists` lights of a `width` × `height` target; `visibility`: the stages of the
     /// method's passes that bind group 2 (the scan adds COMPUTE).
@@ -250,8 +266,11 @@ impl CrossingLists {
         report.count("max_crossings", longest as f64);
         report.count("crossing_pool", total as f64);
         if total > self.capacity {
-            // A quarter of headroom, so a slowly growing count does not reallocate every frame.
-            self.capacity = total + total / 4;
+            let limits = gpu.device.limits();
+            let largest = limits
+                .max_buffer_size
+                .min(limits.max_storage_buffer_binding_size as u64);
+            self.capacity = pool_capacity(total, largest).map_err(anyhow::Error::msg)?;
             self.pool = storage(gpu, "crossing pool", 4 * self.capacity);
             self.bind = bind_group(
                 gpu,
@@ -289,4 +308,28 @@ fn bind_group(gpu: &Gpu, layout: &wgpu::BindGroupLayout, b: [&wgpu::Buffer; 5]) 
         layout,
         entries: &entries,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pool_capacity;
+
+    #[test]
+    fn the_pool_holds_every_crossing_within_the_binding_or_says_why_not() {
+        let largest = 256u64 << 20;
+        for total in [1, 1000, (largest / 4) * 3 / 4, largest / 4 - 1, largest / 4] {
+            let capacity = pool_capacity(total, largest).unwrap();
+            assert!(
+                capacity >= total && 4 * capacity <= largest,
+                "{total} → {capacity}"
+            );
+        }
+        assert_eq!(
+            pool_capacity(1000, largest).unwrap(),
+            1250,
+            "a quarter of headroom"
+        );
+        let why = pool_capacity(92_650_441, largest).unwrap_err();
+        assert!(why.contains("354 MB") && why.contains("256 MB"), "{why}");
+    }
 }
