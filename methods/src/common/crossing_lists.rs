@@ -269,7 +269,7 @@ impl CrossingLists {
             let limits = gpu.device.limits();
             let largest = limits
                 .max_buffer_size
-                .min(limits.max_storage_buffer_binding_size as u64);
+                .min(limits.max_storage_buffer_binding_size);
             self.capacity = pool_capacity(total, largest).map_err(anyhow::Error::msg)?;
             self.pool = storage(gpu, "crossing pool", 4 * self.capacity);
             self.bind = bind_group(
