@@ -55,7 +55,10 @@ fn a_bundle_moved_elsewhere_runs_from_its_own_cache() {
         .arg(env!("CARGO_BIN_EXE_scatterbench"))
         .arg("--cache-from")
         .arg(harness::testing::temp_dir("bundle-no-source-cache")));
-    assert!(size_bytes(&built) <= 60_000_000, "the bundle is at most 60 MB");
+    assert!(
+        size_bytes(&built) <= 60_000_000,
+        "the bundle is at most 60 MB"
+    );
 
     let moved = harness::testing::temp_dir("bundle-moved");
     sh(Command::new("cp").arg("-a").arg(&built).arg(&moved));
