@@ -91,6 +91,38 @@ impl SuiteFeatures {
     }
 }
 
+/// What adapter a result was measured on (ARCHITECTURE §4.3: every record's run carries the
+/// machine).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+pub struct AdapterSummary {
+    pub adapter: String,
+    pub backend: String,
+    pub driver: String,
+    pub driver_info: String,
+    pub device_type: String,
+    /// True for software rasterisers (lavapipe, llvmpipe, SwiftShader, WARP): their timings
+    /// compare only as ratios within one run.
+    pub software: bool,
+}
+
+impl AdapterSummary {
+    pub fn of(i: &wgpu::AdapterInfo) -> AdapterSummary {
+        AdapterSummary {
+            adapter: i.name.clone(),
+            backend: backend_name(i),
+            driver: i.driver.clone(),
+            driver_info: i.driver_info.clone(),
+            device_type: format!("{:?}", i.device_type),
+            software: is_software(i),
+        }
+    }
+}
+
+/// "vulkan", "gl", … as results and listings write it.
+fn backend_name(i: &wgpu::AdapterInfo) -> String {
+    format!("{:?}", i.backend).to_lowercase()
+}
+
 /// One adapter as `scatterbench adapters` lists it.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct AdapterReport {
@@ -176,12 +208,7 @@ pub fn choose(ranked: Vec<wgpu::Adapter>, name: Option<&str>) -> Result<wgpu::Ad
 
 /// "name (backend, device type)".
 pub fn describe(i: &wgpu::AdapterInfo) -> String {
-    format!(
-        "{} ({}, {:?})",
-        i.name,
-        format!("{:?}", i.backend).to_lowercase(),
-        i.device_type
-    )
+    format!("{} ({}, {:?})", i.name, backend_name(i), i.device_type)
 }
 
 /// Every adapter wgpu can see, best first; `default` marks the one a run picks without a name.
@@ -194,14 +221,14 @@ pub fn list() -> Vec<AdapterReport> {
 }
 
 fn report(a: &wgpu::Adapter, default: bool) -> AdapterReport {
-    let i = a.get_info();
+    let s = AdapterSummary::of(&a.get_info());
     AdapterReport {
-        software: is_software(&i),
-        name: i.name,
-        backend: format!("{:?}", i.backend).to_lowercase(),
-        driver: i.driver,
-        driver_info: i.driver_info,
-        device_type: format!("{:?}", i.device_type),
+        name: s.adapter,
+        backend: s.backend,
+        driver: s.driver,
+        driver_info: s.driver_info,
+        device_type: s.device_type,
+        software: s.software,
         features: SuiteFeatures::of(a.features()),
         default,
     }

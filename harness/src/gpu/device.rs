@@ -4,26 +4,10 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use serde::{Deserialize, Serialize};
-
-use super::adapters::{self, DeviceChoice, VALIDATION_HELP};
+use super::adapters::{self, AdapterSummary, DeviceChoice, VALIDATION_HELP};
 use super::mapping;
 use super::stats::{Counted, FrameWork, PassCounter};
 use super::validation;
-
-/// What adapter a result was measured on (ARCHITECTURE §4.3: every record's run carries the
-/// machine).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
-pub struct AdapterSummary {
-    pub adapter: String,
-    pub backend: String,
-    pub driver: String,
-    pub driver_info: String,
-    pub device_type: String,
-    /// True for software rasterisers (lavapipe, llvmpipe, WARP): their timings compare only
-    /// as ratios within one run.
-    pub software: bool,
-}
 
 /// A single-layer, single-mip 2-D texture's descriptor.
 pub fn texture_2d<'a>(
@@ -123,15 +107,7 @@ impl Gpu {
                 *l = Some(format!("device lost ({reason:?}): {msg}"));
             }
         });
-        let software = adapters::is_software(&info);
-        let summary = AdapterSummary {
-            adapter: info.name.clone(),
-            backend: format!("{:?}", info.backend).to_lowercase(),
-            driver: info.driver.clone(),
-            driver_info: info.driver_info.clone(),
-            device_type: format!("{:?}", info.device_type),
-            software,
-        };
+        let summary = AdapterSummary::of(&info);
         let counter = PassCounter::new(&device);
         Ok(Gpu {
             choice: choice.clone(),

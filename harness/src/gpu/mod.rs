@@ -14,11 +14,13 @@ mod stats;
 mod timer;
 pub mod validation;
 
-pub use adapters::{AdapterReport, DeviceChoice, NO_ADAPTER_HELP, SuiteFeatures, VALIDATION_HELP};
+pub use adapters::{
+    AdapterReport, AdapterSummary, DeviceChoice, NO_ADAPTER_HELP, SuiteFeatures, VALIDATION_HELP,
+};
 pub use attachments::{
     color_attachment, depth_attachment, depth_scratch_attachment, depth_stencil_attachment,
 };
-pub use device::{AdapterSummary, Gpu, texture_2d};
+pub use device::{Gpu, texture_2d};
 pub use phases::PhaseTimer;
 pub use readback::{map_read, read_r32f, read_rgba32f};
 pub use stats::{Counted, FrameWork, PassCounter, StatsQuery, WORK_COUNTERS};
