@@ -79,19 +79,16 @@ pub fn encode(r: &ReferenceImages, mantissa_bits: u32) -> Result<Vec<u8>, String
     } else {
         r
     };
-    let mut planes: Vec<Vec<u32>> = Vec::with_capacity(PLANES);
+    let mut residuals = Vec::with_capacity(PLANES * n);
     for img in [&r.inscatter, &r.surface] {
         for c in 0..3 {
-            planes.push(img.pixels.iter().map(|p| p[c].to_bits()).collect());
+            let plane: Vec<u32> = img.pixels.iter().map(|p| p[c].to_bits()).collect();
+            residuals.extend(predict(&plane, w as usize));
         }
     }
-    planes.push(r.distance.iter().map(|d| d.to_bits()).collect());
-    let mut residuals = Vec::with_capacity(PLANES * n);
-    for p in &planes[..6] {
-        residuals.extend(predict(p, w as usize));
-    }
     residuals.extend(total_residuals(r, mantissa_bits));
-    residuals.extend(predict(&planes[6], w as usize));
+    let distance: Vec<u32> = r.distance.iter().map(|d| d.to_bits()).collect();
+    residuals.extend(predict(&distance, w as usize));
     let packed = zstd::bulk::compress(&byte_planes(&residuals), LEVEL)
         .map_err(|e| format!("compressing the reference: {e}"))?;
     let mut out = Vec::with_capacity(packed.len() + HEADER);
@@ -115,11 +112,7 @@ pub fn decode(bytes: &[u8]) -> Result<Packed, String> {
     let header = bytes.get(..header_len).ok_or("header cut short")?;
     let word = |k: usize| u32::from_le_bytes(header[8 + 4 * k..12 + 4 * k].try_into().unwrap());
     let (w, h, planes) = (word(0), word(1), word(2) as usize);
-    let mantissa_bits = if header_len == HEADER {
-        word(3)
-    } else {
-        FULL_MANTISSA
-    };
+    let mantissa_bits = if version >= 2 { word(3) } else { FULL_MANTISSA };
     if planes != PLANES {
         return Err(format!("{planes} planes, expected {PLANES}"));
     }
