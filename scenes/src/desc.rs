@@ -499,6 +499,20 @@ pub enum Shape {
     },
     /// A Wavefront OBJ file, path relative to the scene file.
     Obj { path: String },
+    /// The `atrium` library scene's stonework, built in world metres (`scenes::mesh::atrium`):
+    /// two storeys of arcades around a 20 × 44 m courtyard, walls, a roof with an opening.
+    /// `detail` in [0.25, 4] scales every tessellation count (triangles ∝ detail², ≈ 0.3 M at
+    /// 1). Default: 1.
+    Atrium {
+        #[serde(default = "one_f")]
+        detail: f32,
+    },
+    /// The atrium's twelve hanging banners (1.5 cm cloth slabs), in world metres. `detail` as
+    /// for `atrium`. Default: 1.
+    AtriumBanners {
+        #[serde(default = "one_f")]
+        detail: f32,
+    },
 }
 
 fn default_segments() -> u32 {

@@ -32,6 +32,8 @@ pub const LIBRARY: &[(&str, &str)] = &[
         "indirect-point",
         include_str!("../library/indirect-point.json"),
     ),
+    ("atrium", include_str!("../library/atrium.json")),
+    ("atrium-64", include_str!("../library/atrium-64.json")),
 ];
 
 pub fn names() -> Vec<&'static str> {
@@ -47,8 +49,8 @@ pub fn load(name: &str) -> Option<Result<Scene, SceneError>> {
 }
 
 /// A library name, a variant `<library-name>-sub<L>` (every caster subdivided L ≤
-/// [`MAX_SUB_LEVELS`] times, [`crate::variants`]), or a path to a scene file. Unknown names
-/// are refused with the valid ones.
+/// [`MAX_SUB_LEVELS`] times, [`crate::variants`]) or `<atrium scene>-lights<N>` (N torches),
+/// or a path to a scene file. Unknown names are refused with the valid ones.
 pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
     if let Some(r) = load(name_or_path) {
         return r.map_err(|e| e.to_string());
@@ -65,12 +67,78 @@ pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
             .map(|s| variants::subdivided(&s, levels))
             .map_err(|e| e.to_string());
     }
+    if let Some((base, n)) = variants::parse_lights(name_or_path)
+        && let Some(r) = load(base)
+    {
+        return r
+            .map_err(|e| e.to_string())
+            .and_then(|s| variants::with_torches(&s, n));
+    }
     let p = Path::new(name_or_path);
     if p.extension().is_some_and(|e| e == "json") || p.is_file() {
         return load_scene(p).map_err(|e| e.to_string());
     }
     Err(format!(
-        "unknown scene '{name_or_path}': valid library scenes are {} (or a variant <scene>-sub<L>, L ≤ {MAX_SUB_LEVELS}, or a path to a .json file)",
+        "unknown scene '{name_or_path}': valid library scenes are {} (or a variant <scene>-sub<L>, L ≤ {MAX_SUB_LEVELS}, atrium-lights<N>, N ≤ 64, or a path to a .json file)",
         names().join(", ")
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::desc::LightDesc;
+    use crate::mesh::atrium::layout::torches;
+
+    /// The library's atrium files list the torches the layout places (16 and 62), so the
+    /// `-lights<N>` sweep and the library scenes light the same sconces.
+    #[test]
+    fn atrium_files_light_the_layouts_sconces() {
+        for (name, n, spots) in [("atrium", 16, 2), ("atrium-64", 62, 2)] {
+            let scene = load(name).unwrap().unwrap();
+            let points: Vec<_> = scene
+                .desc
+                .lights
+                .iter()
+                .filter_map(|l| match l {
+                    LightDesc::Point { position, .. } => Some(*position),
+                    _ => None,
+                })
+                .collect();
+            let expected = torches(n);
+            assert_eq!(points.len(), n, "{name}");
+            for (p, e) in points.iter().zip(&expected) {
+                assert!(
+                    (*p - *e).length() < 1e-4,
+                    "{name}: torch at {p}, layout {e}"
+                );
+            }
+            let spot_count = scene
+                .desc
+                .lights
+                .iter()
+                .filter(|l| matches!(l, LightDesc::Spot { .. }))
+                .count();
+            assert_eq!(spot_count, spots, "{name}");
+            assert_eq!(
+                scene.features().lights - 1,
+                n + spots,
+                "{name}: local lights + the sun"
+            );
+        }
+    }
+
+    #[test]
+    fn light_variants_resolve_and_bad_counts_are_refused() {
+        let s = resolve("atrium-lights4").unwrap();
+        assert_eq!(s.name, "atrium-lights4");
+        assert_eq!(s.desc.lights.len(), 5, "4 torches + the sun");
+        for bad in ["atrium-lights0", "atrium-lights65", "fence-spot-lights4"] {
+            let e = resolve(bad).unwrap_err();
+            assert!(
+                e.contains(bad) && (e.contains("64") || e.contains("atrium")),
+                "{e}"
+            );
+        }
+    }
 }

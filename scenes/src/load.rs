@@ -6,7 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::desc::{SceneDesc, Shape};
-use crate::mesh::{TriMesh, obj, procedural};
+use crate::mesh::{TriMesh, atrium, obj, procedural};
 use crate::scene::Scene;
 use crate::validate::{Problem, validate};
 
@@ -206,5 +206,7 @@ pub fn build_mesh(shape: &Shape, base: &Path) -> Result<TriMesh, String> {
             bar,
         } => procedural::fence(width, height, posts, rails, bar),
         Shape::Obj { ref path } => obj::load_obj(&obj::resolve_path(base, path))?,
+        Shape::Atrium { detail } => atrium::stone(detail),
+        Shape::AtriumBanners { detail } => atrium::banners(detail),
     })
 }

@@ -9,6 +9,7 @@ use crate::desc::{
     BlockDesc, GeneratorDesc, InstanceDesc, LightDesc, LightKey, MediumDesc, ParticleDesc, Pattern,
     PlacementDesc, SceneDesc, Shape, Transform,
 };
+use crate::mesh::atrium;
 use crate::particles::{block_count, generated_count, instance_count};
 use crate::phase::Phase;
 
@@ -61,6 +62,12 @@ fn triangle_estimate(s: &Shape) -> Option<u64> {
         Shape::Pencil { .. } => 64,
         Shape::Fence { posts, rails, .. } => 12 * (n(*posts) + n(*rails)),
         Shape::Obj { .. } => return None,
+        Shape::Atrium { detail } | Shape::AtriumBanners { detail } => {
+            if !(atrium::MIN_DETAIL..=atrium::MAX_DETAIL).contains(detail) {
+                return None;
+            }
+            atrium::triangle_estimate(*detail)
+        }
     })
 }
 
@@ -608,6 +615,18 @@ fn shape(c: &mut Checker, p: &str, s: &Shape, base: &Path) {
                 c.push(
                     &f("bar"),
                     format!("must be smaller than the fence ({width} × {height}), got {bar}"),
+                );
+            }
+        }
+        Shape::Atrium { detail } | Shape::AtriumBanners { detail } => {
+            if !(detail.is_finite() && (atrium::MIN_DETAIL..=atrium::MAX_DETAIL).contains(detail)) {
+                c.push(
+                    &f("detail"),
+                    format!(
+                        "must be in [{}, {}], got {detail}",
+                        atrium::MIN_DETAIL,
+                        atrium::MAX_DETAIL
+                    ),
                 );
             }
         }

@@ -9,14 +9,18 @@
 //!   ([`with_caster_triangles`], the triangle sweep of `scaling`).
 //! - `<scene>-res<N>`: the scene itself, renamed for the pixel sweep of `scaling` at N²
 //!   ([`at_resolution`]).
+//! - `<scene>-lights<N>`: a scene with atrium stonework, its local lights replaced by the
+//!   first N ≤ 64 torches of the atrium's sconces, its directional lights kept ([`with_torches`],
+//!   the light-count sweep of `scaling`). Resolved by [`crate::library::resolve`].
 //!
 //! A caster is every object but a ground plane; subdivision is midpoint subdivision
 //! ([`crate::mesh::subdivide`]), which keeps the surface where it is.
 
 use std::sync::Arc;
 
-use crate::desc::Shape;
+use crate::desc::{LightDesc, Shape};
 use crate::load::build_mesh;
+use crate::mesh::atrium::layout::{MAX_TORCHES, torches};
 use crate::mesh::subdivide::{subdivide, subdivide_to};
 use crate::scene::Scene;
 
@@ -99,6 +103,62 @@ pub fn at_resolution(scene: &Scene, n: u32) -> Scene {
     let mut s = scene.clone();
     s.name = format!("{}-res{n}", scene.name);
     s
+}
+
+/// `name` split into a base name and a torch count when it reads `<base>-lights<N>`.
+pub fn parse_lights(name: &str) -> Option<(&str, usize)> {
+    let (base, n) = name.rsplit_once("-lights")?;
+    Some((base, n.parse().ok()?))
+}
+
+/// `scene` (which must contain atrium stonework) with its point and spot lights replaced by
+/// the first `n` torches of [`torches`], each with the intensity of the scene's first point
+/// light; directional lights are kept. Named `<scene>-lights<n>`.
+pub fn with_torches(scene: &Scene, n: usize) -> Result<Scene, String> {
+    let name = format!("{}-lights{n}", scene.name);
+    if !(1..=MAX_TORCHES).contains(&n) {
+        return Err(format!(
+            "scene '{name}': the atrium has sconces for 1 to {MAX_TORCHES} torches, got {n}"
+        ));
+    }
+    if !scene
+        .desc
+        .objects
+        .iter()
+        .any(|o| matches!(o.shape, Shape::Atrium { .. }))
+    {
+        return Err(format!(
+            "scene '{name}': -lights<N> places torches on atrium columns, and '{}' has no `atrium` object",
+            scene.name
+        ));
+    }
+    let intensity = scene
+        .desc
+        .lights
+        .iter()
+        .find_map(|l| match l {
+            LightDesc::Point { intensity, .. } => Some(*intensity),
+            _ => None,
+        })
+        .ok_or_else(|| {
+            format!(
+                "scene '{name}': '{}' has no point light to copy a torch's intensity from",
+                scene.name
+            )
+        })?;
+    let mut s = scene.clone();
+    s.desc
+        .lights
+        .retain(|l| matches!(l, LightDesc::Directional { .. }));
+    s.desc
+        .lights
+        .extend(torches(n).into_iter().map(|position| LightDesc::Point {
+            position,
+            intensity,
+            keyframes: Vec::new(),
+        }));
+    s.name = name;
+    Ok(s)
 }
 
 #[cfg(test)]

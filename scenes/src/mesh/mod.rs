@@ -1,5 +1,7 @@
 //! Triangle meshes: the type every consumer uses, procedural generators and OBJ loading.
 
+pub mod atrium;
+pub mod lathe;
 pub mod obj;
 pub mod procedural;
 pub mod subdivide;

@@ -24,13 +24,13 @@ use super::TriMesh;
 
 /// Append-only mesh construction with the index bookkeeping in one place.
 #[derive(Default)]
-struct Builder {
-    mesh: TriMesh,
+pub(crate) struct Builder {
+    pub(crate) mesh: TriMesh,
 }
 
 impl Builder {
     /// Adds a vertex and returns its index.
-    fn vertex(&mut self, position: Vec3, normal: Vec3) -> u32 {
+    pub(crate) fn vertex(&mut self, position: Vec3, normal: Vec3) -> u32 {
         let index = u32::try_from(self.mesh.positions.len())
             .expect("procedural mesh exceeds u32::MAX vertices");
         self.mesh.positions.push(position);
@@ -38,12 +38,12 @@ impl Builder {
         index
     }
 
-    fn triangle(&mut self, a: u32, b: u32, c: u32) {
+    pub(crate) fn triangle(&mut self, a: u32, b: u32, c: u32) {
         self.mesh.indices.push([a, b, c]);
     }
 
     /// A flat triangle with its own three vertices; corners counter-clockwise seen from outside.
-    fn flat_triangle(&mut self, corners: [Vec3; 3]) {
+    pub(crate) fn flat_triangle(&mut self, corners: [Vec3; 3]) {
         let normal = (corners[1] - corners[0])
             .cross(corners[2] - corners[0])
             .normalize();
@@ -54,7 +54,7 @@ impl Builder {
     /// A flat planar quad with its own four vertices; corners counter-clockwise seen from
     /// outside. The normal comes from the diagonals so it is exact for any planar quad, not
     /// biased towards one of the two triangles.
-    fn flat_quad(&mut self, corners: [Vec3; 4]) {
+    pub(crate) fn flat_quad(&mut self, corners: [Vec3; 4]) {
         let normal = (corners[2] - corners[0])
             .cross(corners[3] - corners[1])
             .normalize();
@@ -63,7 +63,7 @@ impl Builder {
 
     /// [`Self::flat_quad`] with a known normal, for axis-aligned faces whose normal should be
     /// exactly an axis rather than a renormalised cross product that may be off by an ulp.
-    fn flat_quad_with_normal(&mut self, corners: [Vec3; 4], normal: Vec3) {
+    pub(crate) fn flat_quad_with_normal(&mut self, corners: [Vec3; 4], normal: Vec3) {
         let [a, b, c, d] = corners.map(|p| self.vertex(p, normal));
         self.triangle(a, b, c);
         self.triangle(a, c, d);
@@ -74,7 +74,7 @@ impl Builder {
     /// `normal`. The rim positions are copied verbatim, which is what keeps caps welded to the
     /// side they close. A centre fan (rather than a fan from one rim corner) avoids slivers on
     /// finely tessellated circles.
-    fn flat_fan(&mut self, centre: Vec3, rim: &[Vec3], normal: Vec3) {
+    pub(crate) fn flat_fan(&mut self, centre: Vec3, rim: &[Vec3], normal: Vec3) {
         let c = self.vertex(centre, normal);
         let first = self.vertex(rim[0], normal);
         for &p in &rim[1..] {
@@ -90,7 +90,7 @@ impl Builder {
     /// triangles (quads `a_j, a_{j+1}, b_{j+1}, b_j`). The result faces outward when
     /// `(a_{j+1} - a_j) × (b_j - a_j)` points outward. Indexing modulo `n` is how smooth
     /// surfaces close their seam without duplicating (and risking non-equal) positions.
-    fn stitch_rings(&mut self, a: u32, b: u32, n: u32) {
+    pub(crate) fn stitch_rings(&mut self, a: u32, b: u32, n: u32) {
         for j in 0..n {
             let k = (j + 1) % n;
             self.triangle(a + j, a + k, b + k);
@@ -98,13 +98,13 @@ impl Builder {
         }
     }
 
-    fn finish(self) -> TriMesh {
+    pub(crate) fn finish(self) -> TriMesh {
         self.mesh
     }
 }
 
 /// Angle of step `i` out of `n` around a full turn.
-fn turn_angle(i: u32, n: u32) -> f32 {
+pub(crate) fn turn_angle(i: u32, n: u32) -> f32 {
     TAU * i as f32 / n as f32
 }
 
@@ -196,7 +196,7 @@ pub fn sphere(radius: f32, segments: u32, rings: u32) -> TriMesh {
 
 /// `segments` points of a circle of `radius` in the plane `y`, starting on +X and turning
 /// towards +Z.
-fn circle(radius: f32, y: f32, segments: u32) -> Vec<Vec3> {
+pub(crate) fn circle(radius: f32, y: f32, segments: u32) -> Vec<Vec3> {
     (0..segments)
         .map(|j| {
             let (sin, cos) = turn_angle(j, segments).sin_cos();
@@ -360,7 +360,7 @@ fn bar_offsets(count: u32, extent: f32, bar: f32) -> impl Iterator<Item = f32> {
 }
 
 /// `mesh` moved by `offset`.
-fn translated(mut mesh: TriMesh, offset: Vec3) -> TriMesh {
+pub(crate) fn translated(mut mesh: TriMesh, offset: Vec3) -> TriMesh {
     for p in &mut mesh.positions {
         *p += offset;
     }
