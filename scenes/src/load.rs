@@ -6,7 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::desc::{SceneDesc, Shape};
-use crate::mesh::{TriMesh, atrium, obj, procedural};
+use crate::mesh::{TriMesh, atrium, memo, obj, procedural};
 use crate::scene::Scene;
 use crate::validate::{Problem, validate};
 
@@ -114,12 +114,12 @@ pub fn parse_scene(text: &str, file: &str, name: &str, base: &Path) -> Result<Sc
     let mut meshes = Vec::with_capacity(desc.objects.len());
     if problems.is_empty() {
         for (i, o) in desc.objects.iter().enumerate() {
-            match build_mesh(&o.shape, base) {
+            match shared_mesh(&o.shape, base) {
                 Ok(m) if m.indices.is_empty() => problems.push(Problem::new(
                     format!("objects[{i}].shape"),
                     "the mesh has no triangles",
                 )),
-                Ok(m) => meshes.push(Arc::new(m)),
+                Ok(m) => meshes.push(m),
                 Err(message) => problems.push(Problem::new(format!("objects[{i}].shape"), message)),
             }
         }
@@ -158,6 +158,16 @@ fn strip_position(msg: &str) -> String {
 }
 
 /// Builds an object's local-space mesh.
+/// [`build_mesh`], with the atrium's large meshes from [`memo`] (built once per process).
+fn shared_mesh(shape: &Shape, base: &Path) -> Result<Arc<TriMesh>, String> {
+    match shape {
+        Shape::Atrium { .. } | Shape::AtriumBanners { .. } => {
+            memo::memoized(shape, || build_mesh(shape, base))
+        }
+        _ => build_mesh(shape, base).map(Arc::new),
+    }
+}
+
 pub fn build_mesh(shape: &Shape, base: &Path) -> Result<TriMesh, String> {
     Ok(match *shape {
         Shape::Plane { size } => procedural::plane(size[0], size[1]),

@@ -34,7 +34,7 @@ fn lib(name: &str) -> Scene {
 #[test]
 fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     let names = library::names();
-    assert_eq!(names.len(), 14, "{names:?}");
+    assert_eq!(names.len(), 16, "{names:?}");
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);
@@ -316,6 +316,34 @@ fn library_features_match_what_the_files_say() {
             textured: false,
             occluders: true,
             phong: true,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
+            name: "atrium",
+            kinds: &["directional", "point", "spot"],
+            lights: 19,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
+            name: "atrium-64",
+            kinds: &["directional", "point", "spot"],
+            lights: 65,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
             frames: 1,
             animated_lights: false,
             animated_objects: false,

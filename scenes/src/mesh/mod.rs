@@ -2,6 +2,7 @@
 
 pub mod atrium;
 pub mod lathe;
+pub mod memo;
 pub mod obj;
 pub mod procedural;
 pub mod subdivide;
