@@ -106,6 +106,10 @@ fn scaling_command_writes_variants_as_described() {
             "32",
             "--res",
             "32,48",
+            "--lights",
+            "1,2",
+            "--lights-res",
+            "16",
             "--frames",
             "1",
             "--warmup",
@@ -132,7 +136,15 @@ fn scaling_command_writes_variants_as_described() {
     assert_eq!(xs, vec![960.0, 3840.0]);
     let pix = &spec.sweeps[1];
     assert_eq!(pix.axis, "pixels");
-    for p in tris.points.iter().chain(&pix.points) {
+    let lights = &spec.sweeps[2];
+    assert_eq!(lights.axis, "lights");
+    for (p, n) in lights.points.iter().zip([1, 2]) {
+        // x is the local-light count: the variant has that many point lights and the sun.
+        let scene = scenes::library::resolve(&p.scene).unwrap();
+        assert_eq!(p.x, n as f64);
+        assert_eq!(scene.features().lights, n + 1, "{}", p.scene);
+    }
+    for p in tris.points.iter().chain(&pix.points).chain(&lights.points) {
         let r = results
             .records
             .iter()
@@ -148,6 +160,8 @@ fn scaling_command_writes_variants_as_described() {
     }
     let html = std::fs::read_to_string(out.join("report/index.html")).unwrap();
     assert!(html.contains("id=\"scaling\""));
+    // The slopes side by side: one column per axis.
+    assert!(html.contains("vs local lights") && html.contains("vs caster triangles"));
     assert!(
         out.join("report/plots/scaling-scene-triangles.svg")
             .is_file()

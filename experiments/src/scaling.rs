@@ -11,9 +11,12 @@
 //!   (`<scene>-res<N>`); a method whose frame time extrapolated ∝ pixels would exceed
 //!   [`Options::max_frame_s`] is not run at the bigger sizes, so on a software adapter 1024²
 //!   is measured for the cheap methods only.
+//! - **lights**: a second scene, the atrium by default, with 1, 4, 16, 64 local lights
+//!   (torches on its columns, its sun kept: `scenes::variants::with_torches`, named
+//!   `<scene>-lights<N>`) at a fixed resolution: the cost of per-light passes on a level.
 //!
-//! The report plots time vs x per method on log–log axes with the fitted slope
-//! (`report::scaling`).
+//! The report plots time vs x per method on log–log axes with the fitted slope, the error at
+//! each point, and every method's slopes side by side (`report::scaling`).
 
 use std::collections::BTreeMap;
 
@@ -25,7 +28,8 @@ use harness::results::{Results, Status};
 use harness::runner::{Event, RunConfig, WorkItem, run_items};
 use report::scaling::{Spec, Sweep, SweepPoint};
 use scenes::Scene;
-use scenes::variants::{at_resolution, caster_triangles, with_caster_triangles};
+use scenes::mesh::atrium::layout::MAX_TORCHES;
+use scenes::variants::{at_resolution, caster_triangles, with_caster_triangles, with_torches};
 
 /// What to sweep and how to measure it.
 pub struct Options {
@@ -36,6 +40,11 @@ pub struct Options {
     pub triangles: Vec<usize>,
     /// Square sizes of the pixel sweep (empty: no pixel sweep).
     pub resolutions: Vec<u32>,
+    /// Local-light counts of the light sweep (empty: no light sweep).
+    pub lights: Vec<usize>,
+    /// The scene of the light sweep (one with atrium stonework) and its resolution.
+    pub lights_scene: Option<Scene>,
+    pub lights_res: (u32, u32),
     /// Pixel sweep: a method is not run at a size where its frame time, extrapolated
     /// ∝ pixels from the previous size, would exceed this many seconds (0 = no cap).
     pub max_frame_s: f64,
@@ -51,13 +60,18 @@ pub struct Options {
 impl Options {
     /// Why these options cannot run (an argument problem), if they cannot.
     pub fn check(&self) -> Result<(), String> {
-        if self.triangles.is_empty() && self.resolutions.is_empty() {
-            return Err("nothing to do: --triangles none and --res none".into());
+        if self.triangles.is_empty() && self.resolutions.is_empty() && self.lights.is_empty() {
+            return Err("nothing to do: --triangles none, --res none and --lights none".into());
         }
         if !self.triangles.is_empty() && caster_triangles(&self.base) == 0 {
             return Err(format!(
                 "--scene {}: no caster (non-plane object) to tessellate; pick a scene with one, or --triangles none",
                 self.base.name
+            ));
+        }
+        if let Some(bad) = self.lights.iter().find(|n| !(1..=MAX_TORCHES).contains(*n)) {
+            return Err(format!(
+                "--lights: {bad} is outside 1..={MAX_TORCHES} (the atrium has one torch sconce per column and storey)"
             ));
         }
         let out = &self.record.out_dir;
@@ -77,6 +91,8 @@ pub struct Plan {
     pub triangles: Vec<Scene>,
     /// (size, variant) of the pixel sweep.
     pub pixels: Vec<(u32, Scene)>,
+    /// (local lights, variant) of the light sweep.
+    pub lights: Vec<(usize, Scene)>,
 }
 
 pub fn plan(opts: &Options) -> Result<Plan> {
@@ -92,7 +108,20 @@ pub fn plan(opts: &Options) -> Result<Plan> {
         .iter()
         .map(|&n| (n, at_resolution(&opts.base, n)))
         .collect();
-    Ok(Plan { triangles, pixels })
+    let lights = match (&opts.lights_scene, opts.lights.is_empty()) {
+        (_, true) => Vec::new(),
+        (None, false) => return Err(anyhow!("a light sweep needs a scene")),
+        (Some(scene), false) => opts
+            .lights
+            .iter()
+            .map(|&n| Ok((n, with_torches(scene, n).map_err(|e| anyhow!(e))?)))
+            .collect::<Result<_>>()?,
+    };
+    Ok(Plan {
+        triangles,
+        pixels,
+        lights,
+    })
 }
 
 /// What a scaling run wrote.
@@ -138,13 +167,21 @@ pub fn run(
         run_items(gpu, &plan.triangles, &work, &cfg, None, on_event).map_err(|e| anyhow!(e))?;
         cfg.resume = true;
     }
+    if !plan.lights.is_empty() {
+        let scenes: Vec<Scene> = plan.lights.iter().map(|(_, s)| s.clone()).collect();
+        (cfg.record.width, cfg.record.height) = opts.lights_res;
+        run_items(gpu, &scenes, &items(scenes.len()), &cfg, None, on_event)
+            .map_err(|e| anyhow!(e))?;
+        (cfg.record.width, cfg.record.height) = (tw, th);
+        cfg.resume = true;
+    }
     let capped = pixel_sweep(gpu, plan, opts, &mut cfg, &items(1), on_event)?;
     let results_path = opts.record.out_dir.join("results.json");
     let mut results = Results::load(&results_path).map_err(|e| anyhow!(e))?;
     results.run.kind = Some("scaling".into());
     results.run.note = format!(
-        "{}; scaling run: the triangle variants are at {tw}x{th}, the resolution variants at their own size (see scaling.json)",
-        results.run.note
+        "{}; scaling run: the triangle variants are at {tw}x{th}, the light variants at {}x{}, the resolution variants at their own size (see scaling.json)",
+        results.run.note, opts.lights_res.0, opts.lights_res.1
     );
     results.save(&results_path).map_err(|e| anyhow!(e))?;
     let spec = spec(plan, opts, &capped);
@@ -275,13 +312,48 @@ fn spec(plan: &Plan, opts: &Options, capped: &[String]) -> Spec {
                 .collect(),
         });
     }
+    if let (Some(scene), false) = (&opts.lights_scene, plan.lights.is_empty()) {
+        sweeps.push(light_sweep(plan, opts, scene));
+    }
     Spec {
         base_scene: base.name.clone(),
         sweeps,
     }
 }
 
-/// Per sweep: method × x times and the fitted slope, as markdown.
+/// The light sweep's description: x = local lights.
+fn light_sweep(plan: &Plan, opts: &Options, scene: &Scene) -> Sweep {
+    let (w, h) = opts.lights_res;
+    let kept = scene
+        .desc
+        .lights
+        .iter()
+        .filter(|l| matches!(l, scenes::desc::LightDesc::Directional { .. }))
+        .count();
+    Sweep {
+        axis: "lights".into(),
+        label: "local lights".into(),
+        note: format!(
+            "{} ({} triangles) with N point lights on its columns (its {kept} directional light(s) kept, its spots removed), at {w}×{h}, default parameters, {} timed frames",
+            scene.name,
+            scene.triangle_count(),
+            opts.record.frames
+        ),
+        points: plan
+            .lights
+            .iter()
+            .map(|(n, s)| SweepPoint {
+                scene: s.name.clone(),
+                x: *n as f64,
+                width: w,
+                height: h,
+                triangles: caster_triangles(s),
+            })
+            .collect(),
+    }
+}
+
+/// Per sweep: method × x times (with the verdict error) and the fitted slope, as markdown.
 pub fn summary_text(spec: &Spec, results: &Results) -> String {
     use std::fmt::Write as _;
     let mut t = String::new();
@@ -304,9 +376,11 @@ pub fn summary_text(spec: &Spec, results: &Results) -> String {
             let cells: Vec<String> = c
                 .cells
                 .iter()
-                .map(|v| match v {
-                    Ok(ms) => format!("{ms:.2}"),
-                    Err(_) => "-".into(),
+                .zip(&c.errors)
+                .map(|(v, e)| match (v, e) {
+                    (Ok(ms), Some(e)) => format!("{ms:.2} ({:.3} %)", 100.0 * e),
+                    (Ok(ms), None) => format!("{ms:.2}"),
+                    (Err(_), _) => "-".into(),
                 })
                 .collect();
             let _ = writeln!(

@@ -23,7 +23,7 @@ pub struct Page {
     /// The stability table, for a stress run only.
     pub stability: Option<crate::stability::Stability>,
     /// The scaling sweeps, for a `scatterbench scaling` run only.
-    pub scaling: Option<Vec<crate::scaling::SweepView>>,
+    pub scaling: Option<crate::scaling::ScalingView>,
     /// Error vs each swept numeric knob (empty without a sweep).
     pub knobs: Vec<crate::knobs::KnobPlot>,
     pub budgets: Vec<String>,

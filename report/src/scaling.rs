@@ -4,7 +4,9 @@
 //! which variant sits at which x on which sweep. The report draws, per sweep, frame time vs
 //! x on log–log axes, one line per method, and fits `time ≈ a · x^slope` by least squares in
 //! log–log space: slope 1 is linear in the work, 0 is a fixed cost, 0.5 grows like a
-//! silhouette's edge count with the triangle count.
+//! silhouette's edge count with the triangle count. Each point's table cell also gives the
+//! record's verdict error (the in-scatter headline), and one table puts every method's slopes
+//! on every axis side by side.
 
 use std::path::Path;
 
@@ -30,7 +32,7 @@ pub struct Spec {
 /// One axis of work, e.g. caster triangles at a fixed resolution.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Sweep {
-    /// "triangles" or "pixels".
+    /// "triangles", "pixels" or "lights".
     pub axis: String,
     /// Axis label of the plot, e.g. "caster triangles".
     pub label: String,
@@ -44,7 +46,7 @@ pub struct Sweep {
 pub struct SweepPoint {
     /// The variant's scene name in results.json.
     pub scene: String,
-    /// Position on the sweep's axis (triangles or pixels).
+    /// Position on the sweep's axis (triangles, pixels or local lights).
     pub x: f64,
     pub width: u32,
     pub height: u32,
@@ -79,6 +81,8 @@ pub struct Curve {
     pub method: String,
     /// One entry per sweep point: the time, or why there is none.
     pub cells: Vec<Result<f64, String>>,
+    /// One entry per sweep point: the timed record's verdict error, where it has one.
+    pub errors: Vec<Option<f64>>,
     pub fit: Option<Fit>,
 }
 
@@ -117,7 +121,7 @@ pub fn curves(results: &Results, sweep: &Sweep) -> (TimeBasis, Vec<Curve>) {
     let curves = methods
         .into_iter()
         .map(|m| {
-            let cells: Vec<Result<f64, String>> = sweep
+            let (cells, errors) = sweep
                 .points
                 .iter()
                 .map(|p| {
@@ -125,26 +129,28 @@ pub fn curves(results: &Results, sweep: &Sweep) -> (TimeBasis, Vec<Curve>) {
                         .iter()
                         .filter(|r| r.method == m && r.scene == p.scene)
                         .collect();
-                    if let Some(t) = mine
+                    if let Some((t, r)) = mine
                         .iter()
                         .filter(|r| r.status == Status::Ok)
-                        .find_map(|r| basis.time_ms(r))
+                        .find_map(|r| basis.time_ms(r).map(|t| (t, r)))
                     {
-                        return Ok(t);
+                        return (Ok(t), crate::metric::verdict_error(r));
                     }
-                    Err(match mine.first() {
+                    let why = match mine.first() {
                         None => "not run".to_string(),
                         Some(r) => format!(
                             "{}: {}",
                             status_text(r.status),
                             r.reason.as_deref().unwrap_or("")
                         ),
-                    })
+                    };
+                    (Err(why), None)
                 })
-                .collect();
+                .unzip();
             let mut c = Curve {
                 method: m.to_string(),
                 cells,
+                errors,
                 fit: None,
             };
             c.fit = loglog_fit(&c.points(sweep));
@@ -172,6 +178,8 @@ pub struct CurveRow {
     pub method: String,
     /// Frame time per point ("12.3") or why there is none.
     pub cells: Vec<String>,
+    /// Verdict error per point ("0.45 %"), empty where there is none.
+    pub errors: Vec<String>,
     /// The fitted exponent ("0.93"), or "—" with fewer than two timed points.
     pub slope: String,
     pub r2: String,
@@ -192,11 +200,12 @@ pub fn count_text(x: f64) -> String {
 
 /// The scaling section of `run_dir`'s page (plots written to `plots`), or None when the run
 /// has no scaling.json.
-pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<Vec<SweepView>>> {
+pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<ScalingView>> {
     let Some(spec) = Spec::load(run_dir)? else {
         return Ok(None);
     };
     let mut out = Vec::new();
+    let mut slopes = SlopeTable::default();
     for sweep in &spec.sweeps {
         let (basis, curves) = curves(results, sweep);
         let time_label = basis.label().to_string();
@@ -247,10 +256,16 @@ pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<Ve
                         Err(why) => why.clone(),
                     })
                     .collect(),
-                slope: c.fit.map_or("—".into(), |f| format!("{:.2}", f.slope)),
+                errors: c
+                    .errors
+                    .iter()
+                    .map(|e| e.map_or(String::new(), |e| format!("{:.3} %", 100.0 * e)))
+                    .collect(),
+                slope: slope_text(c),
                 r2: c.fit.map_or("—".into(), |f| format!("{:.3}", f.r2)),
             })
             .collect();
+        slopes.add(&sweep.label, &curves);
         out.push(SweepView {
             title: format!("Frame time vs {}", sweep.label),
             note: sweep.note.clone(),
@@ -261,7 +276,61 @@ pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<Ve
             rows,
         });
     }
-    Ok(Some(out))
+    Ok(Some(ScalingView {
+        sweeps: out,
+        slopes,
+    }))
+}
+
+/// The fitted exponent ("0.93"), or "—" with fewer than two timed points.
+fn slope_text(c: &Curve) -> String {
+    c.fit.map_or("—".into(), |f| format!("{:.2}", f.slope))
+}
+
+/// The scaling section: every sweep, and the slopes side by side.
+#[derive(Serialize)]
+pub struct ScalingView {
+    pub sweeps: Vec<SweepView>,
+    pub slopes: SlopeTable,
+}
+
+/// Each method's fitted slope on each sweep's axis (methods in order of first appearance).
+#[derive(Default, Serialize)]
+pub struct SlopeTable {
+    /// Axis labels, one column each.
+    pub axes: Vec<String>,
+    pub rows: Vec<SlopeRow>,
+}
+
+#[derive(Serialize)]
+pub struct SlopeRow {
+    pub method: String,
+    /// One per axis: the slope, or "—".
+    pub slopes: Vec<String>,
+}
+
+impl SlopeTable {
+    /// Adds one axis column from its curves.
+    fn add(&mut self, axis: &str, curves: &[Curve]) {
+        self.axes.push(axis.to_string());
+        let columns = self.axes.len();
+        for c in curves {
+            if !self.rows.iter().any(|r| r.method == c.method) {
+                self.rows.push(SlopeRow {
+                    method: c.method.clone(),
+                    slopes: Vec::new(),
+                });
+            }
+        }
+        for row in &mut self.rows {
+            let slope = curves
+                .iter()
+                .find(|c| c.method == row.method)
+                .map_or("—".into(), slope_text);
+            row.slopes.resize(columns - 1, "—".into());
+            row.slopes.push(slope);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -843,12 +843,18 @@ fn scaling_section_fits_the_slopes_of_the_records() {
         dir.join("report").join(percent_decode(img)).is_file(),
         "{img}"
     );
-    let rows: Vec<Vec<String>> = section
-        .descendants()
-        .filter(|n| n.has_tag_name("tr"))
-        .skip(1)
-        .map(|r| r.children().filter(|c| c.is_element()).map(text).collect())
-        .collect();
+    let table_rows = |class: &str| -> Vec<Vec<String>> {
+        section
+            .descendants()
+            .find(|n| n.has_tag_name("table") && has_class(n, class))
+            .unwrap_or_else(|| panic!("no {class} table"))
+            .descendants()
+            .filter(|n| n.has_tag_name("tr"))
+            .skip(1)
+            .map(|r| r.children().filter(|c| c.is_element()).map(text).collect())
+            .collect()
+    };
+    let rows = table_rows("scaling");
     // Independent fit: two points suffice for epipolar, slope = Δln t / Δln x = 1.
     let slope = |a: (f64, f64), b: (f64, f64)| (b.1.ln() - a.1.ln()) / (b.0.ln() - a.0.ln());
     let rb = rows.iter().find(|r| r[0] == "raymarch-brute").unwrap();
@@ -866,5 +872,12 @@ fn scaling_section_fits_the_slopes_of_the_records() {
         ep[4],
         format!("{:.2}", slope((1000.0, 10.0), (256000.0, 2560.0)))
     );
+    // The slopes side by side repeat each method's fitted exponent under its axis.
+    let side_by_side = table_rows("scaling-slopes");
+    let rb_slopes = side_by_side
+        .iter()
+        .find(|r| r[0] == "raymarch-brute")
+        .unwrap();
+    assert_eq!(rb_slopes[1..], [format!("{expect:.2}")], "{rb_slopes:?}");
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -1,4 +1,5 @@
-//! `scatterbench scaling`: frame time vs caster triangles and vs pixels (ARCHITECTURE §9.5);
+//! `scatterbench scaling`: frame time vs caster triangles, vs pixels and vs local lights
+//! (ARCHITECTURE §9.5);
 //! the sweeps are `experiments::scaling`.
 
 use anyhow::Result;
@@ -28,6 +29,16 @@ pub struct ScalingArgs {
     /// the sweep.
     #[arg(long, default_value = "128,256,512,1024", value_parser = args::parse_sizes)]
     pub res: Sizes,
+    /// Local-light counts of the light sweep, comma-separated, each 1..=64 (torches on the
+    /// atrium's columns); "none" skips the sweep.
+    #[arg(long, default_value = "1,4,16,64", value_parser = args::parse_counts)]
+    pub lights: Counts,
+    /// The scene of the light sweep: one with atrium stonework (a library name or .json path).
+    #[arg(long, default_value = "atrium")]
+    pub lights_scene: String,
+    /// Resolution of the light sweep (N or WxH, each side 1..=16384).
+    #[arg(long, default_value = "128", value_parser = args::parse_res)]
+    pub lights_res: Res,
     /// Pixel sweep: a method is not run at a resolution where its frame time, extrapolated
     /// ∝ pixels from the previous resolution, would exceed this many seconds, 0..=86400
     /// (0 = no cap), so the big resolutions are measured for the methods that are cheap
@@ -55,6 +66,13 @@ pub fn run(a: ScalingArgs, registry: Registry) -> Result<()> {
         base: args::scene(&a.scene)?,
         triangles: a.triangles,
         resolutions: a.res,
+        lights_scene: if a.lights.is_empty() {
+            None
+        } else {
+            Some(args::scene(&a.lights_scene)?)
+        },
+        lights: a.lights,
+        lights_res: (a.lights_res.width, a.lights_res.height),
         max_frame_s: a.max_frame_s,
         record: RecordSettings {
             cache_dir: Some(a.output.cache.clone()),
@@ -73,11 +91,14 @@ pub fn run(a: ScalingArgs, registry: Registry) -> Result<()> {
     let plan = scaling::plan(&opts)?;
     let gpu = a.isolate.device.open()?;
     eprintln!(
-        "{} methods × ({} triangle variants at {}x{} + {} resolutions), {} frames",
+        "{} methods × ({} triangle variants at {}x{} + {} light variants at {}x{} + {} resolutions), {} frames",
         opts.methods.len(),
         plan.triangles.len(),
         opts.record.width,
         opts.record.height,
+        plan.lights.len(),
+        opts.lights_res.0,
+        opts.lights_res.1,
         plan.pixels.len(),
         opts.record.frames
     );
