@@ -117,6 +117,23 @@ pub fn bays(storey: &Storey) -> Vec<Mat4> {
     out
 }
 
+/// The four arcade walls of a storey: (world_from_wall, bays), the wall's local frame as in
+/// [`bays`] with its origin at the middle of the side, on the springing line.
+pub fn walls(storey: &Storey) -> Vec<(Mat4, u32)> {
+    let [hx, hz] = RING_HALF;
+    let y = storey.spring();
+    let (long, short) = ((2.0 * hz / BAY) as u32, (2.0 * hx / BAY) as u32);
+    vec![
+        (frame(Vec3::Z, Vec3::NEG_X, Vec3::new(hx, y, 0.0)), long),
+        (frame(Vec3::NEG_Z, Vec3::X, Vec3::new(-hx, y, 0.0)), long),
+        (
+            frame(Vec3::NEG_X, Vec3::NEG_Z, Vec3::new(0.0, y, hz)),
+            short,
+        ),
+        (frame(Vec3::X, Vec3::Z, Vec3::new(0.0, y, -hz)), short),
+    ]
+}
+
 /// world_from_bay with bay axes u (along), Y (up) and w = u × Y (so the frame is a rotation).
 pub fn frame(u: Vec3, w: Vec3, origin: Vec3) -> Mat4 {
     debug_assert_eq!(u.cross(Vec3::Y), w, "bay frame must be right-handed");

@@ -71,78 +71,108 @@ pub fn baluster_profile(detail: f32) -> Vec<(f32, f32)> {
     p
 }
 
-/// The wall of one bay above the springing line, pierced by a semicircular arch: bay-local u
-/// from −BAY/2 to BAY/2, y from 0 to `height`, w across ±ARCADE_DEPTH/2. The arch springs
-/// from the abacus edges (radius BAY/2 − ABACUS_HALF). `segments` along the half circle.
-pub fn spandrel(height: f32, segments: u32) -> TriMesh {
-    let (half, r, hw) = (0.5 * BAY, 0.5 * BAY - ABACUS_HALF, 0.5 * ARCADE_DEPTH);
-    // The outer rectangle's top corners as arc angles, so every outer segment is on one side.
+/// One side's arcade wall above the springing line: `bays` bays side by side along local u
+/// (centred on the origin, BAY each), y from 0 to `height`, w across ±ARCADE_DEPTH/2, each bay
+/// pierced by a semicircular arch springing from the abacus edges (radius BAY/2 −
+/// ABACUS_HALF), `segments` (even, ≥ 4) along each half circle pair. One closed solid: the
+/// bays share their boundary points exactly (each bay's left half is its right half mirrored,
+/// and bay centres are exact in f32), so the wall welds into a 2-manifold without internal
+/// faces, as the shadow-volume methods' silhouettes need.
+pub fn arcade(bays: u32, height: f32, segments: u32) -> TriMesh {
+    let (inner, outer) = bay_outline(height, segments / 2);
+    let (half, hw) = (0.5 * BAY, 0.5 * ARCADE_DEPTH);
+    let mut b = Builder::default();
+    let last = inner.len() - 1;
+    for j in 0..bays {
+        let u0 = (j as f32 + 0.5) * BAY - 0.5 * bays as f32 * BAY;
+        let at = |p: Vec2, w: f32| Vec3::new(u0 + p.x, p.y, w);
+        for k in 0..last {
+            let (i0, i1, o0, o1) = (inner[k], inner[k + 1], outer[k], outer[k + 1]);
+            for w in [hw, -hw] {
+                quad_facing(
+                    &mut b,
+                    [at(i0, w), at(i1, w), at(o1, w), at(o0, w)],
+                    Vec3::Z * w,
+                );
+            }
+            let mid = 0.5 * (i0 + i1);
+            quad_facing(
+                &mut b,
+                [at(i0, hw), at(i1, hw), at(i1, -hw), at(i0, -hw)],
+                -mid.extend(0.0),
+            );
+            // The outline's top is the wall's top; its sides are wall ends only at the run's ends.
+            let side = (o1 - o0).x.abs() <= (o1 - o0).y.abs();
+            let end = (o0.x > 0.0 && j == bays - 1) || (o0.x < 0.0 && j == 0);
+            if !side || end {
+                let outward = if side {
+                    Vec3::X * o0.x.signum()
+                } else {
+                    Vec3::Y
+                };
+                quad_facing(
+                    &mut b,
+                    [at(o0, hw), at(o1, hw), at(o1, -hw), at(o0, -hw)],
+                    outward,
+                );
+            }
+        }
+        // The two strips on the abaci, at the springing line.
+        for (i, o) in [(inner[0], outer[0]), (inner[last], outer[last])] {
+            quad_facing(
+                &mut b,
+                [at(i, hw), at(o, hw), at(o, -hw), at(i, -hw)],
+                Vec3::NEG_Y,
+            );
+        }
+        debug_assert!(outer[0].x == half && outer[last].x == -half);
+    }
+    b.finish()
+}
+
+/// One bay's outline in (u, y) from the right springing point over the arch to the left one:
+/// the arch (inner) and, at the same angles seen from the arch's centre, the bay's rectangle
+/// (outer; its top corners are among the angles, so each outer segment lies on one side). The
+/// right half is computed with `quarter` samples, the left half is its exact mirror.
+fn bay_outline(height: f32, quarter: u32) -> (Vec<Vec2>, Vec<Vec2>) {
+    let quarter = quarter.max(2);
+    let (half, r) = (0.5 * BAY, 0.5 * BAY - ABACUS_HALF);
     let corner = height.atan2(half);
-    // Samples within a milliradian of a corner would make slivers: the corner replaces them.
-    let far_from_corners = |a: &f32| (a - corner).abs() > 1e-3 && (a - (PI - corner)).abs() > 1e-3;
-    let mut angles: Vec<f32> = (0..=segments)
-        .map(|k| PI * k as f32 / segments as f32)
-        .filter(far_from_corners)
-        .chain([corner, PI - corner])
+    // Samples within a milliradian of the corner would make slivers: the corner replaces them.
+    let mut angles: Vec<f32> = (0..quarter)
+        .map(|k| FRAC_PI_2 * k as f32 / quarter as f32)
+        .filter(|a| (a - corner).abs() > 1e-3)
+        .chain([corner])
         .collect();
     angles.sort_by(f32::total_cmp);
-    let inner: Vec<Vec2> = angles
+    let mut inner: Vec<Vec2> = angles
         .iter()
         .map(|a| r * Vec2::new(a.cos(), a.sin()))
         .collect();
-    let outer: Vec<Vec2> = angles
+    let mut outer: Vec<Vec2> = angles
         .iter()
         .map(|&a| {
             if a <= corner {
                 Vec2::new(half, half * a.tan())
-            } else if a >= PI - corner {
-                Vec2::new(-half, half * (PI - a).tan())
             } else {
                 Vec2::new(height / a.tan(), height)
             }
         })
         .collect();
-    let at = |p: Vec2, w: f32| Vec3::new(p.x, p.y, w);
-    let mut b = Builder::default();
-    for k in 0..angles.len() - 1 {
-        let (i0, i1, o0, o1) = (inner[k], inner[k + 1], outer[k], outer[k + 1]);
-        for w in [hw, -hw] {
-            quad_facing(
-                &mut b,
-                [at(i0, w), at(i1, w), at(o1, w), at(o0, w)],
-                Vec3::Z * w,
-            );
-        }
-        let mid = 0.5 * (i0 + i1);
-        quad_facing(
-            &mut b,
-            [at(i0, hw), at(i1, hw), at(i1, -hw), at(i0, -hw)],
-            -mid.extend(0.0),
-        );
-        let along = o1 - o0;
-        let outward = if along.x.abs() > along.y.abs() {
-            Vec3::Y
-        } else {
-            Vec3::X * o0.x.signum()
-        };
-        quad_facing(
-            &mut b,
-            [at(o0, hw), at(o1, hw), at(o1, -hw), at(o0, -hw)],
-            outward,
-        );
-    }
-    // The two strips on the abacus, at the springing line.
-    for (i, o) in [
-        (inner[0], outer[0]),
-        (inner[inner.len() - 1], outer[outer.len() - 1]),
-    ] {
-        quad_facing(
-            &mut b,
-            [at(i, hw), at(o, hw), at(o, -hw), at(i, -hw)],
-            Vec3::NEG_Y,
-        );
-    }
-    b.finish()
+    // The crown, exactly on the axis (cos(π/2) is not 0 in f32).
+    inner.push(Vec2::new(0.0, r));
+    outer.push(Vec2::new(0.0, height));
+    let mirror = |v: &[Vec2]| -> Vec<Vec2> {
+        v.iter()
+            .rev()
+            .skip(1)
+            .map(|p| Vec2::new(-p.x, p.y))
+            .collect()
+    };
+    let (inner_left, outer_left) = (mirror(&inner), mirror(&outer));
+    inner.extend(inner_left);
+    outer.extend(outer_left);
+    (inner, outer)
 }
 
 /// Banner size, m: width, length, cloth thickness.
