@@ -881,6 +881,53 @@ fn reference_converges_on_sphere_point_and_fence_spot() {
     assert!(img.inscatter.mean() > 0.0 && img.total.mean() > img.inscatter.mean());
 }
 
+/// Many lights on a level: the atrium with 64 local lights (0.3 M triangles) converges like the
+/// toy scenes, and the reference is linear in its lights — the image of five lights equals the
+/// sum of five one-light images (each light's integration sees only its own intervals; a light
+/// dropped, doubled or mixed up with another's shadows breaks the sum).
+#[test]
+fn reference_converges_on_the_atrium_and_its_lights_superpose() {
+    let (w, h) = (32, 24);
+    let many = scenes::library::resolve("atrium-64").unwrap();
+    let img = render(&many, 0, w, h, Settings::default(), &|_| {}).unwrap();
+    let c = convergence(&many, 0, &img, Settings::default(), 1).unwrap();
+    println!(
+        "atrium-64 {w}x{h}: rel RMSE inscatter {:e}, total {:e}",
+        c.rel_rmse_inscatter, c.rel_rmse_total
+    );
+    assert!(
+        c.rel_rmse_total < 1e-4 && c.rel_rmse_inscatter < 1e-4,
+        "{c:?}"
+    );
+    assert!(img.inscatter.mean() > 0.0);
+
+    let four = scenes::library::resolve("atrium-lights4").unwrap();
+    let all = render(&four, 0, w, h, Settings::default(), &|_| {}).unwrap();
+    let mut sum = vec![[0.0f64; 3]; (w * h) as usize];
+    for light in &four.desc.lights {
+        let mut alone = four.clone();
+        alone.desc.lights = vec![light.clone()];
+        let one = render(&alone, 0, w, h, Settings::default(), &|_| {}).unwrap();
+        for (s, p) in sum.iter_mut().zip(&one.total.pixels) {
+            for k in 0..3 {
+                s[k] += f64::from(p[k]);
+            }
+        }
+    }
+    let (mut se, mut peak) = (0.0f64, 0.0f64);
+    for (s, p) in sum.iter().zip(&all.total.pixels) {
+        for k in 0..3 {
+            se += (s[k] - f64::from(p[k])).powi(2);
+            peak = peak.max(f64::from(p[k]));
+        }
+    }
+    let rms = (se / (3 * w * h) as f64).sqrt();
+    assert!(
+        rms < 1e-5 * peak,
+        "sum of one-light images vs all lights: rms {rms:e}, peak {peak}"
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // 5. Exact shadow intervals vs dense visibility sampling
 // ---------------------------------------------------------------------------------------------
