@@ -32,6 +32,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
         "indirect-point",
         include_str!("../library/indirect-point.json"),
     ),
+    ("valley-sun", include_str!("../library/valley-sun.json")),
 ];
 
 pub fn names() -> Vec<&'static str> {

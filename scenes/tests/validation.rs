@@ -322,6 +322,20 @@ fn library_features_match_what_the_files_say() {
             medium: "homogeneous",
             particles: 0,
         },
+        Want {
+            name: "valley-sun",
+            kinds: &["directional"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
     ];
     assert_eq!(
         table.len(),
@@ -355,6 +369,7 @@ fn library_features_match_what_the_files_say() {
         assert!(!f.ambient, "{n}: no library scene has ambient light");
         assert!(f.surfaces, "{n}: every library scene has a floor");
         assert_eq!(f.indirect_single_scattering, n == "indirect-point", "{n}");
+        assert_eq!(f.height_fog, n == "valley-sun", "{n}");
         assert_eq!(
             f.triangles,
             s.meshes.iter().map(|m| m.indices.len()).sum::<usize>(),
