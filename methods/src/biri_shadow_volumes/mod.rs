@@ -77,6 +77,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::gamma::GammaTable;
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
@@ -180,6 +181,10 @@ impl Method for BiriShadowVolumes {
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
         if let Some(why) = unsupported(scene) {
             return Support::No(why);
+        }
+        let gamma = "the Γ table of L_dss (eq. 6–7) is tabulated for a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, gamma) {
+            return no;
         }
         if scene.indirect_single_scattering && !indirect::device_can(device) {
             return Support::Partial(vec![

@@ -64,6 +64,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::gamma::GammaTable;
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, Bindings, ResolvePass};
 pub use shaders::{resolve_wgsl, volume_source};
@@ -203,6 +204,10 @@ impl Method for PolygonalLightVolumes {
     }
 
     fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {
+        let f_of_d = "the unshadowed in-scatter F(d) comes from Biri's Γ table and the sun's closed form, which assume a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, f_of_d) {
+            return no;
+        }
         match unsupported(scene) {
             Some(why) => Support::No(why),
             None => Support::Full,

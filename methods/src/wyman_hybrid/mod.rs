@@ -42,6 +42,7 @@ use harness::{
 use scenes::{FrameState, Scene, SceneFeatures};
 
 use crate::common::counters::CounterReadback;
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
 use crate::common::resolve::{self, Bindings, ResolvePass};
@@ -236,6 +237,11 @@ impl Method for WymanHybrid {
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
+        let airlight =
+            "Sun et al.'s airlight F(u, v) and the sun's closed form assume a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, airlight) {
+            return no;
+        }
         let why = "needs FLOAT32_BLENDABLE (min/max blending of shadow-polygon distances)";
         homogeneous_support(scene, device, Some(why))
     }
