@@ -64,6 +64,8 @@
 //! the adapter's DEPTH_CLIP_CONTROL, planes clipped by the near plane break the z-pass count
 //! (README: near plane). Per-vertex values of vertices behind the eye are meaningless. Indirect single scattering is ignored
 //! (`Partial`).
+//!
+//! Exponential height fog: refused — the kernel Λ(θ) and Γ(M) assume a constant σ_t.
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};

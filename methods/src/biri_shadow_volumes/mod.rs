@@ -59,6 +59,8 @@
 //! `indirect`): `indirect.rs` tabulates Γ_L(λ, φ_n) (the hemisphere integral, 2-D where the
 //! paper's full-sphere version is 1-D) and Γ_P(λ, ψ_s) per shininess, and a second draw of the
 //! scene over the surface pass's depth adds the term to the `surface` AOV.
+//!
+//! Exponential height fog: refused — the Γ table folds a constant σ_t into its arguments.
 
 pub mod indirect;
 mod pixel;

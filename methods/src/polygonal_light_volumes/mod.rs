@@ -48,6 +48,9 @@
 //! walls at depth discontinuities join neighbouring texel centres); the mesh costs 2(n+1)²
 //! triangles per face whatever the scene (n = shadow_map × mesh), so large maps need `mesh` < 1;
 //! spot quadrature error (measured in README.md); no unorm8 accumulation (the paper's era).
+//!
+//! Exponential height fog: refused — F(d) comes from the Γ table and the sun's closed form,
+//! both for a constant σ_t.
 
 mod faces;
 mod shaders;

@@ -27,6 +27,8 @@
 //! Limits: visibility between the polygons is a shadow-map test (bias, texels); a thin shadow
 //! between two steps is missed; the camera being inside a shadow volume is detected with one
 //! shadow-map test at the eye.
+//!
+//! Exponential height fog: refused — Sun et al.'s airlight F(u, v) assumes a constant σ_t.
 
 pub mod airlight;
 mod shaders;
