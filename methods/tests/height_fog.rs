@@ -8,8 +8,7 @@
 
 use std::sync::OnceLock;
 
-use harness::image::Image;
-use harness::image::headline::headline;
+use harness::image::headline::{difference, headline};
 use harness::method::{Method, ParamValue};
 use harness::reference::ReferenceImages;
 use harness::testing::{gpu_or_skip, reference, render_method, scene_text};
@@ -36,17 +35,6 @@ const RES: u32 = 48;
 fn fog_reference() -> &'static ReferenceImages {
     static REF: OnceLock<ReferenceImages> = OnceLock::new();
     REF.get_or_init(|| reference(&fog_scene(), RES))
-}
-
-/// a − b per pixel and channel.
-fn minus(a: &Image, b: &Image) -> Image {
-    let mut out = a.clone();
-    for (o, q) in out.pixels.iter_mut().zip(&b.pixels) {
-        for c in 0..3 {
-            o[c] -= q[c];
-        }
-    }
-    out
 }
 
 /// raymarch-brute's in-scatter headline against the reference falls as the steps multiply and
@@ -94,7 +82,7 @@ fn methods_that_integrate_height_fog_match_the_reference() {
     let scene = fog_scene();
     let flat = constant_sigma(&scene);
     let refimg = fog_reference();
-    let no_inscatter = minus(&refimg.total, &refimg.inscatter);
+    let no_inscatter = difference(&refimg.total, &refimg.inscatter);
     // (method, AOV, bound): in-scatter where the method computes it, the surface for no-scatter.
     let cases: [(&str, Aov, f64); 5] = [
         ("raymarch-brute", Aov::Inscatter, 0.002),
