@@ -34,7 +34,7 @@ fn lib(name: &str) -> Scene {
 #[test]
 fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     let names = library::names();
-    assert_eq!(names.len(), 14, "{names:?}");
+    assert_eq!(names.len(), 15, "{names:?}");
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);

@@ -27,7 +27,7 @@ const FLAG_CLIP_LAST: u32 = 4u;
 fn xi(k: u32, x: vec3<f32>, dir: vec3<f32>, t: f32) -> vec3<f32> {
     if (light_kind(k) == LIGHT_DIRECTIONAL) {
         let l = lights.lights[k].direction.xyz;
-        let path = fog_density(medium, x.y) * transmittance_along(medium, camera.position.xyz, dir, t);
+        let path = sun_path(medium, camera.position.xyz, dir, t);
         return medium.sigma_s.rgb * phase(medium, dot(l, -dir)) * path;
     }
     let w = x - lights.lights[k].position.xyz;

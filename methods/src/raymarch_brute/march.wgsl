@@ -27,8 +27,7 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
         if (light_kind(k) == LIGHT_DIRECTIONAL) {
             let dir_l = lights.lights[k].direction.xyz;
             let vis = shadow_visibility(k, x);
-            // σ_s(x)/σ_s(y₀) e^(−τ(eye → x)): the light leg is not attenuated (ARCHITECTURE §1).
-            let path = fog_density(medium, x.y) * transmittance_along(medium, camera.position.xyz, dir, t);
+            let path = sun_path(medium, camera.position.xyz, dir, t);
             sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * vis * path;
         } else {
             let w = x - lights.lights[k].position.xyz;

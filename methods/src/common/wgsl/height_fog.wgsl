@@ -55,6 +55,13 @@ fn scattering_path(m: Medium, eye: vec3<f32>, dir: vec3<f32>, t: f32, to_light: 
     return fog_density(m, x.y) * exp(-m.sigma_t.rgb * l);
 }
 
+// The same for a directional light, whose light leg is not attenuated (ARCHITECTURE §1):
+// (σ_s(x)/σ_s(y₀)) · e^(−τ(eye → x)) at x = eye + dir t; e^(−σ_t t) without height fog.
+fn sun_path(m: Medium, eye: vec3<f32>, dir: vec3<f32>, t: f32) -> vec3<f32> {
+    if (!has_height_fog(m)) { return transmittance(m, t); }
+    return fog_density(m, eye.y + dir.y * t) * exp(-m.sigma_t.rgb * fog_length(m, eye, dir, t));
+}
+
 // The mean of σ(y)/σ(y₀) over the segment from a along unit d for s metres (1 without fog).
 fn fog_mean_density(m: Medium, a: vec3<f32>, d: vec3<f32>, s: f32) -> f32 {
     if (!has_height_fog(m)) { return 1.0; }
