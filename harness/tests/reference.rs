@@ -1111,3 +1111,268 @@ fn a_scene_without_objects_renders() {
             .all(|v| v.is_finite() && *v > 0.0)
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Exponential height fog vs quadrature written here
+// ---------------------------------------------------------------------------------------------
+
+/// The fog of `fog_scene`: σ(y) = σ · e^(−(y − FOG_BASE)/FOG_FALLOFF).
+const FOG_BASE: f64 = 0.5;
+const FOG_FALLOFF: f64 = 2.5;
+
+fn fog_density(y: f64) -> f64 {
+    (-(y - FOG_BASE) / FOG_FALLOFF).exp()
+}
+
+/// ∫_0^s fog_density along a + t d, by composite 16-point Gauss–Legendre on `panels` panels.
+fn numeric_fog_length(a: DVec3, d: DVec3, s: f64, panels: usize) -> f64 {
+    static GL: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    let gl = GL.get_or_init(|| gauss_legendre(16));
+    let dt = s / panels as f64;
+    let mut sum = 0.0;
+    for k in 0..panels {
+        let mid = (k as f64 + 0.5) * dt;
+        for &(x, w) in gl {
+            sum += w * 0.5 * dt * fog_density(a.y + d.y * (mid + 0.5 * dt * x));
+        }
+    }
+    sum
+}
+
+/// The closed-form fog length against the numeric integral, for segments going up, down,
+/// level, nearly level and steeply through many falloff heights.
+#[test]
+fn height_fog_optical_depth_matches_numeric_integral() {
+    use harness::reference::height_fog::Fog;
+    let fog = Fog {
+        base: FOG_BASE,
+        falloff: FOG_FALLOFF,
+    };
+    let cases = [
+        (
+            "up",
+            DVec3::new(0.0, 1.0, 5.0),
+            DVec3::new(1.0, 0.5, 0.0),
+            30.0,
+        ),
+        (
+            "down",
+            DVec3::new(0.0, 9.0, 5.0),
+            DVec3::new(1.0, -0.4, 0.3),
+            25.0,
+        ),
+        (
+            "level",
+            DVec3::new(2.0, 1.3, 0.0),
+            DVec3::new(0.0, 0.0, -1.0),
+            200.0,
+        ),
+        (
+            "near-level up",
+            DVec3::new(2.0, 1.3, 0.0),
+            DVec3::new(1.0, 1e-9, 0.0),
+            300.0,
+        ),
+        (
+            "near-level down",
+            DVec3::new(2.0, 1.3, 0.0),
+            DVec3::new(1.0, -1e-6, 0.0),
+            300.0,
+        ),
+        (
+            "steep up",
+            DVec3::new(0.0, -20.0, 0.0),
+            DVec3::new(0.1, 1.0, 0.0),
+            150.0,
+        ),
+        (
+            "steep down",
+            DVec3::new(0.0, 100.0, 0.0),
+            DVec3::new(0.0, -1.0, 0.1),
+            110.0,
+        ),
+    ];
+    for (name, a, d, s) in cases {
+        let d = d.normalize();
+        let got = fog.length(a, d, s);
+        let want = numeric_fog_length(a, d, s, 256);
+        let finer = numeric_fog_length(a, d, s, 512);
+        assert!(
+            (want - finer).abs() <= 1e-13 * finer,
+            "{name}: test quadrature"
+        );
+        let e = (got - want).abs() / want;
+        println!("fog length {name}: {got} vs {want} (relative error {e:e})");
+        assert!(e < 1e-12, "{name}: closed form {got} vs quadrature {want}");
+    }
+}
+
+/// A floor and a point light in height fog with an ambient term.
+fn fog_scene(light: &str) -> Scene {
+    scene(&format!(
+        r#"{{ "camera": {{ "position": [0.0, 2.0, 9.0], "look_at": [0.3, 1.0, 0.0], "fov_y_deg": 60, "near": 0.1, "far": 30 }},
+            "medium": {{ "kind": "homogeneous", "sigma_a": [0.02, 0.03, 0.05], "sigma_s": [0.1, 0.2, 0.3],
+                         "phase": {{ "kind": "henyey-greenstein", "g": 0.4 }}, "ambient": [0.05, 0.04, 0.03],
+                         "height_fog": {{ "base_height": {FOG_BASE}, "falloff_height": {FOG_FALLOFF} }} }},
+            "lights": [ {light} ],
+            "objects": [ {{ "shape": {{ "kind": "plane", "size": [60, 60] }}, "material": {{ "albedo": [0.6, 0.5, 0.4] }} }} ] }}"#
+    ))
+}
+
+/// Every pixel term of `fog_scene` with a point light against brute-force quadrature: the
+/// in-scatter ∫ σ_s(x) p I e^(−τ(eye→x) − τ(x→light)) / r² dx with both optical depths
+/// integrated numerically, the floor's attenuated Lambert term, the ambient L_a (1 − e^(−τ)).
+#[test]
+fn height_fog_pixels_match_brute_force_quadrature() {
+    let lp = DVec3::new(1.0, 3.0, 0.0);
+    let intensity = DVec3::new(30.0, 40.0, 50.0);
+    let s =
+        fog_scene(r#"{ "kind": "point", "position": [1.0, 3.0, 0.0], "intensity": [30, 40, 50] }"#);
+    let (w, h) = (16, 16);
+    let img = render(&s, 0, w, h, Settings::default(), &|_| {}).unwrap();
+    let cam = s.frame(0).camera;
+    let o = cam.position.as_dvec3();
+    let m = medium(0.4);
+    let albedo = Vec3::new(0.6, 0.5, 0.4).as_dvec3();
+    let ambient = Vec3::new(0.05, 0.04, 0.03).as_dvec3();
+    let tau = |a: DVec3, d: DVec3, len: f64| m.sigma_t * numeric_fog_length(a, d, len, 8);
+    let (mut floor, mut sky) = (0, 0);
+    for (i, j) in sample_pixels(&cam, w, h, lp) {
+        let d = pixel_dir(&cam, w, h, i, j);
+        // The floor is y = 0; the ray ends there or at the far plane.
+        let t_floor = -o.y / d.y;
+        let hits = d.y < 0.0 && t_floor < far_len(&cam, d);
+        let len = if hits { t_floor } else { far_len(&cam, d) };
+        let f = |t: f64| {
+            let x = o + d * t;
+            let to = lp - x;
+            let r = to.length();
+            let cos = (x - lp).dot(-d) / r;
+            m.sigma_s
+                * fog_density(x.y)
+                * hg(m.g, cos)
+                * intensity
+                * exp3(-tau(o, d, t) - tau(x, to / r, r))
+                / (r * r)
+        };
+        let (t0, hh) = closest(o, d, lp);
+        let want_in = integrate_peaked(&f, 0.0, len, t0, hh, 200);
+        let finer = integrate_peaked(&f, 0.0, len, t0, hh, 400);
+        assert!(rel_err(want_in, finer) < 1e-9, "({i},{j}): test quadrature");
+        let eye = exp3(-tau(o, d, len));
+        let want_surf = if hits {
+            floor += 1;
+            let p = o + d * len;
+            let to = lp - p;
+            let r = to.length();
+            albedo / PI * intensity * (to.y / r) / (r * r) * exp3(-tau(p, to / r, r)) * eye
+        } else {
+            sky += 1;
+            DVec3::ZERO
+        };
+        let want_total = want_in + want_surf + ambient * (DVec3::ONE - eye);
+        for (what, got, want) in [
+            ("in-scatter", px(&img.inscatter, i, j), want_in),
+            ("surface", px(&img.surface, i, j), want_surf),
+            ("total", px(&img.total, i, j), want_total),
+        ] {
+            let e = if want == DVec3::ZERO {
+                got.max_element()
+            } else {
+                rel_err(got, want)
+            };
+            println!("({i},{j}) {what}: {got} vs {want} ({e:e})");
+            // f32 images: ~1e-7; the reference's own tolerance 1e-6.
+            assert!(
+                e < 3e-6,
+                "({i},{j}) {what}: reference {got} vs quadrature {want}"
+            );
+        }
+    }
+    assert!(
+        floor >= 3 && sky >= 2,
+        "the sample pixels must see the floor and the sky"
+    );
+}
+
+/// A directional light in height fog: the in-scatter (unattenuated light leg) against
+/// brute-force quadrature of ∫ σ_s(x) p E e^(−τ(eye→x)) dx.
+#[test]
+fn height_fog_directional_light_matches_brute_force_quadrature() {
+    let dir = DVec3::new(0.5, -0.3, -0.8).normalize();
+    let e = DVec3::new(2.0, 2.5, 3.0);
+    let s = fog_scene(
+        r#"{ "kind": "directional", "direction": [0.5, -0.3, -0.8], "irradiance": [2.0, 2.5, 3.0] }"#,
+    );
+    let (w, h) = (8, 8);
+    let img = render(&s, 0, w, h, Settings::default(), &|_| {}).unwrap();
+    let cam = s.frame(0).camera;
+    let o = cam.position.as_dvec3();
+    let m = medium(0.4);
+    for j in 0..h {
+        for i in 0..w {
+            let d = pixel_dir(&cam, w, h, i, j);
+            let t_floor = -o.y / d.y;
+            let len = if d.y < 0.0 && t_floor < far_len(&cam, d) {
+                t_floor
+            } else {
+                far_len(&cam, d)
+            };
+            let p = hg(m.g, dir.dot(-d));
+            let f = |t: f64| {
+                let x = o + d * t;
+                m.sigma_s
+                    * fog_density(x.y)
+                    * p
+                    * e
+                    * exp3(-m.sigma_t * numeric_fog_length(o, d, t, 8))
+            };
+            // No peak: a wide "peak" makes the substitution nearly linear.
+            let want = integrate_peaked(&f, 0.0, len, 0.0, 1e3, 64);
+            let got = px(&img.inscatter, i, j);
+            assert!(
+                rel_err(got, want) < 3e-6,
+                "({i},{j}): reference {got} vs quadrature {want}"
+            );
+        }
+    }
+}
+
+/// The reference agrees with its 4×-tighter self on a height-fog scene with a shadow caster
+/// (a box between the light and the floor).
+#[test]
+fn reference_converges_with_height_fog() {
+    let s = scene(&format!(
+        r#"{{ "camera": {{ "position": [0.0, 2.0, 9.0], "look_at": [0.3, 1.0, 0.0], "fov_y_deg": 60, "far": 30 }},
+            "medium": {{ "kind": "homogeneous", "sigma_a": [0.02, 0.02, 0.02], "sigma_s": [0.1, 0.2, 0.3],
+                         "height_fog": {{ "base_height": {FOG_BASE}, "falloff_height": {FOG_FALLOFF} }} }},
+            "lights": [ {{ "kind": "point", "position": [1.0, 4.0, 0.0], "intensity": [30, 40, 50] }},
+                        {{ "kind": "directional", "direction": [0.5, -0.6, -0.8], "irradiance": [1, 1, 1] }} ],
+            "objects": [ {{ "shape": {{ "kind": "plane", "size": [60, 60] }} }},
+                         {{ "shape": {{ "kind": "box", "size": [1, 1, 1] }}, "transform": {{ "translation": [0.8, 2.0, 0.0] }} }} ] }}"#
+    ));
+    let img = render(&s, 0, 32, 32, Settings::default(), &|_| {}).unwrap();
+    let c = convergence(&s, 0, &img, Settings::default(), 1).unwrap();
+    println!(
+        "height fog 32²: rel RMSE inscatter {:e}, total {:e}",
+        c.rel_rmse_inscatter, c.rel_rmse_total
+    );
+    assert!(
+        c.rel_rmse_total < 1e-4 && c.rel_rmse_inscatter < 1e-4,
+        "{c:?}"
+    );
+    assert!(img.inscatter.mean() > 0.0 && img.surface.mean() > 0.0);
+}
+
+/// Indirect single scattering is not computed with height fog: a clear error, not an image.
+#[test]
+fn height_fog_with_indirect_scattering_is_refused() {
+    let mut s =
+        fog_scene(r#"{ "kind": "point", "position": [1.0, 3.0, 0.0], "intensity": [30, 40, 50] }"#);
+    s.desc.indirect_single_scattering = true;
+    let err = render(&s, 0, 4, 4, Settings::default(), &|_| {}).unwrap_err();
+    assert!(
+        err.contains("height_fog") && err.contains("indirect"),
+        "{err}"
+    );
+}

@@ -103,9 +103,15 @@ pub enum MediumDesc {
         /// Phase function. Default: isotropic.
         #[serde(default)]
         phase: Phase,
-        /// Ambient radiance L_a of the term L_a (1 - e^(-σt d)), W/(m² sr), RGB. Default: 0.
+        /// Ambient radiance L_a of the term L_a (1 - e^(-τ)), τ the ray's optical depth (σt d
+        /// without height fog), W/(m² sr), RGB. Default: 0.
         #[serde(default)]
         ambient: Vec3,
+        /// Exponential height fog: σ(y) = σ · e^(−(y − base_height)/falloff_height), the file's
+        /// σ being the values at `base_height`. Default: none (σ constant everywhere). Left out
+        /// of the serialised form when absent, so existing scenes keep their reference-cache keys.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        height_fog: Option<HeightFog>,
     },
     /// A particle cloud: explicit spheres plus seeded generators (both optional, at least one
     /// particle in all). Extinction inside a sphere is its `density`, overlaps add.
@@ -129,6 +135,17 @@ pub enum MediumDesc {
         #[serde(default)]
         sky: Vec3,
     },
+}
+
+/// Exponential height fog of a homogeneous medium (ARCHITECTURE §1): every coefficient is
+/// scaled by e^(−(y − base_height)/falloff_height); albedo and phase do not change with height.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HeightFog {
+    /// Height y₀ where σ has the file's values, m; finite.
+    pub base_height: f32,
+    /// Height H over which σ falls by a factor e, m; finite, > 0.
+    pub falloff_height: f32,
 }
 
 fn white() -> Vec3 {

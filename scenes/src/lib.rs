@@ -19,7 +19,7 @@ pub mod validate;
 pub mod variants;
 
 pub use camera::{CameraPose, PixelRays};
-pub use desc::SceneDesc;
+pub use desc::{HeightFog, SceneDesc};
 pub use light::LightState;
 pub use load::{SceneError, load_scene, parse_scene};
 pub use mesh::TriMesh;

@@ -32,6 +32,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
         "indirect-point",
         include_str!("../library/indirect-point.json"),
     ),
+    ("valley-sun", include_str!("../library/valley-sun.json")),
     ("atrium", include_str!("../library/atrium.json")),
     ("atrium-64", include_str!("../library/atrium-64.json")),
 ];

@@ -7,7 +7,7 @@ use glam::{EulerRot, Mat4, Quat, Vec3};
 use serde::Serialize;
 
 use crate::camera::CameraPose;
-use crate::desc::{GeneratorDesc, LightDesc, MediumDesc, SceneDesc, Transform};
+use crate::desc::{GeneratorDesc, HeightFog, LightDesc, MediumDesc, SceneDesc, Transform};
 use crate::light::LightState;
 use crate::mesh::TriMesh;
 use crate::particles::{BlockInstancing, Particle, expand_with_blocks, generated_count};
@@ -34,6 +34,9 @@ pub struct Homogeneous {
     pub sigma_t: Vec3,
     pub phase: Phase,
     pub ambient: Vec3,
+    /// Exponential height fog: σ_a, σ_s and σ_t above are the values at its base height and
+    /// scale with e^(−(y − y₀)/H). None: constant σ.
+    pub height_fog: Option<HeightFog>,
 }
 
 /// A particle medium in integrator form (ARCHITECTURE §1, "particles").
@@ -105,12 +108,14 @@ impl Scene {
                 sigma_s,
                 phase,
                 ambient,
+                height_fog,
             } => Medium::Homogeneous(Homogeneous {
                 sigma_a: *sigma_a,
                 sigma_s: *sigma_s,
                 sigma_t: *sigma_a + *sigma_s,
                 phase: *phase,
                 ambient: *ambient,
+                height_fog: *height_fog,
             }),
             MediumDesc::Particles {
                 particles,
@@ -133,6 +138,7 @@ impl Scene {
                         sigma_t: sigma_a + sigma_s,
                         phase: *phase,
                         ambient: Vec3::ZERO,
+                        height_fog: None,
                     },
                     sky: *sky,
                 })
@@ -273,6 +279,13 @@ impl Scene {
             volumetric_occluders: d.objects.iter().any(|o| o.casts_volumetric_shadow),
             phong: d.objects.iter().any(|o| o.material.phong.is_some()),
             indirect_single_scattering: d.indirect_single_scattering,
+            height_fog: matches!(
+                d.medium,
+                MediumDesc::Homogeneous {
+                    height_fog: Some(_),
+                    ..
+                }
+            ),
             frames: d.frames.max(1),
             animated: animated_lights || animated_objects || animated_camera,
             animated_lights,
@@ -335,6 +348,8 @@ pub struct SceneFeatures {
     pub volumetric_occluders: bool,
     pub phong: bool,
     pub indirect_single_scattering: bool,
+    /// The homogeneous medium has exponential height fog (σ varies with height).
+    pub height_fog: bool,
     pub frames: u32,
     pub animated: bool,
     pub animated_lights: bool,

@@ -226,11 +226,16 @@ fn medium(c: &mut Checker, m: &MediumDesc) {
             sigma_s,
             phase: ph,
             ambient,
+            height_fog,
         } => {
             c.non_negative3("medium.sigma_a", *sigma_a);
             c.non_negative3("medium.sigma_s", *sigma_s);
             c.non_negative3("medium.ambient", *ambient);
             phase(c, ph);
+            if let Some(f) = height_fog {
+                c.finite("medium.height_fog.base_height", f.base_height);
+                c.positive("medium.height_fog.falloff_height", f.falloff_height);
+            }
         }
         MediumDesc::Particles {
             particles,

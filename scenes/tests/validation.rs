@@ -34,7 +34,7 @@ fn lib(name: &str) -> Scene {
 #[test]
 fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     let names = library::names();
-    assert_eq!(names.len(), 16, "{names:?}");
+    assert_eq!(names.len(), 17, "{names:?}");
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);
@@ -323,6 +323,20 @@ fn library_features_match_what_the_files_say() {
             particles: 0,
         },
         Want {
+            name: "valley-sun",
+            kinds: &["directional"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 1,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
             name: "atrium",
             kinds: &["directional", "point", "spot"],
             lights: 19,
@@ -383,6 +397,7 @@ fn library_features_match_what_the_files_say() {
         assert!(!f.ambient, "{n}: no library scene has ambient light");
         assert!(f.surfaces, "{n}: every library scene has a floor");
         assert_eq!(f.indirect_single_scattering, n == "indirect-point", "{n}");
+        assert_eq!(f.height_fog, n == "valley-sun", "{n}");
         assert_eq!(
             f.triangles,
             s.meshes.iter().map(|m| m.indices.len()).sum::<usize>(),

@@ -43,6 +43,12 @@ pub fn run(a: ListArgs, registry: Registry) -> Result<()> {
             f.animated,
             f.triangles
         );
+        if f.height_fog {
+            println!(
+                "  {:<20} medium: homogeneous with exponential height fog",
+                ""
+            );
+        }
     }
     print_methods(registry);
     Ok(())

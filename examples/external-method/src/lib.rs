@@ -6,7 +6,8 @@
 //! maps off) writes the surface AOV and each pixel's ray length; a full-screen pass
 //! (`methods::common::resolve::ResolvePass`, `march.wgsl`) marches the ray.
 //! Paper: none — the textbook single-scattering integral, the floor under every method here.
-//! Faithful: the integrand is the reference's (same phase function, transmittance, spot falloff).
+//! Faithful: the integrand is the reference's (same phase function, transmittance, spot falloff,
+//! exponential height fog).
 //! Modernised: nothing to modernise. Limits: no volumetric or surface shadows (on a scene whose
 //! objects cast shadows the shafts are missing: `support` reports the scene as partial); the 1/r²
 //! peak near a light in view is under-sampled at low step counts.

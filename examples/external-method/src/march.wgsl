@@ -1,5 +1,6 @@
 // Single scattering without shadows: N midpoint steps from the eye to the visible surface (or the
-// far plane), the exact integrand at each step with visibility 1. Composed after
+// far plane), the exact integrand at each step with visibility 1 (with exponential height fog:
+// σ_s(x) and each leg's optical depth, methods::common's height_fog.wgsl). Composed after
 // common::resolve::source (PRELUDE, FULLSCREEN, resolve_io).
 
 // Mirrors `MarchUniform` in lib.rs, field for field.
@@ -18,12 +19,14 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
     for (var k = 0u; k < light_count(); k++) {
         if (light_kind(k) == LIGHT_DIRECTIONAL) {
             let dir_l = lights.lights[k].direction.xyz;
-            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * transmittance(medium, t);
+            let path = sun_path(medium, camera.position.xyz, dir, t);
+            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * path;
         } else {
             let w = x - lights.lights[k].position.xyz;
             let r2 = max(dot(w, w), 1e-12);
             let r = sqrt(r2);
-            sum += light_intensity(k, w) * phase(medium, dot(w / r, -dir)) * transmittance(medium, t + r) / r2;
+            let path = scattering_path(medium, camera.position.xyz, dir, t, -w / r, r);
+            sum += light_intensity(k, w) * phase(medium, dot(w / r, -dir)) * path / r2;
         }
     }
     return medium.sigma_s.rgb * sum;
@@ -41,5 +44,5 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     l_in *= dt;
     let surf = textureLoad(surface, px, 0).rgb;
-    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient_fog(d), 1.0));
+    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient_fog(dir, d), 1.0));
 }

@@ -59,6 +59,12 @@ pub fn check(scene: &Scene) -> Result<(), String> {
             scene.name
         ));
     }
+    if f.height_fog {
+        return Err(format!(
+            "scene '{}': indirect single scattering is computed for a constant σ only, not with medium.height_fog (its gather rays to infinity assume a homogeneous medium)",
+            scene.name
+        ));
+    }
     Ok(())
 }
 
@@ -360,6 +366,7 @@ mod tests {
             sigma_t: Vec3::splat(sigma_a + sigma_s),
             phase,
             ambient: Vec3::ZERO,
+            height_fog: None,
         }
     }
 

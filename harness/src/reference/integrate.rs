@@ -19,6 +19,7 @@ use glam::DVec3;
 use scenes::light::{pattern_breaks, spot_frame};
 use scenes::{Homogeneous, LightState};
 
+use super::height_fog::Fog;
 use super::particles::ParticleField;
 /// Re-exported: methods' tests integrate their closed forms with it.
 pub use super::quadrature::adaptive;
@@ -92,7 +93,6 @@ impl Tracer<'_> {
         if let Some(field) = self.particles {
             return self.trace_particles(field, o, d, near, far);
         }
-        let sigma_t = self.medium.sigma_t.as_dvec3();
         let hit = self.world.bvh.intersect(o, d, near, far);
         let distance = hit.map_or(far, |h| h.t);
         let mut inscatter = DVec3::ZERO;
@@ -116,15 +116,31 @@ impl Tracer<'_> {
         let mut surface = DVec3::ZERO;
         if let Some(h) = hit {
             let p = o + d * h.t;
-            surface = self.surface(p, d, h) * exp(-sigma_t * h.t);
+            surface = self.surface(p, d, h) * self.transmittance(o, d, h.t);
         }
-        let ambient = self.medium.ambient.as_dvec3() * (DVec3::ONE - exp(-sigma_t * distance));
+        let ambient =
+            self.medium.ambient.as_dvec3() * (DVec3::ONE - self.transmittance(o, d, distance));
         RayRadiance {
             inscatter,
             surface,
             total: inscatter + surface + ambient,
             distance,
             hit: hit.is_some(),
+        }
+    }
+
+    /// The height fog, if the medium has one.
+    fn fog(&self) -> Option<Fog> {
+        self.medium.height_fog.map(Fog::from)
+    }
+
+    /// e^(−τ) per channel over the segment from `a` along the unit direction `d` for `s` m:
+    /// e^(−σ_t s), or with height fog e^(−σ_t L), L the segment's fog length.
+    fn transmittance(&self, a: DVec3, d: DVec3, s: f64) -> DVec3 {
+        let sigma_t = self.medium.sigma_t.as_dvec3();
+        match self.fog() {
+            None => exp(-sigma_t * s),
+            Some(f) => exp(-sigma_t * f.length(a, d, s)),
         }
     }
 
@@ -146,7 +162,6 @@ impl Tracer<'_> {
             ng = -ng;
             n = -n;
         }
-        let sigma_t = self.medium.sigma_t.as_dvec3();
         let origin = p + ng * self.eps;
         let albedo = mat.albedo.as_dvec3() / std::f64::consts::PI;
         let mut out = DVec3::ZERO;
@@ -166,7 +181,7 @@ impl Tracer<'_> {
                     (
                         to / r,
                         r,
-                        light.intensity_toward(p) * exp(-sigma_t * r) / (r * r),
+                        light.intensity_toward(p) * self.transmittance(p, to / r, r) / (r * r),
                     )
                 }
             };
@@ -204,6 +219,7 @@ impl Tracer<'_> {
         let sigma_s = self.medium.sigma_s.as_dvec3();
         let sigma_t = self.medium.sigma_t.as_dvec3();
         let phase = self.medium.phase;
+        let fog = self.fog();
         let w0 = o - lp;
         let integrand_t = |t: f64| -> DVec3 {
             let w = w0 + d * t;
@@ -212,10 +228,19 @@ impl Tracer<'_> {
                 return DVec3::ZERO;
             }
             let cos_theta = -w.dot(d) / r;
+            // σ_s(x) and the fog length of eye leg + light leg (t + r without height fog).
+            let (density, path) = match fog {
+                None => (1.0, t + r),
+                Some(f) => (
+                    f.scale(lp.y + w.y),
+                    f.length(o, d, t) + f.length(lp + w, -w / r, r),
+                ),
+            };
             sigma_s
+                * density
                 * (phase.eval(cos_theta) / (r * r))
                 * light.intensity_toward(lp + w)
-                * exp(-sigma_t * (t + r))
+                * exp(-sigma_t * path)
         };
         let mut sum = DVec3::ZERO;
         for (a, b) in self.lit_intervals(o, d, len, light) {
@@ -344,9 +369,19 @@ impl Tracer<'_> {
         let sigma_s = self.medium.sigma_s.as_dvec3();
         let sigma_t = self.medium.sigma_t.as_dvec3();
         let p = self.medium.phase.eval(dir.dot(-d));
+        let fog = self.fog();
         let mut sum = DVec3::ZERO;
         for (a, b) in self.lit_intervals_directional(o, d, len, dir) {
             // ∫_a^b e^(−σt x) dx = e^(−σt a) (1 − e^(−σt (b−a))) / σt, stable as σt → 0.
+            // With height fog, σ_s(x) dx = σ_s dL in the fog length L, so the same closed form
+            // holds between the fog lengths of a and b.
+            let (a, b) = match fog {
+                None => (a, b),
+                Some(f) => {
+                    let la = f.length(o, d, a);
+                    (la, la + f.length(o + d * a, d, b - a))
+                }
+            };
             let seg = DVec3::from_array([0, 1, 2].map(|c| exp_integral(sigma_t[c], a, b)));
             sum += sigma_s * p * e * seg;
         }

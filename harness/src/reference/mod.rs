@@ -8,12 +8,17 @@
 //! them), the camera ray cut into constant-density pieces, single scattering with
 //! self-shadowing, the sky behind.
 //!
+//! Exponential height fog ([`height_fog`]): every e^(−σ_t d) becomes e^(−σ_t L) with L a
+//! segment's closed-form fog length, σ_s(x) scales the in-scatter integrand, and a directional
+//! light's lit interval keeps its closed form in L.
+//!
 //! Biri 2006's indirect single scattering ([`indirect`]), where a scene enables it, is added to
 //! the `surface` AOV (and `total`); point lights in a homogeneous medium only (a clear error
 //! otherwise, never a wrong image).
 
 pub mod bvh;
 pub mod cache;
+pub mod height_fog;
 pub mod indirect;
 pub mod integrate;
 pub mod pack;

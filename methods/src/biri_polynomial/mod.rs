@@ -64,6 +64,8 @@
 //! the adapter's DEPTH_CLIP_CONTROL, planes clipped by the near plane break the z-pass count
 //! (README: near plane). Per-vertex values of vertices behind the eye are meaningless. Indirect single scattering is ignored
 //! (`Partial`).
+//!
+//! Exponential height fog: refused — the kernel Λ(θ) and Γ(M) assume a constant σ_t.
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
@@ -73,6 +75,7 @@ use harness::{
 };
 use scenes::{FrameState, SceneFeatures};
 
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::ResolvePass;
@@ -235,6 +238,10 @@ impl Method for BiriPolynomial {
             return Support::No(
                 "needs a homogeneous medium (the angular RTE assumes constant σ_t)".into(),
             );
+        }
+        let kernel = "the angular RTE's kernel Λ(θ) and its polynomial Γ(M) assume a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, kernel) {
+            return no;
         }
         if scene.indirect_single_scattering {
             return Support::Partial(vec!["indirect_single_scattering".into()]);

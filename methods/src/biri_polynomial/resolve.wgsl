@@ -21,7 +21,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = pixel_ray_length(px, dir);
     let surf = textureLoad(surface, px, 0).rgb;
-    let ambient = ambient_fog(d);
+    let ambient = ambient_fog(dir, d);
     let acc = textureLoad(accumulated, px, 0).rgb;
     if (mode.unorm8 == 1u) {
         return Out(vec4<f32>(acc - surf - ambient, 1.0), vec4<f32>(acc, 1.0));

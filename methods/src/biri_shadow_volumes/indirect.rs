@@ -336,6 +336,7 @@ mod tests {
             sigma_t: Vec3::splat(sigma_t),
             phase,
             ambient: Vec3::ZERO,
+            height_fog: None,
         }
     }
 

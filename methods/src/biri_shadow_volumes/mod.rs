@@ -59,6 +59,8 @@
 //! `indirect`): `indirect.rs` tabulates Γ_L(λ, φ_n) (the hemisphere integral, 2-D where the
 //! paper's full-sphere version is 1-D) and Γ_P(λ, ψ_s) per shininess, and a second draw of the
 //! scene over the surface pass's depth adds the term to the `surface` AOV.
+//!
+//! Exponential height fog: refused — the Γ table folds a constant σ_t into its arguments.
 
 pub mod indirect;
 mod pixel;
@@ -77,6 +79,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::gamma::GammaTable;
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
@@ -180,6 +183,10 @@ impl Method for BiriShadowVolumes {
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
         if let Some(why) = unsupported(scene) {
             return Support::No(why);
+        }
+        let gamma = "the Γ table of L_dss (eq. 6–7) is tabulated for a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, gamma) {
+            return no;
         }
         if scene.indirect_single_scattering && !indirect::device_can(device) {
             return Support::Partial(vec![

@@ -34,6 +34,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
         l_in = max(l_in + textureLoad(crossings, px, 0).rgb, vec3<f32>(0.0));
     }
     let surf = textureLoad(surface, px, 0).rgb;
-    let ambient = ambient_fog(d);
+    let ambient = ambient_fog(dir, d);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient, 1.0));
 }

@@ -5,6 +5,7 @@ pub mod counters;
 pub mod crossing_lists;
 pub mod gamma;
 pub mod gpu_scene;
+pub mod height_fog;
 pub mod knobs;
 pub mod layouts;
 pub mod patterns;

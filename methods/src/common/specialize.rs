@@ -1,7 +1,7 @@
 //! Scene-baked pipeline constants. A scene's light count, light kinds and phase function are
 //! fixed for a run (lights move, they do not change kind), so the hot passes compile them in as
 //! WGSL `override`s (`LIGHT_COUNT`, `LIGHT_KIND_0..3` in `lights.wgsl`, `PHASE_KIND` in
-//! `medium.wgsl`): the per-light loops get a constant trip count and the kind and phase
+//! `medium.wgsl`, `HEIGHT_FOG` in `height_fog.wgsl`, so constant-σ scenes pay nothing for it): the per-light loops get a constant trip count and the kind and phase
 //! branches fold away. A pass without them reads the same values from the uniforms, so leaving
 //! them out is only slower, never wrong. lavapipe runs both sides of a branch on a uniform value
 //! under a mask and indexes the light array per lane, so this matters there: with the light
@@ -44,6 +44,8 @@ impl Specialization {
         // The code of MediumUniform (sigma_s.w), for the medium the renderer uploads.
         let phase = MediumUniform::new(&scene.medium().background()).sigma_s[3];
         constants.push(("PHASE_KIND", phase as f64));
+        let fog = scene.medium().background().height_fog.is_some();
+        constants.push(("HEIGHT_FOG", flag(fog)));
         Specialization { constants }
     }
 

@@ -47,6 +47,8 @@ pub struct MediumUniform {
     pub sigma_s: [f32; 4],
     pub sigma_t: [f32; 4],
     pub ambient: [f32; 4],
+    /// x: height fog's base height y₀ (m); y: 1/H (1/m), 0 without height fog.
+    pub height_fog: [f32; 4],
 }
 
 impl MediumUniform {
@@ -63,6 +65,9 @@ impl MediumUniform {
             sigma_s: m.sigma_s.extend(kind).to_array(),
             sigma_t: m.sigma_t.extend(g).to_array(),
             ambient: m.ambient.extend(0.0).to_array(),
+            height_fog: m.height_fog.map_or([0.0; 4], |f| {
+                [f.base_height, 1.0 / f.falloff_height, 0.0, 0.0]
+            }),
         }
     }
 }

@@ -3,7 +3,13 @@
 //! validated by naga in a GPU-less test (`Method::shaders`, `tests/conformance.rs`).
 
 pub const CAMERA: &str = include_str!("wgsl/camera.wgsl");
-pub const MEDIUM: &str = include_str!("wgsl/medium.wgsl");
+/// The medium uniform, phase functions and transmittance, with exponential height fog's density
+/// and closed-form optical depth (`fog_density`, `fog_length`, `transmittance_along`).
+pub const MEDIUM: &str = concat!(
+    include_str!("wgsl/medium.wgsl"),
+    "\n",
+    include_str!("wgsl/height_fog.wgsl")
+);
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
 pub const SHADOW: &str = include_str!("wgsl/shadow.wgsl");
 pub const SCENE: &str = include_str!("wgsl/scene.wgsl");

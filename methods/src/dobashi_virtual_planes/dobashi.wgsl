@@ -27,12 +27,14 @@ const FLAG_CLIP_LAST: u32 = 4u;
 fn xi(k: u32, x: vec3<f32>, dir: vec3<f32>, t: f32) -> vec3<f32> {
     if (light_kind(k) == LIGHT_DIRECTIONAL) {
         let l = lights.lights[k].direction.xyz;
-        return medium.sigma_s.rgb * phase(medium, dot(l, -dir)) * transmittance(medium, t);
+        let path = sun_path(medium, camera.position.xyz, dir, t);
+        return medium.sigma_s.rgb * phase(medium, dot(l, -dir)) * path;
     }
     let w = x - lights.lights[k].position.xyz;
     let r2 = max(dot(w, w), 1e-12);
     let r = sqrt(r2);
-    return medium.sigma_s.rgb * phase(medium, dot(w / r, -dir)) * transmittance(medium, t + r) / r2;
+    let path = scattering_path(medium, camera.position.xyz, dir, t, -w / r, r);
+    return medium.sigma_s.rgb * phase(medium, dot(w / r, -dir)) * path / r2;
 }
 
 // The light map: I(θ, φ) of light k toward world point x, W/sr (the irradiance E for a parallel

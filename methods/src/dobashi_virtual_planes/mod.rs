@@ -31,6 +31,9 @@
 //! where little light is; shadows and thin shafts alias between planes (Fig. 5); the 1/r² peak
 //! near a light inside the view is under-sampled by a coarse lattice (Fig. 6a); visibility is as
 //! good as the shadow map.
+//!
+//! Exponential height fog: integrated (ξ carries σ_s(x) and both legs' optical depths; eq. 5 is
+//! a quadrature of any smooth ξ).
 
 mod passes;
 

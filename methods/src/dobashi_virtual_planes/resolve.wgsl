@@ -11,6 +11,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = pixel_ray_length(px, dir);
     let l_in = textureLoad(accum, px, 0).rgb / planes.scale;
-    let ambient = ambient_fog(d);
+    let ambient = ambient_fog(dir, d);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(textureLoad(surface, px, 0).rgb + l_in + ambient, 1.0));
 }

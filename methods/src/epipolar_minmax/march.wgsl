@@ -66,18 +66,17 @@ fn local_integrand(r: Ray, phi: f32) -> vec3<f32> {
     let dist = r.c / s;
     let w = camera.position.xyz + r.dir * t - lights.lights[LIGHT].position.xyz;
     let i = light_intensity(LIGHT, w);
-    return i * phase(medium, dot(w, -r.dir) / dist) * transmittance(medium, t + dist) / r.c;
+    let path = scattering_path(medium, camera.position.xyz, r.dir, t, -w / dist, dist);
+    return i * phase(medium, dot(w, -r.dir) / dist) * path / r.c;
 }
 
 // The unshadowed in-scatter (without σ_s) of the ray between rectified coordinates ua < ub.
 fn lit(r: Ray, ua: f32, ub: f32, du: f32) -> vec3<f32> {
     if (directional()) {
-        // Constant scattering angle: ∫ I p e^(−σt t) dt in closed form.
+        // Constant scattering angle: ∫ I p e^(−σt t) dt in closed form (with height fog too).
         let ta = ray_t(r, ua);
         let tb = ray_t(r, ub);
-        let st = medium.sigma_t.rgb;
-        let e = (transmittance(medium, ta) - transmittance(medium, tb)) / max(st, vec3<f32>(1e-12));
-        let ex = select(e, vec3<f32>(tb - ta), st * (tb - ta) < vec3<f32>(1e-5));
+        let ex = attenuated_fog_length(medium, camera.position.xyz, r.dir, ta, tb);
         let l = lights.lights[LIGHT];
         return l.intensity.rgb * phase(medium, dot(l.direction.xyz, -r.dir)) * ex;
     }

@@ -44,6 +44,9 @@
 //! sampling density factor and no refinement on in-scatter differences; lit runs of point and
 //! spot lights are quadrature, not the closed-form airlight (which exists only for isotropic
 //! phase); homogeneous media only.
+//!
+//! Exponential height fog: integrated (the φ integrand carries σ_s(x) and both legs' optical
+//! depths; a directional lit run keeps its closed form in the fog length).
 
 mod passes;
 

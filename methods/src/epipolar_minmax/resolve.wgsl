@@ -7,7 +7,8 @@
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
     let l_in = textureLoad(inscatter, px, 0).rgb;
-    let d = pixel_ray_length(px, camera_ray_dir(camera, frag.xy));
+    let dir = camera_ray_dir(camera, frag.xy);
+    let d = pixel_ray_length(px, dir);
     let surf = textureLoad(surface, px, 0).rgb;
-    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient_fog(d), 1.0));
+    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient_fog(dir, d), 1.0));
 }

@@ -12,5 +12,5 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let d = pixel_ray_length(px, dir);
     let l_in = volume_at(frag.xy, dir, d).rgb;
     let surf = textureLoad(surface, px, 0).rgb;
-    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient_fog(d), 1.0));
+    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient_fog(dir, d), 1.0));
 }

@@ -49,6 +49,9 @@
 //! objects (pen-orbit) and blurs the history a little on every reprojection; particle media with
 //! one light only (the cloud's shadow multiplies the shared surface pass, which sums the
 //! lights), and a local light outside every particle, seeing the cloud within 80°.
+//!
+//! Exponential height fog: integrated (each slice's mean σ_s and σ_t along its ray, the light
+//! leg's exact optical depth), homogeneous media only.
 
 mod grid;
 mod particle_passes;

@@ -115,7 +115,8 @@ fn light_source(k: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32) -
         falloff = mean_inverse_square(e, dir, c, t0, t1, spread);
     }
     let i = light_intensity(k, w);
-    return i * phase(medium, dot(w / r, -dir)) * froxel_visibility(k, x) * transmittance(medium, r) * falloff;
+    let light_leg = transmittance_along(medium, x, -w / r, r);
+    return i * phase(medium, dot(w / r, -dir)) * froxel_visibility(k, x) * light_leg * falloff;
 }
 
 // The particles' transmittance between light k and x (their self-shadowing); 1 without particles.
@@ -188,7 +189,9 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     let t1 = slice_distance(far_t, f32(id.z + 1u) / n);
     let i = froxel_index(id.x, id.y, id.z);
     let t = sample_distance(i, t0, t1, o.z);
-    let sigma_s = froxel_sigma_s(i);
+    // Height fog: the slice's mean σ_s along the sample's ray, as `integrate` takes its mean σ_t,
+    // so that Hillaire's slice integral gives σ_s/σ_t (1 − e^(−τ)) exactly.
+    let sigma_s = froxel_sigma_s(i) * fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
     var s = vec3<f32>(0.0);
     // Empty froxels (particle media without a background) skip the light's evaluation.
     if (any(sigma_s > vec3<f32>(0.0))) {
@@ -224,13 +227,16 @@ fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
     // The particles' transmittance alone (grey), for the surfaces behind (particle_surface.wgsl).
     var tr_particles = 1.0;
     var t0 = 0.0;
+    let dir = column_dir(id.x, id.y);
     for (var k = 0u; k < froxel.slices; k++) {
         let t1 = slice_distance(far_t, f32(k + 1u) / n);
         let d = t1 - t0;
         let i = froxel_index(id.x, id.y, k);
         let s = injected(i);
         let tau = froxel_particle_tau(i);
-        let sigma_t = medium.sigma_t.rgb + tau;
+        // Height fog: the slice's mean σ_t, so e^(−σ_t d) is its exact transmittance.
+        let fog = fog_mean_density(medium, camera.position.xyz + dir * t0, dir, d);
+        let sigma_t = medium.sigma_t.rgb * fog + tau;
         let slice_tr = exp(-sigma_t * d);
         // Hillaire 2015: ∫_0^d S e^(−σt x) dx = (S − S e^(−σt d)) / σt; → S d as σt → 0.
         let safe = max(sigma_t, vec3<f32>(1e-12));

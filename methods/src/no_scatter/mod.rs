@@ -4,6 +4,9 @@
 //!
 //! It shares the forward surface pass and shadow maps with the other rasterising methods, so
 //! its `surface` AOV is directly comparable; its `inscatter` AOV is zero by construction.
+//!
+//! Exponential height fog: the exact optical depth of each leg attenuates the surface and
+//! ambient terms (`common/wgsl/height_fog.wgsl`).
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};

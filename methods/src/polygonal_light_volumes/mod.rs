@@ -48,6 +48,9 @@
 //! walls at depth discontinuities join neighbouring texel centres); the mesh costs 2(n+1)²
 //! triangles per face whatever the scene (n = shadow_map × mesh), so large maps need `mesh` < 1;
 //! spot quadrature error (measured in README.md); no unorm8 accumulation (the paper's era).
+//!
+//! Exponential height fog: refused — F(d) comes from the Γ table and the sun's closed form,
+//! both for a constant σ_t.
 
 mod faces;
 mod shaders;
@@ -64,6 +67,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::gamma::GammaTable;
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, Bindings, ResolvePass};
 pub use shaders::{resolve_wgsl, volume_source};
@@ -203,6 +207,10 @@ impl Method for PolygonalLightVolumes {
     }
 
     fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {
+        let f_of_d = "the unshadowed in-scatter F(d) comes from Biri's Γ table and the sun's closed form, which assume a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, f_of_d) {
+            return no;
+        }
         match unsupported(scene) {
             Some(why) => Support::No(why),
             None => Support::Full,

@@ -27,7 +27,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     if (LIGHT == 0u) {
         // Rounding of the signed sums can leave a hair below zero where no light arrives.
         l_in = max(l_in + textureLoad(volumes, px, 0).rgb, vec3<f32>(0.0));
-        base = textureLoad(surface, px, 0).rgb + ambient_fog(d);
+        base = textureLoad(surface, px, 0).rgb + ambient_fog(dir, d);
     }
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(base + l_in, 1.0));
 }

@@ -27,7 +27,8 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
         if (light_kind(k) == LIGHT_DIRECTIONAL) {
             let dir_l = lights.lights[k].direction.xyz;
             let vis = shadow_visibility(k, x);
-            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * vis * transmittance(medium, t);
+            let path = sun_path(medium, camera.position.xyz, dir, t);
+            sum += lights.lights[k].intensity.rgb * phase(medium, dot(dir_l, -dir)) * vis * path;
         } else {
             let w = x - lights.lights[k].position.xyz;
             let r2 = max(dot(w, w), 1e-12);
@@ -36,7 +37,8 @@ fn inscatter_at(dir: vec3<f32>, t: f32) -> vec3<f32> {
             // this loop makes lavapipe's march ~5× slower; the product is 0 there anyway.
             let i = light_intensity(k, w);
             let vis = shadow_visibility(k, x);
-            sum += i * phase(medium, dot(w / r, -dir)) * vis * transmittance(medium, t + r) / r2;
+            let path = scattering_path(medium, camera.position.xyz, dir, t, -w / r, r);
+            sum += i * phase(medium, dot(w / r, -dir)) * vis * path / r2;
         }
     }
     return medium.sigma_s.rgb * sum;
@@ -56,6 +58,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     l_in *= dt;
     let surf = textureLoad(surface, px, 0).rgb;
-    let ambient = ambient_fog(d);
+    let ambient = ambient_fog(dir, d);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf + l_in + ambient, 1.0));
 }

@@ -12,6 +12,9 @@
 //! visibility. Modernised: float targets, one full-screen pass. Limits: visibility is only as
 //! good as the shadow map (bias, texel size); thin shadows between steps alias; the 1/r² peak
 //! near a light inside the view is under-sampled at low step counts.
+//!
+//! Exponential height fog: integrated (σ_s(x) and the closed-form optical depth of each leg at
+//! every step, `common/wgsl/height_fog.wgsl`).
 
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};

@@ -191,7 +191,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     var base = vec3<f32>(0.0);
     if (LIGHT == 0u) {
-        base = textureLoad(surface, px, 0).rgb + ambient_fog(len);
+        base = textureLoad(surface, px, 0).rgb + ambient_fog(dir, len);
     }
     // Alpha carries the ray length for the bilateral upsample (the AOV's alpha is unused).
     return Out(vec4<f32>(l_in, len), vec4<f32>(base + l_in, 1.0));

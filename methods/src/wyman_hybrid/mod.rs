@@ -27,6 +27,8 @@
 //! Limits: visibility between the polygons is a shadow-map test (bias, texels); a thin shadow
 //! between two steps is missed; the camera being inside a shadow volume is detected with one
 //! shadow-map test at the eye.
+//!
+//! Exponential height fog: refused — Sun et al.'s airlight F(u, v) assumes a constant σ_t.
 
 pub mod airlight;
 mod shaders;
@@ -42,6 +44,7 @@ use harness::{
 use scenes::{FrameState, Scene, SceneFeatures};
 
 use crate::common::counters::CounterReadback;
+use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
 use crate::common::resolve::{self, Bindings, ResolvePass};
@@ -236,6 +239,11 @@ impl Method for WymanHybrid {
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
+        let airlight =
+            "Sun et al.'s airlight F(u, v) and the sun's closed form assume a constant σ_t";
+        if let Some(no) = constant_sigma_only(scene, airlight) {
+            return no;
+        }
         let why = "needs FLOAT32_BLENDABLE (min/max blending of shadow-polygon distances)";
         homogeneous_support(scene, device, Some(why))
     }

@@ -50,6 +50,6 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     }
     // Every neighbour across a depth edge: take the one nearest in depth.
     let l_in = select(nearest, sum / weight, weight > 1e-6);
-    let base = textureLoad(surface, px, 0).rgb + ambient_fog(len);
+    let base = textureLoad(surface, px, 0).rgb + ambient_fog(dir, len);
     return Out(vec4<f32>(l_in, 1.0), vec4<f32>(base + l_in, 1.0));
 }

@@ -8,6 +8,8 @@ struct Medium {
     sigma_t: vec4<f32>,
     // rgb: ambient radiance L_a; w: unused
     ambient: vec4<f32>,
+    // exponential height fog (height_fog.wgsl): x: base height y₀ (m); y: 1/H (1/m), 0 = none
+    height_fog: vec4<f32>,
 };
 
 const PI: f32 = 3.14159265358979;

@@ -15,7 +15,8 @@ fn pixel_ray_length(px: vec2<i32>, dir: vec3<f32>) -> f32 {
     return camera_ray_length(camera, dir, textureLoad(ray_distance, px, 0).r);
 }
 
-// ARCHITECTURE §1's ambient term over a ray of length d: L_a (1 − e^(−σt d)).
-fn ambient_fog(d: f32) -> vec3<f32> {
-    return medium.ambient.rgb * (vec3<f32>(1.0) - transmittance(medium, d));
+// ARCHITECTURE §1's ambient term over the camera ray along dir of length d: L_a (1 − e^(−τ)),
+// τ = σt d without height fog.
+fn ambient_fog(dir: vec3<f32>, d: f32) -> vec3<f32> {
+    return medium.ambient.rgb * (vec3<f32>(1.0) - transmittance_along(medium, camera.position.xyz, dir, d));
 }

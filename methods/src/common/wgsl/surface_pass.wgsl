@@ -1,5 +1,6 @@
 // The forward surface pass: Lambert + Phong with shadow-mapped visibility, attenuated toward the
-// eye (ARCHITECTURE §1's e^(−σt d) L_surf), and the distance along each pixel's ray. Needs PRELUDE.
+// eye (ARCHITECTURE §1's e^(−σt d) L_surf; e^(−τ) of each leg with height fog), and the distance
+// along each pixel's ray. Needs PRELUDE.
 
 struct VsOut {
     // Invariant: passes that redraw the surfaces over this depth (depth test Equal) get the
@@ -34,7 +35,7 @@ fn shade_light(k: u32, x: vec3<f32>, n: vec3<f32>, v: vec3<f32>, o: ObjectData) 
         let w = x - lights.lights[k].position.xyz;
         let r = length(w);
         to_light = -w / r;
-        incident = light_intensity(k, w) * transmittance(medium, r) / (r * r);
+        incident = light_intensity(k, w) * transmittance_along(medium, x, to_light, r) / (r * r);
     }
     let cos_l = dot(n, to_light);
     if (cos_l <= 0.0) { return vec3<f32>(0.0); }
@@ -74,6 +75,11 @@ fn shade(x: vec3<f32>, n_in: vec3<f32>, front: bool, o: ObjectData) -> vec3<f32>
     return out;
 }
 
+// e^(−τ) from the eye to the surface point x at distance d along the pixel's ray.
+fn eye_transmittance(x: vec3<f32>, d: f32) -> vec3<f32> {
+    return transmittance_along(medium, camera.position.xyz, normalize(x - camera.position.xyz), d);
+}
+
 // Stencil surface shadows (methods that draw shadow volumes): the light SURFACE_LIGHT's
 // unshadowed contribution, negated, for an additive pass that runs only where the stencil says
 // the visible point is inside one of that light's shadow volumes.
@@ -101,7 +107,7 @@ fn seen(i: VsOut, front: bool) -> Seen {
 @fragment
 fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let s = seen(i, front);
-    let l = shade_light(SURFACE_LIGHT, s.x, s.n, s.v, s.o) * transmittance(medium, s.d);
+    let l = shade_light(SURFACE_LIGHT, s.x, s.n, s.v, s.o) * eye_transmittance(s.x, s.d);
     return vec4<f32>(-l, 0.0);
 }
 
@@ -109,6 +115,6 @@ fn fs_remove_light(i: VsOut, @builtin(front_facing) front: bool) -> @location(0)
 fn fs(i: VsOut, @builtin(front_facing) front: bool) -> FsOut {
     // On the pixel's own ray, whatever the adapter's sub-pixel precision.
     let d = camera_surface_distance(camera, i.clip.xy, i.world);
-    let l = shade(i.world, i.normal, front, objects[i.object]) * transmittance(medium, d);
+    let l = shade(i.world, i.normal, front, objects[i.object]) * eye_transmittance(i.world, d);
     return FsOut(vec4<f32>(l, 1.0), vec4<f32>(d, 0.0, 0.0, 0.0));
 }
