@@ -10,7 +10,6 @@ use harness::{Gpu, Targets};
 use super::layouts::{buffer_entry, fragment_texture, storage_buffer, uniform_buffer, view_entry};
 use super::pipeline::{self, ADD, color_only};
 use super::renderer::SceneRenderer;
-use super::uniforms::MAX_LIGHTS;
 use super::wgsl;
 
 pub struct ResolvePass {
@@ -51,7 +50,7 @@ impl ResolvePass {
     }
 
     /// Per-light mode: the shader declares `override LIGHT: u32;` and handles that one light;
-    /// one pipeline per light slot, drawn in turn with additive blending (the pipeline for light 0
+    /// one pipeline per light of the scene (compiled at prepare), drawn in turn with additive blending (the pipeline for light 0
     /// also adds the surface and ambient terms). For shaders whose loop over lights would be too
     /// much for a driver's compiler, and to let the light index be a compile-time constant.
     /// `constants`: the shader's own overrides (knobs its hot code branches on), beside `LIGHT`
@@ -150,6 +149,33 @@ impl ResolvePass {
         targets: &Targets,
         extra: &[&wgpu::TextureView],
     ) {
+        self.encode_in(gpu, enc, renderer, targets, extra, None);
+    }
+
+    /// Per-light mode, each light's draw limited to its own rectangle of the targets
+    /// (`rect(k)`: x, y, width, height in texels), for targets that hold one band per light.
+    pub fn encode_per_light_rects(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        targets: &Targets,
+        extra: &[&wgpu::TextureView],
+        rect: &dyn Fn(usize) -> [u32; 4],
+    ) {
+        assert!(self.per_light, "{}: rects need per-light mode", self.label);
+        self.encode_in(gpu, enc, renderer, targets, extra, Some(rect));
+    }
+
+    fn encode_in(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        targets: &Targets,
+        extra: &[&wgpu::TextureView],
+        rect: Option<&dyn Fn(usize) -> [u32; 4]>,
+    ) {
         assert_eq!(
             extra.len() as u32,
             self.extra_textures,
@@ -197,7 +223,12 @@ impl ResolvePass {
         } else {
             1
         };
-        for p in &self.pipelines[..count] {
+        for (k, p) in self.pipelines[..count].iter().enumerate() {
+            if let Some(rect) = rect {
+                // The full-screen triangle, scissored: fragment positions stay the targets'.
+                let [x, y, w, h] = rect(k);
+                pass.set_scissor_rect(x, y, w, h);
+            }
             pass.set_pipeline(p);
             pass.draw(0..3, 0..1);
         }
@@ -233,7 +264,12 @@ fn pipelines(
 ) -> Vec<wgpu::RenderPipeline> {
     let per_light = per_light_constants.is_some();
     let target = pipeline::target(AOV_FORMAT, per_light.then_some(color_only(ADD)));
-    let slots = if per_light { MAX_LIGHTS } else { 1 };
+    // At least one: a scene without lights still draws light 0's pipeline (surface, ambient).
+    let slots = if per_light {
+        renderer.scene.desc.lights.len().max(1)
+    } else {
+        1
+    };
     (0..slots)
         .map(|k| {
             let own = match per_light_constants {

@@ -146,6 +146,7 @@ fn shared_knobs() -> Vec<Knob> {
             .meaning("light-map (slice texture) resolution per side"),
         knobs::shadow_map(1024)
             .meaning("resolution of the objects' shadow maps (objects shadowing the cloud)"),
+        knobs::local_shadow_budget(),
     ]
 }
 
@@ -192,6 +193,13 @@ fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
     }
     if let Some(why) = renderer_limits(scene) {
         return Support::No(why);
+    }
+    if scene.lights > passes::MAX_LIGHTS {
+        return Support::No(format!(
+            "{} lights: one cube of light maps (six views, six slice layers) per light, their views in one uniform with room for {} lights",
+            scene.lights,
+            passes::MAX_LIGHTS
+        ));
     }
     if !device.contains(wgpu::Features::FLOAT32_BLENDABLE) {
         return Support::No("needs FLOAT32_BLENDABLE (additive slices, gather compositing)".into());

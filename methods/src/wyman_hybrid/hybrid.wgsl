@@ -19,11 +19,11 @@ fn fprime_lookup(k: u32, fi: f32, x: f32) -> vec3<f32> {
     let j0 = u32(fj);
     let i1 = min(i0 + 1u, u32(ng) - 1u);
     let j1 = min(j0 + 1u, u32(nx) - 1u);
-    let band = k * u32(ng);
+    let o = fprime_band(k);
     let ti = fi - f32(i0);
     let tj = fj - f32(j0);
-    let a = mix(textureLoad(f_prime, vec2<u32>(band + i0, j0), 0).rgb, textureLoad(f_prime, vec2<u32>(band + i1, j0), 0).rgb, ti);
-    let b = mix(textureLoad(f_prime, vec2<u32>(band + i0, j1), 0).rgb, textureLoad(f_prime, vec2<u32>(band + i1, j1), 0).rgb, ti);
+    let a = mix(textureLoad(f_prime, o + vec2<u32>(i0, j0), 0).rgb, textureLoad(f_prime, o + vec2<u32>(i1, j0), 0).rgb, ti);
+    let b = mix(textureLoad(f_prime, o + vec2<u32>(i0, j1), 0).rgb, textureLoad(f_prime, o + vec2<u32>(i1, j1), 0).rgb, ti);
     return mix(a, b, tj);
 }
 
