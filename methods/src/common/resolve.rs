@@ -7,7 +7,9 @@ use harness::gpu::color_attachment;
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
-use super::layouts::{buffer_entry, fragment_texture, storage_buffer, uniform_buffer, view_entry};
+use super::layouts::{
+    buffer_entry, float_texture_array, fragment_texture, storage_buffer, uniform_buffer, view_entry,
+};
 use super::pipeline::{self, ADD, color_only};
 use super::renderer::SceneRenderer;
 use super::wgsl;
@@ -32,6 +34,8 @@ pub struct Bindings {
     /// This many more unfilterable 2-D textures at bindings 3, 4, …, bound with
     /// [`ResolvePass::encode_with`].
     pub textures: u32,
+    /// Which of those are 2-D arrays instead (bit i: binding 3 + i).
+    pub texture_arrays: u32,
     /// Per-light mode only: this many u32 atomics at binding 15 (`counters` in WGSL), which the
     /// shader may count into (read back with `common::counters`).
     pub counters: u32,
@@ -79,6 +83,7 @@ impl ResolvePass {
         let bindings = Bindings {
             uniform: uniform_size,
             textures: extra_textures,
+            texture_arrays: 0,
             counters: 0,
         };
         Self::build(gpu, renderer, label, own, bindings, None)
@@ -245,7 +250,13 @@ fn layout_entries(bindings: &Bindings) -> Vec<wgpu::BindGroupLayoutEntry> {
     if bindings.uniform.is_some() {
         entries.push(uniform_buffer(2, fragment));
     }
-    entries.extend((0..bindings.textures).map(|k| fragment_texture(3 + k)));
+    entries.extend((0..bindings.textures).map(|k| {
+        if bindings.texture_arrays >> k & 1 == 1 {
+            float_texture_array(3 + k, fragment)
+        } else {
+            fragment_texture(3 + k)
+        }
+    }));
     if bindings.counters > 0 {
         entries.push(storage_buffer(COUNTERS_BINDING, fragment, false));
     }

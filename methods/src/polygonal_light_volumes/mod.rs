@@ -166,6 +166,7 @@ impl State {
             Bindings {
                 uniform: Some(std::mem::size_of::<ConfigUniform>() as u64),
                 textures: 2,
+                texture_arrays: 0,
                 counters: 0,
             },
             &constants,

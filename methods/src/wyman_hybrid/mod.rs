@@ -181,6 +181,8 @@ impl FPrime {
             Bindings {
                 uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
                 textures: 3,
+                // The shadow-volume distances (3, 4) are arrays: four lights a layer.
+                texture_arrays: 0b11,
                 counters: 0,
             },
             &[],
@@ -333,6 +335,7 @@ impl State {
             Bindings {
                 uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
                 textures: 4,
+                texture_arrays: 0b11,
                 counters: 2,
             },
             &[("AIRLIGHT", flag(analytic)), ("FPRIME", flag(use_fprime))],
