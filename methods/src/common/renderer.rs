@@ -200,7 +200,7 @@ impl SceneRenderer {
         );
         self.gpu_scene.update(gpu, &self.scene, frame);
         self.shadows.update(gpu, &self.scene, frame);
-        let count = [frame.lights.len() as u32, self.shadows.size, 0, 0];
+        let count = [frame.lights.len() as u32, 0, 0, 0];
         let lights: Vec<LightUniform> = (frame.lights.iter().enumerate().take(MAX_LIGHTS))
             .map(|(k, l)| LightUniform::new(l, self.patterns.layers[k], self.shadows.slots.get(k)))
             .collect();

@@ -79,16 +79,22 @@ impl ShadowSettings {
         })
     }
 
-    /// Texels per side of each local light's face for `local_faces` faces: `size`, halved
-    /// while the faces (R32Float) exceed the budget, no smaller than 16 (`shadow_map`'s least).
-    pub fn local_size(&self, local_faces: u32) -> u32 {
+    /// log2 of how many times each local light's face side halves `size` for `local_faces`
+    /// faces: halved while the faces (R32Float) exceed the budget, while the side stays 16 or
+    /// more (`shadow_map`'s least). `size >> shift` is the side; 2^shift tiles fit a row.
+    pub fn local_shift(&self, local_faces: u32) -> u32 {
         let budget = self.local_budget_mib as u64 * (1 << 20);
         let bytes = |s: u32| local_faces as u64 * (s as u64).pow(2) * 4;
-        let mut s = self.size;
-        while s > 16 && bytes(s) > budget {
-            s = (s / 2).max(16);
+        let mut shift = 0;
+        while self.size >> (shift + 1) >= 16 && bytes(self.size >> shift) > budget {
+            shift += 1;
         }
-        s
+        shift
+    }
+
+    /// Texels per side of each local light's face for `local_faces` faces.
+    pub fn local_size(&self, local_faces: u32) -> u32 {
+        self.size >> self.local_shift(local_faces)
     }
 }
 
@@ -122,8 +128,9 @@ impl ShadowMaps {
         scene_gpu: &GpuScene,
     ) -> anyhow::Result<ShadowMaps> {
         let local_faces = 6 * lights.iter().filter(|l| l.position().is_some()).count() as u32;
-        let local_size = settings.local_size(local_faces);
-        let (mut slots, layers) = slots(lights, settings.size, local_size);
+        let local_shift = settings.local_shift(local_faces);
+        let local_size = settings.size >> local_shift;
+        let (mut slots, layers) = slots(lights, settings.size, local_shift);
         let (size, layers) = if enabled && layers > 0 {
             (settings.size, layers)
         } else {
@@ -257,7 +264,7 @@ impl ShadowMaps {
         let mut faces: Vec<(u32, u32, u32, u32, u64)> = Vec::new();
         for slot in &self.slots {
             for k in 0..slot.faces {
-                let (layer, x, y) = slot.face_tile(k, self.size);
+                let (layer, x, y) = slot.face_tile(k);
                 faces.push((layer, x, y, slot.size, faces.len() as u64));
             }
         }
@@ -300,33 +307,35 @@ impl ShadowMaps {
 }
 
 /// Each light's slot in an atlas of `side`² layers (a directional light: one `side`² face;
-/// a local light: 6 tiles of `local`² texels, consecutive) and the layers they take in all. A
-/// light whose tile side differs from the previous light's starts a fresh layer, so every
-/// slot's tiles count from layer 0 in its own tile side (`ShadowSlot::face_tile`).
-fn slots(lights: &[LightState], side: u32, local: u32) -> (Vec<ShadowSlot>, u32) {
+/// a local light: 6 tiles of `side >> local_shift` texels, consecutive, 2^local_shift to a
+/// row) and the layers they take in all. A light whose tile side differs from the previous
+/// light's starts a fresh layer, so every slot's tiles count from layer 0 in its own tile side
+/// (`ShadowSlot::face_tile`).
+fn slots(lights: &[LightState], side: u32, local_shift: u32) -> (Vec<ShadowSlot>, u32) {
     let mut slots = Vec::new();
-    // The next free tile, in tiles of `tile` texels, and how many fit a layer.
-    let (mut tile, mut next) = (side, 0u32);
-    let per_layer = |t: u32| (side / t).pow(2);
+    // The next free tile, counted in tiles of side `side >> shift`, 4^shift to a layer.
+    let (mut shift, mut next) = (0u32, 0u32);
+    let per_layer = |s: u32| 1u32 << (2 * s);
     for l in lights {
-        let (faces, size) = match l {
-            LightState::Directional { .. } => (1, side),
-            _ => (6, local),
+        let (faces, row_shift) = match l {
+            LightState::Directional { .. } => (1, 0),
+            _ => (6, local_shift),
         };
-        if size != tile {
-            let layers_used = next.div_ceil(per_layer(tile));
-            (tile, next) = (size, layers_used * per_layer(size));
+        if row_shift != shift {
+            let layers_used = next.div_ceil(per_layer(shift));
+            (shift, next) = (row_shift, layers_used * per_layer(row_shift));
         }
         slots.push(ShadowSlot {
             tile_base: next,
             faces,
-            size,
+            size: side >> row_shift,
+            row_shift,
             bias: 1.5,
             clip_from_world: [Mat4::IDENTITY; 6],
         });
         next += faces;
     }
-    (slots, next.div_ceil(per_layer(tile)))
+    (slots, next.div_ceil(per_layer(shift)))
 }
 
 /// The `layers`-layer R32Float map texture, its array view (for sampling) and one view per
@@ -442,12 +451,13 @@ mod tests {
     #[test]
     fn atlas_tiles_are_disjoint_and_inside() {
         let lights = [sun(), point(), point(), sun(), point(), point(), point()];
-        let (side, local) = (64, 16);
-        let (slots, layers) = slots(&lights, side, local);
+        // 64² layers, local faces of 16²: 16 to a layer.
+        let side = 64;
+        let (slots, layers) = slots(&lights, side, 2);
         let mut rects = Vec::new();
         for s in &slots {
             for k in 0..s.faces {
-                let (layer, x, y) = s.face_tile(k, side);
+                let (layer, x, y) = s.face_tile(k);
                 assert!(layer < layers && x + s.size <= side && y + s.size <= side);
                 rects.push((layer, x, y, s.size));
             }
@@ -486,5 +496,13 @@ mod tests {
             local_budget_mib: 1,
         };
         assert_eq!(tiny.local_size(100_000), 16);
+        // Not a power of two: the side halves with rounding down, 2^shift tiles still fit a row.
+        let odd = ShadowSettings {
+            size: 1000,
+            local_budget_mib: 1,
+        };
+        assert_eq!(odd.local_shift(100_000), 5);
+        assert_eq!(odd.local_size(100_000), 31);
+        assert!(31 << 5 <= 1000);
     }
 }

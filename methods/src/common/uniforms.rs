@@ -86,21 +86,23 @@ pub struct LightUniform {
 }
 
 /// Shadow-map placement of one light in the atlas (see `shadow_maps`): its faces are the tiles
-/// `tile_base …` of side `size` texels, counted in tiles of that side across the atlas's layers.
+/// `tile_base …` of side `size` texels, counted in tiles of that side across the atlas's layers,
+/// `1 << row_shift` tiles to a row.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowSlot {
     pub tile_base: u32,
     pub faces: u32,
     pub size: u32,
+    pub row_shift: u32,
     pub bias: f32,
     pub clip_from_world: [Mat4; 6],
 }
 
 impl ShadowSlot {
-    /// Face `face`'s tile in an atlas of `side`² layers: (layer, texel origin x, y). Mirrors
-    /// `shadow_face_origin` in shadow.wgsl.
-    pub fn face_tile(&self, face: u32, side: u32) -> (u32, u32, u32) {
-        let per_row = side / self.size;
+    /// Face `face`'s tile: (atlas layer, texel origin x, y). Mirrors `shadow_face_origin` in
+    /// shadow.wgsl.
+    pub fn face_tile(&self, face: u32) -> (u32, u32, u32) {
+        let per_row = 1 << self.row_shift;
         let per_layer = per_row * per_row;
         let tile = self.tile_base + face;
         let r = tile % per_layer;
@@ -159,7 +161,12 @@ impl LightUniform {
                 for (k, m) in s.clip_from_world.iter().enumerate() {
                     faces[k] = m.to_cols_array_2d();
                 }
-                [s.tile_base as f32, s.faces as f32, s.size as f32, s.bias]
+                [
+                    s.tile_base as f32,
+                    s.row_shift as f32,
+                    s.size as f32,
+                    s.bias,
+                ]
             }
             None => [-1.0, 0.0, 1.0, 0.0],
         };
@@ -183,7 +190,7 @@ impl LightUniform {
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct LightsUniform {
-    /// x: number of lights; y: the shadow atlas's side (texels, `shadow_maps`); zw: unused.
+    /// x: number of lights; yzw: unused.
     pub count: [u32; 4],
     pub lights: [LightUniform; MAX_LIGHTS],
 }

@@ -17,15 +17,15 @@ struct Light {
     right: vec4<f32>,
     // xyz: spot slide frame up; w: pattern layer (< 0: no pattern)
     up: vec4<f32>,
-    // x: shadow map layer base (< 0: no shadow map); y: number of faces (6 or 1);
-    // z: shadow map size (texels); w: depth bias scale
+    // x: first shadow-atlas tile (< 0: no shadow map); y: log2 of the tiles per atlas row;
+    // z: face size (texels); w: depth bias scale (shadow.wgsl)
     shadow: vec4<f32>,
     // clip_from_world of each shadow-map face (+X, −X, +Y, −Y, +Z, −Z; or one orthographic)
     faces: array<mat4x4<f32>, 6>,
 };
 
 struct Lights {
-    // x: number of lights; y: shadow atlas side (texels, shadow.wgsl)
+    // x: number of lights
     count: vec4<u32>,
     lights: array<Light, 128>,
 };

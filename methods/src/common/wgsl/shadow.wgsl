@@ -1,21 +1,25 @@
 // Shadow-map visibility. The map stores, per texel, the distance from the light to the nearest
 // caster (local lights) or the depth along the light direction (directional light); it is an
-// atlas (common::shadow_maps): an R32Float array of lights.count.y² layers, a directional face
-// filling a layer, local faces tiles of shadow.z² texels. Needs lights.wgsl and
+// atlas (common::shadow_maps): an R32Float array of layers, a directional face filling a layer,
+// local faces tiles of shadow.z² texels. Needs lights.wgsl and
 // frame_bindings.wgsl.
 
 // What a shadow map holds where nothing is stored (no map, or outside every face): "no caster".
 const SHADOW_NONE: f32 = 3.0e38;
 
 // Where face `face` of light k lies in the atlas: (texel origin x, y, layer). Its tiles are
-// consecutive, counted in tiles of its own side. Mirrors common::uniforms::ShadowSlot::face_tile.
+// consecutive, counted in tiles of its own side, 2^shadow.y to a row. Shifts and masks, not
+// divisions: lavapipe scalarises integer division per lane, and this runs per shadow lookup
+// (raymarch-brute's 1-light frame was ~30 % slower with them). Mirrors
+// common::uniforms::ShadowSlot::face_tile.
 fn shadow_face_origin(k: u32, face: u32) -> vec3<u32> {
-    let size = u32(lights.lights[k].shadow.z + 0.5);
-    let per_row = max(lights.count.y / size, 1u);
-    let per_layer = per_row * per_row;
-    let tile = u32(lights.lights[k].shadow.x + 0.5) + face;
-    let r = tile % per_layer;
-    return vec3<u32>((r % per_row) * size, (r / per_row) * size, tile / per_layer);
+    let sh = lights.lights[k].shadow;
+    let size = u32(sh.z + 0.5);
+    let row_shift = u32(sh.y + 0.5);
+    let tile = u32(sh.x + 0.5) + face;
+    let in_layer = tile & ((1u << (2u * row_shift)) - 1u);
+    let col = in_layer & ((1u << row_shift) - 1u);
+    return vec3<u32>(col * size, (in_layer >> row_shift) * size, tile >> (2u * row_shift));
 }
 
 // The stored value of texel `texel` (within the face, 0 … size − 1) of light k's face `face`.
