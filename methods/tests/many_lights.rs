@@ -15,7 +15,7 @@ use harness::Gpu;
 use harness::image::Image;
 use harness::image::headline::headline;
 use harness::method::ParamValue;
-use harness::testing::{gpu_or_skip as gpu, reference, render_method, scene_text};
+use harness::testing::{gpu_or_skip as gpu, max_rel_diff, reference, render_method, scene_text};
 use scenes::Scene;
 use scenes::load::parse_scene;
 
@@ -51,27 +51,6 @@ fn aovs(gpu: &Gpu, id: &str, list: &[(&str, ParamValue)], scene: &Scene, res: u3
     [r.inscatter, r.surface]
 }
 
-/// The largest per-pixel, per-channel |a − b| relative to `b`'s largest value (0 when both are
-/// black).
-fn worst_relative(a: &Image, b: &Image) -> f64 {
-    let peak = b
-        .pixels
-        .iter()
-        .flat_map(|p| &p[..3])
-        .fold(0.0f32, |m, v| m.max(v.abs()));
-    let diff = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
-        .fold(0.0f32, f32::max);
-    if peak == 0.0 {
-        diff as f64
-    } else {
-        (diff / peak) as f64
-    }
-}
-
 /// Pixel-wise sum of images of one size.
 fn sum(images: &[Image]) -> Image {
     let mut out = images[0].clone();
@@ -102,7 +81,7 @@ fn assert_superposition(gpu: &Gpu, case: &Case, scene: &Scene) {
         .collect();
     for (a, name) in ["inscatter", "surface"].iter().enumerate() {
         let parts: Vec<Image> = singles.iter().map(|s| s[a].clone()).collect();
-        let e = worst_relative(&sum(&parts), &all[a]);
+        let e = max_rel_diff(&sum(&parts), &all[a]);
         eprintln!("{id} {name}: |Σ alone − all| / peak = {e:.2e}");
         assert!(
             e <= *bound,

@@ -24,6 +24,10 @@ pub struct ResolvePass {
     extra_textures: u32,
     /// Per-light mode only: [`Bindings::counters`] u32 atomics at binding 15.
     pub counters: Option<wgpu::Buffer>,
+    /// Per-light mode only: each light's draw scissored to its rectangle of the targets (x, y,
+    /// width, height in texels), for targets holding one band per light
+    /// ([`ResolvePass::with_light_rects`]).
+    light_rects: Option<fn(usize) -> [u32; 4]>,
 }
 
 /// What a resolve pass binds beyond the ray distances and the surface (bindings 0 and 1).
@@ -132,7 +136,19 @@ impl ResolvePass {
             uniform,
             extra_textures: bindings.textures,
             counters,
+            light_rects: None,
         }
+    }
+
+    /// Per-light mode: light k draws only inside `rect(k)` (x, y, width, height in texels).
+    pub fn with_light_rects(mut self, rect: fn(usize) -> [u32; 4]) -> ResolvePass {
+        assert!(
+            self.per_light,
+            "{}: light rects need per-light mode",
+            self.label
+        );
+        self.light_rects = Some(rect);
+        self
     }
 
     pub fn encode(
@@ -153,33 +169,6 @@ impl ResolvePass {
         renderer: &SceneRenderer,
         targets: &Targets,
         extra: &[&wgpu::TextureView],
-    ) {
-        self.encode_in(gpu, enc, renderer, targets, extra, None);
-    }
-
-    /// Per-light mode, each light's draw limited to its own rectangle of the targets
-    /// (`rect(k)`: x, y, width, height in texels), for targets that hold one band per light.
-    pub fn encode_per_light_rects(
-        &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
-        targets: &Targets,
-        extra: &[&wgpu::TextureView],
-        rect: &dyn Fn(usize) -> [u32; 4],
-    ) {
-        assert!(self.per_light, "{}: rects need per-light mode", self.label);
-        self.encode_in(gpu, enc, renderer, targets, extra, Some(rect));
-    }
-
-    fn encode_in(
-        &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
-        targets: &Targets,
-        extra: &[&wgpu::TextureView],
-        rect: Option<&dyn Fn(usize) -> [u32; 4]>,
     ) {
         assert_eq!(
             extra.len() as u32,
@@ -229,7 +218,7 @@ impl ResolvePass {
             1
         };
         for (k, p) in self.pipelines[..count].iter().enumerate() {
-            if let Some(rect) = rect {
+            if let Some(rect) = self.light_rects {
                 // The full-screen triangle, scissored: fragment positions stay the targets'.
                 let [x, y, w, h] = rect(k);
                 pass.set_scissor_rect(x, y, w, h);

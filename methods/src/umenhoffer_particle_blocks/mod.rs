@@ -81,8 +81,8 @@
 //! cloud through the shared shadow maps; the cloud shadows surfaces through the slices; several
 //! lights, the cube of light maps, held blocks drawn as particles, background dimming (above).
 //!
-//! Limits: at most 4 lights (the renderer's); a block is one uniform-density interval per pixel
-//! (its mean and spread in depth are right, its clumps are not; overlapping blocks are ordered
+//! Limits: at most 16 lights (the light-map views' uniform, `passes::MAX_LIGHTS`); a block is
+//! one uniform-density interval per pixel (its mean and spread in depth are right, its clumps are not; overlapping blocks are ordered
 //! by centre), which near a local light inside the cloud weighs the light's 1/r² peak by the
 //! block's mean density; a cube of light maps costs six light passes; the background medium's
 //! in-scatter is marched (32 steps, in the angle variable of the first local light) in the

@@ -186,7 +186,8 @@ impl FPrime {
                 counters: 0,
             },
             &[],
-        );
+        )
+        .with_light_rects(fprime_band);
         FPrime {
             pass,
             table: render_target(gpu, "F' table", w, h),
@@ -409,8 +410,7 @@ impl State {
                 height,
             };
             let extra = [volumes[0], volumes[1], &self.table_view];
-            fp.pass
-                .encode_per_light_rects(gpu, enc, &self.renderer, &t, &extra, &fprime_band);
+            fp.pass.encode_with(gpu, enc, &self.renderer, &t, &extra);
             report.ran("fprime-table");
         }
         let extra = [volumes[0], volumes[1], &self.table_view, &self.fprime_view];
