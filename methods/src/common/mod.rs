@@ -6,6 +6,7 @@ pub mod crossing_lists;
 pub mod gamma;
 pub mod gpu_scene;
 pub mod knobs;
+pub mod layered;
 pub mod layouts;
 pub mod patterns;
 pub mod pipeline;

@@ -15,6 +15,7 @@ use harness::{FrameReport, Gpu};
 use scenes::{FrameState, LightState, Scene};
 
 use super::gpu_scene::{GpuScene, mesh_pipeline};
+use super::layered::Layered;
 use super::layouts::{buffer_entry, dynamic_uniform, slot_entry, storage_buffer};
 use super::pipeline;
 use super::uniforms::ShadowSlot;
@@ -148,7 +149,11 @@ impl ShadowMaps {
                 lights.len()
             );
         }
-        let (texture, view, layer_views) = layer_textures(gpu, size, layers);
+        let Layered {
+            texture,
+            array: view,
+            layers: layer_views,
+        } = Layered::new(gpu, "shadow maps", (size, size), layers, FORMAT);
         let depth = gpu.texture_2d(
             "shadow depth",
             size,
@@ -336,44 +341,6 @@ fn slots(lights: &[LightState], side: u32, local_shift: u32) -> (Vec<ShadowSlot>
         next += faces;
     }
     (slots, next.div_ceil(per_layer(shift)))
-}
-
-/// The `layers`-layer R32Float map texture, its array view (for sampling) and one view per
-/// layer (for rendering).
-fn layer_textures(
-    gpu: &Gpu,
-    size: u32,
-    layers: u32,
-) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
-    let texture = gpu.texture(&wgpu::TextureDescriptor {
-        label: Some("shadow maps"),
-        size: wgpu::Extent3d {
-            width: size,
-            height: size,
-            depth_or_array_layers: layers,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::D2Array),
-        ..Default::default()
-    });
-    let layer_views = (0..layers)
-        .map(|k| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: k,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        })
-        .collect();
-    (texture, view, layer_views)
 }
 
 /// The shadow pass's group: each face's uniform (a dynamic-offset slot of `faces`) and the

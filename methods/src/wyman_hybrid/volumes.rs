@@ -12,6 +12,7 @@ use scenes::{FrameState, LightState};
 
 use super::shaders::volumes_source;
 use crate::common::gpu_scene::write_vertices;
+use crate::common::layered::Layered;
 use crate::common::pipeline::{self, MAX, MIN, Stage, both, target};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{ShadowCasters, light_pos};
@@ -62,38 +63,9 @@ impl ShadowVolumes {
             .len()
             .div_ceil(LIGHTS_PER_LAYER)
             .max(1) as u32;
-        let target = |label| {
-            gpu.texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: renderer.width,
-                    height: renderer.height,
-                    depth_or_array_layers: layers,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: VOLUME_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-        };
+        let size = (renderer.width, renderer.height);
+        let target = |label| Layered::new(gpu, label, size, layers, VOLUME_FORMAT);
         let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
-        let array = |t: &wgpu::Texture| {
-            t.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            })
-        };
-        let layer = |t: &wgpu::Texture, k: u32| {
-            t.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: k,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        };
         ShadowVolumes {
             casters: ShadowCasters::new(&renderer.scene),
             pipeline: volume_pipeline(gpu, renderer),
@@ -103,11 +75,11 @@ impl ShadowVolumes {
             built_for: None,
             no_skip,
             silhouette_edges: 0,
-            front_view: array(&front),
-            back_view: array(&back),
-            layer_views: (0..layers)
-                .map(|k| [layer(&front, k), layer(&back, k)])
+            layer_views: (front.layers.into_iter().zip(back.layers))
+                .map(|(f, b)| [f, b])
                 .collect(),
+            front_view: front.array,
+            back_view: back.array,
         }
     }
 
