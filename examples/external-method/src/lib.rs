@@ -22,6 +22,7 @@ use harness::{
 use methods::common::knobs;
 use methods::common::renderer::{SceneRenderer, unsupported};
 use methods::common::resolve::{self, ResolvePass};
+use methods::common::shadow_maps::ShadowSettings;
 use scenes::{FrameState, SceneFeatures};
 
 pub const MARCH_WGSL: &str = include_str!("march.wgsl");
@@ -54,7 +55,12 @@ impl State {
     pub fn new(ctx: &PrepareContext) -> Result<State> {
         let p = ctx.params;
         // Shadow maps off: surfaces unshadowed, no shadow pass (a 16² placeholder texture).
-        let renderer = SceneRenderer::with_shadow_maps(ctx, 16, p.knob("pattern_res")?, false)?;
+        let shadows = ShadowSettings {
+            size: 16,
+            local_budget_mib: 1,
+        };
+        let renderer =
+            SceneRenderer::with_shadow_maps(ctx, shadows, p.knob("pattern_res")?, false)?;
         let size = std::mem::size_of::<MarchUniform>() as u64;
         let march = ResolvePass::new(
             ctx.gpu,

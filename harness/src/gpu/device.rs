@@ -84,6 +84,9 @@ impl Gpu {
             // storage bindings): take what the adapter offers.
             max_buffer_size: supported.max_buffer_size,
             max_storage_buffer_binding_size: supported.max_storage_buffer_binding_size,
+            // The shadow atlas of dozens of lights (methods' common::shadow_maps) can outgrow
+            // the portable 256 layers; the methods check this limit and name it when exceeded.
+            max_texture_array_layers: supported.max_texture_array_layers,
             ..wgpu::Limits::default().using_resolution(supported)
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

@@ -79,6 +79,7 @@ use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::ResolvePass;
+use crate::common::shadow_maps::ShadowSettings;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 
 pub mod geometry;
@@ -216,6 +217,7 @@ impl Method for BiriPolynomial {
                 .meaning("surface shadows: §4.3's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass"),
             knobs::shadow_map(1024)
                 .meaning("shadow-map resolution per face (surface_shadows = shadow-map only)"),
+            knobs::local_shadow_budget(),
             knobs::pattern_res(512),
             Knob::choice("accumulate", "float", &["float", "unorm8"])
                 .requires("unorm8", "resolve", "planes")
@@ -316,7 +318,7 @@ impl State {
         let stencil_shadows = ctx.params.knob::<String>("surface_shadows")? == "stencil";
         let renderer = SceneRenderer::with_shadow_maps(
             ctx,
-            ctx.params.knob("shadow_map")?,
+            ShadowSettings::from_params(ctx.params)?,
             ctx.params.knob("pattern_res")?,
             !stencil_shadows,
         )?;

@@ -24,7 +24,6 @@ use crate::common::layouts::{
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::stencil::{DEPTH_STENCIL, PlaneVertex};
-use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
 mod encode;
@@ -101,7 +100,7 @@ impl Passes {
         );
         let layout = bind_group_layout(&gpu.device);
         let spots = super::spot_tables::build(ctx.scene, cfg.half_circles);
-        let uniform = light_slots(gpu, &cfg, &spots.slots);
+        let uniform = light_slots(gpu, &cfg, ctx.scene.desc.lights.len(), &spots.slots);
         let delta = gpu.buffer_init(
             "biri-poly spot tables",
             bytemuck::cast_slice(&spots.data),
@@ -259,17 +258,23 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     })
 }
 
-/// One uniform slot per light (dynamic offsets): its index, the output sign, the phase series
-/// and its spot table's header.
-fn light_slots(gpu: &Gpu, cfg: &Config, spots: &[([u32; 4], [f32; 4])]) -> wgpu::Buffer {
+/// One uniform slot per light of the scene's `lights` (dynamic offsets): its index, the output
+/// sign, the phase series and its spot table's header.
+fn light_slots(
+    gpu: &Gpu,
+    cfg: &Config,
+    lights: usize,
+    spots: &[([u32; 4], [f32; 4])],
+) -> wgpu::Buffer {
+    let lights = lights.max(1);
     let uniform = gpu.buffer(&wgpu::BufferDescriptor {
         label: Some("biri-poly lights"),
-        size: SLOT * MAX_LIGHTS as u64,
+        size: SLOT * lights as u64,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
     let signed = (cfg.accumulate == Accumulate::Float) as u32;
-    let slots: Vec<u8> = (0..MAX_LIGHTS as u32)
+    let slots: Vec<u8> = (0..lights as u32)
         .flat_map(|k| {
             let (spot, spot_f) = spots.get(k as usize).copied().unwrap_or_default();
             let u = PolyUniform {

@@ -83,8 +83,10 @@ use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::shadow_maps::ShadowSettings;
 use crate::common::stencil::DEPTH_STENCIL;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::uniforms::LightMask;
 use crate::common::wgsl;
 use types::{Options, Resolve};
 
@@ -110,9 +112,9 @@ pub fn planes_source() -> String {
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct ConfigUniform {
     shadowed: u32,
-    eye_lit: u32,
     spot_panels: u32,
-    _pad: u32,
+    _pad: [u32; 2],
+    eye_lit: LightMask,
 }
 
 /// The method (a description; [`State`] is the prepared instance).
@@ -172,6 +174,7 @@ impl Method for BiriShadowVolumes {
                 .meaning("surface shadows: the paper's stencil shadow volumes (exact per pixel), or the shared shadow-mapped surface pass"),
             knobs::shadow_map(1024)
                 .meaning("shadow-map resolution per face (surface_shadows = shadow-map only)"),
+            knobs::local_shadow_budget(),
             Knob::int("spot_panels", 8, 1..=128)
                 .sweep([1, 2, 4, 16, 64])
                 .unit("panels")
@@ -245,7 +248,7 @@ impl State {
         let stencil_shadows = p.knob::<String>("surface_shadows")? == "stencil";
         let renderer = SceneRenderer::with_shadow_maps(
             ctx,
-            p.knob("shadow_map")?,
+            ShadowSettings::from_params(p)?,
             p.knob("pattern_res")?,
             !stencil_shadows,
         )?;
@@ -308,9 +311,13 @@ impl Prepared for State {
         let shadowed = self.renderer.scene.features().volumetric_occluders;
         let eye_lit = if shadowed {
             let lit = self.planes.update(gpu, frame, &mut report);
-            if self.planes.eye_term() { lit } else { 0 }
+            if self.planes.eye_term() {
+                lit
+            } else {
+                LightMask::default()
+            }
         } else {
-            0
+            LightMask::default()
         };
         if let Some(u) = &self.resolve.uniform {
             gpu.queue.write_buffer(
@@ -318,9 +325,9 @@ impl Prepared for State {
                 0,
                 bytemuck::bytes_of(&ConfigUniform {
                     shadowed: shadowed as u32,
-                    eye_lit,
                     spot_panels: self.spot_panels,
-                    _pad: 0,
+                    _pad: [0; 2],
+                    eye_lit,
                 }),
             );
         }

@@ -16,7 +16,7 @@ use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::stencil::{DEPTH_STENCIL, PipelineBuilder, PlaneVertex};
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
-use crate::common::uniforms::MAX_LIGHTS;
+use crate::common::uniforms::LightMask;
 use crate::common::wgsl;
 
 use super::pixel::{Draw, PixelPass};
@@ -106,7 +106,7 @@ impl Planes {
             });
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("biri planes"),
-            size: SLOT * MAX_LIGHTS as u64,
+            size: SLOT * ctx.scene.desc.lights.len().max(1) as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -150,8 +150,8 @@ impl Planes {
 
     /// Steps 1 and 4 on the CPU: silhouettes (only when a light or caster moved), the quads
     /// sorted back to front by the eye distance of their edge's midpoint, and the eye's count.
-    /// Returns the bit mask of lights whose eye is lit.
-    pub fn update(&mut self, gpu: &Gpu, frame: &FrameState, report: &mut FrameReport) -> u32 {
+    /// Returns the mask of lights whose eye is lit.
+    pub fn update(&mut self, gpu: &Gpu, frame: &FrameState, report: &mut FrameReport) -> LightMask {
         let eye = frame.camera.position;
         let far = frame.camera.far;
         let planes = self.casters.planes(
@@ -162,24 +162,22 @@ impl Planes {
         );
         let mut verts: Vec<PlaneVertex> = Vec::new();
         self.ranges.clear();
-        let mut eye_lit = 0u32;
-        let mut slots = vec![0u8; SLOT as usize * MAX_LIGHTS];
+        let mut eye_lit = LightMask::default();
+        let mut slots = vec![0u8; self.uniform.size() as usize];
         for (k, light) in planes.iter().enumerate() {
             let first = verts.len() as u32;
             verts.extend(light.quads.iter().flat_map(|q| PlaneVertex::on_quad(q, *q)));
             if light.eye_count == 0 {
-                eye_lit |= 1 << k;
+                eye_lit.set(k);
             }
             self.ranges.push(LightRange {
                 first,
                 end: verts.len() as u32,
                 eye_count: light.eye_count,
             });
-            if k < MAX_LIGHTS {
-                let cfg = [k as u32, light.eye_count, 0, self.opts.spot_panels];
-                slots[k * SLOT as usize..][..SLOT_BYTES as usize]
-                    .copy_from_slice(bytemuck::cast_slice(&cfg));
-            }
+            let cfg = [k as u32, light.eye_count, 0, self.opts.spot_panels];
+            slots[k * SLOT as usize..][..SLOT_BYTES as usize]
+                .copy_from_slice(bytemuck::cast_slice(&cfg));
         }
         gpu.queue.write_buffer(&self.uniform, 0, &slots);
         report.count("shadow_planes", (verts.len() / 6) as f64);

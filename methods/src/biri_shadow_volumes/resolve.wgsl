@@ -3,15 +3,16 @@
 // surface AOV and ambient.
 // With shadow planes (config.shadowed = 1) the signed sum of the lit surface and plane terms is
 // read from binding 4 and the eye's term −C Γ(w(0)) is added for the point lights whose eye is
-// lit (bit k of config.eye_lit; the other kinds' crossing terms are 0 at the eye).
+// lit (bit k of config.eye_lit, light_bit; the other kinds' crossing terms are 0 at the eye).
 // Needs PRELUDE, FULLSCREEN and ldss.wgsl.
 
 // Mirrors `ConfigUniform` in mod.rs, field for field.
 struct Config {
     shadowed: u32,  // 1 when binding 4 holds the accumulated crossing terms
-    eye_lit: u32,   // bit k set when light k sees the eye
     spot_panels: u32,  // the `spot_panels` knob (lit_between)
+    _pad0: u32,
     _pad1: u32,
+    eye_lit: vec4<u32>,  // bit k (light_bit) set when light k sees the eye
 };
 @group(1) @binding(2) var<uniform> config: Config;
 @group(1) @binding(3) var gamma_table: texture_2d<f32>;
@@ -26,7 +27,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     for (var k = 0u; k < light_count(); k++) {
         if (config.shadowed == 0u) {
             l_in += lit_between(gamma_table, k, dir, 0.0, d, config.spot_panels);
-        } else if (light_kind(k) == LIGHT_POINT && (config.eye_lit & (1u << k)) != 0u) {
+        } else if (light_kind(k) == LIGHT_POINT && light_bit(config.eye_lit, k)) {
             l_in -= ldss_term(gamma_table, k, dir, 0.0);
         }
     }

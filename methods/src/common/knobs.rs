@@ -1,5 +1,6 @@
-//! Knobs several methods share, declared once: the shadow-map and pattern-texture resolutions.
-//! A method adds them to its `knobs()` with its own default and sweep.
+//! Knobs several methods share, declared once: the shadow-map and pattern-texture resolutions
+//! and the local lights' shadow-map budget. A method adds them to its `knobs()` with its own
+//! default and sweep.
 
 use harness::Knob;
 
@@ -18,4 +19,20 @@ pub fn pattern_res(default: i64) -> Knob {
     Knob::int("pattern_res", default, 1..=MAX_TEXTURE_SIDE)
         .unit("texels")
         .meaning("spot pattern texture resolution per side")
+}
+
+/// `local_shadow_budget`'s default (MiB): 256 keeps every local face at 1024² up to 10 local
+/// lights (60 faces at 4 MiB), so the library's one- and two-light scenes render as before; the
+/// 16-torch atrium gets 512² faces, the 64-torch one 256² (96 MiB), as engines shrink their
+/// shadow atlas's tiles when lights multiply.
+pub const LOCAL_SHADOW_BUDGET_MIB: i64 = 256;
+
+/// `local_shadow_budget`: MiB all local (point and spot) lights' shadow-map faces may take
+/// together (1 … 65536, default [`LOCAL_SHADOW_BUDGET_MIB`]). Each local face gets `shadow_map`
+/// texels per side, halved until the faces fit (`common::shadow_maps::ShadowSettings`); the
+/// side used is counted per frame as `shadow_map_local`.
+pub fn local_shadow_budget() -> Knob {
+    Knob::int("local_shadow_budget", LOCAL_SHADOW_BUDGET_MIB, 1..=65536)
+        .unit("MiB")
+        .meaning("shadow-map memory for all local lights' cube faces together; each face's side is shadow_map, halved until they fit")
 }

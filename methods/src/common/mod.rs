@@ -7,6 +7,7 @@ pub mod gamma;
 pub mod gpu_scene;
 pub mod height_fog;
 pub mod knobs;
+pub mod layered;
 pub mod layouts;
 pub mod patterns;
 pub mod pipeline;

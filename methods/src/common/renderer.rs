@@ -18,9 +18,11 @@ use super::layouts::{
 };
 use super::patterns::PatternTextures;
 use super::pipeline;
-use super::shadow_maps::ShadowMaps;
+use super::shadow_maps::{ShadowMaps, ShadowSettings};
 use super::specialize::Specialization;
-use super::uniforms::{CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform};
+use super::uniforms::{
+    CameraUniform, LightUniform, LightsUniform, MAX_LIGHTS, MediumUniform, lights_bytes,
+};
 use super::wgsl;
 
 pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -96,30 +98,33 @@ pub fn homogeneous_support(
     Support::Full
 }
 
-/// What the shared renderer itself cannot handle (any medium): more lights than the uniforms hold.
+/// What the shared renderer itself cannot handle (any medium): more lights than its light
+/// uniform has slots for.
 pub fn renderer_limits(features: &scenes::SceneFeatures) -> Option<String> {
     (features.lights > MAX_LIGHTS).then(|| {
         format!(
-            "{} lights; the shared renderer handles at most {MAX_LIGHTS}",
+            "{} lights; the shared renderer's light uniform has {MAX_LIGHTS} slots (64 KiB, \
+             the uniform binding size every adapter supports)",
             features.lights
         )
     })
 }
 
 impl SceneRenderer {
+    /// `shadows`: the shadow-map knobs (`ShadowSettings::from_params`).
     pub fn new(
         ctx: &PrepareContext,
-        shadow_size: u32,
+        shadows: ShadowSettings,
         pattern_size: u32,
     ) -> anyhow::Result<SceneRenderer> {
-        Self::with_shadow_maps(ctx, shadow_size, pattern_size, true)
+        Self::with_shadow_maps(ctx, shadows, pattern_size, true)
     }
 
     /// `shadow_maps = false`: surfaces are shaded unshadowed (for methods whose surface shadows
     /// come from stencil shadow volumes, `common::stencil_surfaces`) and no shadow map is drawn.
     pub fn with_shadow_maps(
         ctx: &PrepareContext,
-        shadow_size: u32,
+        shadow_settings: ShadowSettings,
         pattern_size: u32,
         shadow_maps: bool,
     ) -> anyhow::Result<SceneRenderer> {
@@ -131,7 +136,8 @@ impl SceneRenderer {
         let gpu_scene = GpuScene::new(gpu, &scene);
         let shadows_on = shadow_maps && (ctx.no_skip || gpu_scene.has_casters());
         let frame0 = scene.frame(0);
-        let shadows = ShadowMaps::new(gpu, &frame0.lights, shadow_size, shadows_on, &gpu_scene);
+        let shadows =
+            ShadowMaps::new(gpu, &frame0.lights, shadow_settings, shadows_on, &gpu_scene)?;
         let patterns = PatternTextures::new(gpu, &scene.desc.lights, pattern_size);
         let uniform = |label: &str, size: usize| {
             gpu.buffer(&wgpu::BufferDescriptor {
@@ -194,15 +200,12 @@ impl SceneRenderer {
         );
         self.gpu_scene.update(gpu, &self.scene, frame);
         self.shadows.update(gpu, &self.scene, frame);
-        let mut lu = LightsUniform {
-            count: [frame.lights.len() as u32, 0, 0, 0],
-            lights: [bytemuck::Zeroable::zeroed(); MAX_LIGHTS],
-        };
-        for (k, l) in frame.lights.iter().enumerate().take(MAX_LIGHTS) {
-            lu.lights[k] = LightUniform::new(l, self.patterns.layers[k], self.shadows.slots.get(k));
-        }
+        let count = [frame.lights.len() as u32, 0, 0, 0];
+        let lights: Vec<LightUniform> = (frame.lights.iter().enumerate().take(MAX_LIGHTS))
+            .map(|(k, l)| LightUniform::new(l, self.patterns.layers[k], self.shadows.slots.get(k)))
+            .collect();
         gpu.queue
-            .write_buffer(&self.lights, 0, bytemuck::bytes_of(&lu));
+            .write_buffer(&self.lights, 0, &lights_bytes(count, &lights));
     }
 
     /// How every rasterising method's frame starts: this frame's uniforms, then the shadow-map

@@ -7,10 +7,11 @@ use harness::gpu::color_attachment;
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
-use super::layouts::{buffer_entry, fragment_texture, storage_buffer, uniform_buffer, view_entry};
+use super::layouts::{
+    buffer_entry, float_texture_array, fragment_texture, storage_buffer, uniform_buffer, view_entry,
+};
 use super::pipeline::{self, ADD, color_only};
 use super::renderer::SceneRenderer;
-use super::uniforms::MAX_LIGHTS;
 use super::wgsl;
 
 pub struct ResolvePass {
@@ -23,6 +24,10 @@ pub struct ResolvePass {
     extra_textures: u32,
     /// Per-light mode only: [`Bindings::counters`] u32 atomics at binding 15.
     pub counters: Option<wgpu::Buffer>,
+    /// Per-light mode only: each light's draw scissored to its rectangle of the targets (x, y,
+    /// width, height in texels), for targets holding one band per light
+    /// ([`ResolvePass::with_light_rects`]).
+    light_rects: Option<fn(usize) -> [u32; 4]>,
 }
 
 /// What a resolve pass binds beyond the ray distances and the surface (bindings 0 and 1).
@@ -33,6 +38,8 @@ pub struct Bindings {
     /// This many more unfilterable 2-D textures at bindings 3, 4, …, bound with
     /// [`ResolvePass::encode_with`].
     pub textures: u32,
+    /// Which of those are 2-D arrays instead (bit i: binding 3 + i).
+    pub texture_arrays: u32,
     /// Per-light mode only: this many u32 atomics at binding 15 (`counters` in WGSL), which the
     /// shader may count into (read back with `common::counters`).
     pub counters: u32,
@@ -51,7 +58,7 @@ impl ResolvePass {
     }
 
     /// Per-light mode: the shader declares `override LIGHT: u32;` and handles that one light;
-    /// one pipeline per light slot, drawn in turn with additive blending (the pipeline for light 0
+    /// one pipeline per light of the scene (compiled at prepare), drawn in turn with additive blending (the pipeline for light 0
     /// also adds the surface and ambient terms). For shaders whose loop over lights would be too
     /// much for a driver's compiler, and to let the light index be a compile-time constant.
     /// `constants`: the shader's own overrides (knobs its hot code branches on), beside `LIGHT`
@@ -80,6 +87,7 @@ impl ResolvePass {
         let bindings = Bindings {
             uniform: uniform_size,
             textures: extra_textures,
+            texture_arrays: 0,
             counters: 0,
         };
         Self::build(gpu, renderer, label, own, bindings, None)
@@ -128,7 +136,19 @@ impl ResolvePass {
             uniform,
             extra_textures: bindings.textures,
             counters,
+            light_rects: None,
         }
+    }
+
+    /// Per-light mode: light k draws only inside `rect(k)` (x, y, width, height in texels).
+    pub fn with_light_rects(mut self, rect: fn(usize) -> [u32; 4]) -> ResolvePass {
+        assert!(
+            self.per_light,
+            "{}: light rects need per-light mode",
+            self.label
+        );
+        self.light_rects = Some(rect);
+        self
     }
 
     pub fn encode(
@@ -197,7 +217,12 @@ impl ResolvePass {
         } else {
             1
         };
-        for p in &self.pipelines[..count] {
+        for (k, p) in self.pipelines[..count].iter().enumerate() {
+            if let Some(rect) = self.light_rects {
+                // The full-screen triangle, scissored: fragment positions stay the targets'.
+                let [x, y, w, h] = rect(k);
+                pass.set_scissor_rect(x, y, w, h);
+            }
             pass.set_pipeline(p);
             pass.draw(0..3, 0..1);
         }
@@ -214,7 +239,13 @@ fn layout_entries(bindings: &Bindings) -> Vec<wgpu::BindGroupLayoutEntry> {
     if bindings.uniform.is_some() {
         entries.push(uniform_buffer(2, fragment));
     }
-    entries.extend((0..bindings.textures).map(|k| fragment_texture(3 + k)));
+    entries.extend((0..bindings.textures).map(|k| {
+        if bindings.texture_arrays >> k & 1 == 1 {
+            float_texture_array(3 + k, fragment)
+        } else {
+            fragment_texture(3 + k)
+        }
+    }));
     if bindings.counters > 0 {
         entries.push(storage_buffer(COUNTERS_BINDING, fragment, false));
     }
@@ -233,7 +264,12 @@ fn pipelines(
 ) -> Vec<wgpu::RenderPipeline> {
     let per_light = per_light_constants.is_some();
     let target = pipeline::target(AOV_FORMAT, per_light.then_some(color_only(ADD)));
-    let slots = if per_light { MAX_LIGHTS } else { 1 };
+    // At least one: a scene without lights still draws light 0's pipeline (surface, ambient).
+    let slots = if per_light {
+        renderer.scene.desc.lights.len().max(1)
+    } else {
+        1
+    };
     (0..slots)
         .map(|k| {
             let own = match per_light_constants {

@@ -1,8 +1,12 @@
 //! Scene-baked pipeline constants. A scene's light count, light kinds and phase function are
 //! fixed for a run (lights move, they do not change kind), so the hot passes compile them in as
-//! WGSL `override`s (`LIGHT_COUNT`, `LIGHT_KIND_0..3` in `lights.wgsl`, `PHASE_KIND` in
-//! `medium.wgsl`, `HEIGHT_FOG` in `height_fog.wgsl`, so constant-σ scenes pay nothing for it): the per-light loops get a constant trip count and the kind and phase
-//! branches fold away. A pass without them reads the same values from the uniforms, so leaving
+//! WGSL `override`s (`LIGHT_COUNT`, `LIGHT_KIND_0..3`, `LIGHT_KINDS_REST` in `lights.wgsl`,
+//! `PHASE_KIND` in `medium.wgsl`, `HEIGHT_FOG` in `height_fog.wgsl`, so constant-σ scenes pay
+//! nothing for it): the per-light loops get a constant trip count and the kind and phase
+//! branches fold away. The first four lights' kinds are baked per light; beyond them (up to
+//! `MAX_LIGHTS`) `light_kind` reads the uniform and `LIGHT_KINDS_REST` (the set of kinds that
+//! occur there) keeps `scene_has_light_kind` folding. A pass without them reads the same values
+//! from the uniforms, so leaving
 //! them out is only slower, never wrong. lavapipe runs both sides of a branch on a uniform value
 //! under a mask and indexes the light array per lane, so this matters there: with the light
 //! loop's divergent `continue` removed as well, raymarch-brute's 512² frame on sphere-point went
@@ -15,13 +19,16 @@ use scenes::desc::LightDesc;
 
 use super::uniforms::{MAX_LIGHTS, MediumUniform};
 
+/// Lights whose kind is baked one by one (`LIGHT_KIND_0..3`).
+const BAKED_KINDS: usize = 4;
+
 /// The constants of one scene, for `wgpu::PipelineCompilationOptions::constants`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Specialization {
     constants: Vec<(&'static str, f64)>,
 }
 
-const KIND_KEYS: [&str; MAX_LIGHTS] = [
+const KIND_KEYS: [&str; BAKED_KINDS] = [
     "LIGHT_KIND_0",
     "LIGHT_KIND_1",
     "LIGHT_KIND_2",
@@ -33,14 +40,11 @@ impl Specialization {
         let lights = &scene.desc.lights;
         let mut constants = vec![("LIGHT_COUNT", lights.len().min(MAX_LIGHTS) as f64)];
         for (key, l) in KIND_KEYS.iter().zip(lights) {
-            // The codes of common::uniforms::LightUniform (position.w).
-            let kind = match l {
-                LightDesc::Point { .. } => 0.0,
-                LightDesc::Spot { .. } => 1.0,
-                LightDesc::Directional { .. } => 2.0,
-            };
-            constants.push((key, kind));
+            constants.push((key, kind_code(l) as f64));
         }
+        let rest = lights.iter().skip(BAKED_KINDS);
+        let rest_kinds = rest.fold(0u32, |bits, l| bits | 1 << kind_code(l));
+        constants.push(("LIGHT_KINDS_REST", rest_kinds as f64));
         // The code of MediumUniform (sigma_s.w), for the medium the renderer uploads.
         let phase = MediumUniform::new(&scene.medium().background()).sigma_s[3];
         constants.push(("PHASE_KIND", phase as f64));
@@ -62,6 +66,15 @@ impl Specialization {
     /// `lights.wgsl` and `medium.wgsl` (which declare them).
     pub fn options(&self) -> wgpu::PipelineCompilationOptions<'_> {
         compile_options(&self.constants)
+    }
+}
+
+/// A light's kind code: common::uniforms::LightUniform's `position.w`.
+fn kind_code(l: &LightDesc) -> u32 {
+    match l {
+        LightDesc::Point { .. } => 0,
+        LightDesc::Spot { .. } => 1,
+        LightDesc::Directional { .. } => 2,
     }
 }
 

@@ -6,7 +6,13 @@ use glam::{Mat4, Vec3};
 use scenes::light::spot_frame;
 use scenes::{CameraPose, Homogeneous, LightState, Phase};
 
-pub const MAX_LIGHTS: usize = 4;
+/// Lights the shared renderer holds (the `lights` uniform's array; `lights.wgsl` mirrors it).
+/// A uniform rather than a storage buffer: every stage of every pass (vertex stages included)
+/// reads it, uniforms are the fastest path on every backend, and 16 B + 128 × 480 B = 61 456 B
+/// fits wgpu's default `max_uniform_buffer_binding_size` (64 KiB) on every adapter. 128 covers
+/// the atrium's 64-local-light variant (65–67 lights) with room to spare; the light masks below
+/// are 128 bits for the same reason.
+pub const MAX_LIGHTS: usize = 128;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -84,14 +90,49 @@ pub struct LightUniform {
     pub faces: [[[f32; 4]; 4]; 6],
 }
 
-/// Shadow-map placement of one light (see `shadow_maps`).
+/// Shadow-map placement of one light in the atlas (see `shadow_maps`): its faces are the tiles
+/// `tile_base …` of side `size` texels, counted in tiles of that side across the atlas's layers,
+/// `1 << row_shift` tiles to a row.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowSlot {
-    pub layer_base: u32,
+    pub tile_base: u32,
     pub faces: u32,
     pub size: u32,
+    pub row_shift: u32,
     pub bias: f32,
     pub clip_from_world: [Mat4; 6],
+}
+
+impl ShadowSlot {
+    /// Face `face`'s tile: (atlas layer, texel origin x, y). Mirrors `shadow_face_origin` in
+    /// shadow.wgsl.
+    pub fn face_tile(&self, face: u32) -> (u32, u32, u32) {
+        let per_row = 1 << self.row_shift;
+        let per_layer = per_row * per_row;
+        let tile = self.tile_base + face;
+        let r = tile % per_layer;
+        (
+            tile / per_layer,
+            r % per_row * self.size,
+            r / per_row * self.size,
+        )
+    }
+}
+
+/// One bit per light slot (128 bits, `vec4<u32>` in WGSL; `light_bit` in lights.wgsl reads it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct LightMask(pub [u32; 4]);
+
+impl LightMask {
+    /// Sets light `k`'s bit (`k` < [`MAX_LIGHTS`]).
+    pub fn set(&mut self, k: usize) {
+        self.0[k / 32] |= 1 << (k % 32);
+    }
+
+    pub fn get(&self, k: usize) -> bool {
+        self.0[k / 32] >> (k % 32) & 1 != 0
+    }
 }
 
 impl LightUniform {
@@ -125,7 +166,12 @@ impl LightUniform {
                 for (k, m) in s.clip_from_world.iter().enumerate() {
                     faces[k] = m.to_cols_array_2d();
                 }
-                [s.layer_base as f32, s.faces as f32, s.size as f32, s.bias]
+                [
+                    s.tile_base as f32,
+                    s.row_shift as f32,
+                    s.size as f32,
+                    s.bias,
+                ]
             }
             None => [-1.0, 0.0, 1.0, 0.0],
         };
@@ -144,9 +190,20 @@ impl LightUniform {
     }
 }
 
+/// The `lights` uniform: a header, then [`MAX_LIGHTS`] slots of which the first `count[0]` are
+/// the scene's (only those are written each frame: [`lights_bytes`]).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct LightsUniform {
+    /// x: number of lights; yzw: unused.
     pub count: [u32; 4],
     pub lights: [LightUniform; MAX_LIGHTS],
+}
+
+/// The header and the first `lights.len()` slots of [`LightsUniform`], as uploaded.
+pub fn lights_bytes(count: [u32; 4], lights: &[LightUniform]) -> Vec<u8> {
+    assert!(lights.len() <= MAX_LIGHTS, "{} lights", lights.len());
+    let mut bytes = bytemuck::bytes_of(&count).to_vec();
+    bytes.extend_from_slice(bytemuck::cast_slice(lights));
+    bytes
 }

@@ -47,6 +47,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
+use crate::common::shadow_maps::ShadowSettings;
 
 /// Why a device without FLOAT32_BLENDABLE is refused (accum = float blends Rgba32Float).
 const NO_FLOAT_BLEND: &str = "the adapter cannot blend Rgba32Float targets (FLOAT32_BLENDABLE)";
@@ -141,6 +142,7 @@ impl Method for DobashiVirtualPlanes {
                 .unit("texels")
                 .meaning("light-map (spot pattern texture) resolution per side"),
             knobs::shadow_map(1024).sweep([256, 512, 2048]),
+            knobs::local_shadow_budget(),
             Knob::boolean("jitter", false)
                 .meaning("per-pixel random plane offset within each slab instead of slab midpoints (the paper's future work)"),
             Knob::boolean("clip_last", true)
@@ -191,7 +193,7 @@ impl State {
         let cfg = Config::from_params(ctx.params)?;
         let renderer = SceneRenderer::new(
             ctx,
-            ctx.params.knob("shadow_map")?,
+            ShadowSettings::from_params(ctx.params)?,
             ctx.params.knob("light_map")?,
         )?;
         let format = if cfg.unorm8 {

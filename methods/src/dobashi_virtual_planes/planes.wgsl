@@ -91,10 +91,12 @@ fn fs(in: VsOut) -> @location(0) vec4<f32> {
     let t = z / cos_v;
     let x = camera.position.xyz + dir * t;
     var sum = vec3<f32>(0.0);
-    let n = min(light_count(), 4u);
+    // The first four lights' ξ come interpolated from the vertices (four interpolators); a
+    // fifth light on has none left, so its ξ is evaluated here, per fragment.
+    let n = light_count();
     for (var k = 0u; k < n; k++) {
         var f: vec3<f32>;
-        if (XI_PER_FRAGMENT) {
+        if (XI_PER_FRAGMENT || k >= 4u) {
             f = xi(k, x, dir, t);
         } else {
             switch k {

@@ -63,6 +63,7 @@ use crate::common::counters::CounterReadback;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::shadow_maps::ShadowSettings;
 use passes::{COUNTERS, EpiUniform, Passes, Sizes};
 
 pub use passes::compute_source;
@@ -102,7 +103,8 @@ impl State {
     pub fn new(ctx: &PrepareContext) -> Result<State> {
         let p = ctx.params;
         let gpu = ctx.gpu;
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
+        let renderer =
+            SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, p.knob("pattern_res")?)?;
         let samples_knob: u32 = p.knob("samples")?;
         if samples_knob == 1 {
             bail!("epipolar-minmax: samples = 1; a slice needs at least 2 samples (or 0 = auto)");
@@ -238,6 +240,7 @@ impl Method for EpipolarMinMax {
                 .unit("leaves")
                 .meaning("leaves of a rectified shadow-map row: the march's finest step"),
             knobs::shadow_map(1024),
+            knobs::local_shadow_budget(),
             knobs::pattern_res(512),
         ]
     }

@@ -44,7 +44,7 @@ struct ParticleMedium {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
-    grids: array<LightGrid, 4>,
+    grids: array<LightGrid, 4>,  // particle_passes::PARTICLE_GRIDS
 };
 
 // Grid position of world point x: (u, v) in [−1, 1]² across the columns, z the depth along the

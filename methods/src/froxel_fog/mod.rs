@@ -126,6 +126,7 @@ impl Method for FroxelFog {
                 .unit("texels")
                 .meaning("particle media: columns per side and slabs of each light's extinction grid (the cloud's self-shadowing and its shadow on surfaces)"),
             knobs::shadow_map(1024),
+            knobs::local_shadow_budget(),
             knobs::pattern_res(512),
         ]
     }

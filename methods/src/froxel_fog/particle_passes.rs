@@ -17,8 +17,12 @@ use crate::common::layouts::{
 };
 use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
-use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
+
+/// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`).
+/// Particle media render with one light (`support`); the room for four is the uniform's as it
+/// was before the shared renderer grew past four lights.
+pub const PARTICLE_GRIDS: usize = 4;
 
 /// `ParticleMedium` in extinction.wgsl.
 #[repr(C)]
@@ -27,7 +31,7 @@ pub struct ParticleUniform {
     sky: [f32; 4],
     count: u32,
     _pad: [u32; 3],
-    grids: [LightGrid; MAX_LIGHTS],
+    grids: [LightGrid; PARTICLE_GRIDS],
 }
 
 /// What the volume passes bind for particles (stubs for a homogeneous medium).
@@ -290,7 +294,7 @@ impl ParticlePasses {
         c.grids = frame
             .lights
             .iter()
-            .take(MAX_LIGHTS)
+            .take(PARTICLE_GRIDS)
             .map(|l| light_grid(l, &self.parts, self.n))
             .collect::<Result<_>>()?;
         c.lights = frame.lights.clone();

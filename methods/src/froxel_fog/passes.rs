@@ -12,7 +12,6 @@ use crate::common::layouts::{
 use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
-use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
 /// Grid dimensions a dispatch needs.
@@ -75,7 +74,7 @@ impl VolumePasses {
             let constants = renderer.specialization.with(&[own, &[particles]].concat());
             ComputeStage::new(entry, entry).build(&gpu.device, &pl, &module, &constants)
         };
-        let lights = renderer.scene.desc.lights.len().min(MAX_LIGHTS);
+        let lights = renderer.scene.desc.lights.len();
         let inject = (0..lights)
             .map(|k| {
                 [0.0, 1.0].map(|first| {

@@ -9,13 +9,13 @@ use harness::{FrameReport, Gpu, KnobRead, Prepared, Targets};
 use scenes::FrameState;
 
 use super::grid::{FroxelUniform, Temporal};
-use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared};
+use super::particle_passes::{Grid, MediumBuffers, PARTICLE_GRIDS, ParticlePasses, Shared};
 use super::passes::{Buffers, Dims, Modes, VolumePasses};
 use super::reach;
 use super::shaders::apply_wgsl;
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::ResolvePass;
-use crate::common::uniforms::MAX_LIGHTS;
+use crate::common::shadow_maps::ShadowSettings;
 
 /// The prepared method.
 pub struct State {
@@ -80,7 +80,8 @@ impl State {
     pub fn new(ctx: &PrepareContext) -> Result<State> {
         let p = ctx.params;
         let gpu = ctx.gpu;
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
+        let renderer =
+            SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, p.knob("pattern_res")?)?;
         let max = gpu.device.limits().max_texture_dimension_2d;
         let grid = FroxelUniform::new(p, (ctx.width, ctx.height), max)?;
         let temporal: u32 = p.knob("temporal")?;
@@ -105,7 +106,7 @@ impl State {
         let is_particles = renderer.scene.medium().particles().is_some();
         let n: u32 = p.knob("extinction_grid")?;
         let grid_values = if is_particles {
-            MAX_LIGHTS.min(renderer.scene.desc.lights.len()) as u64 * (n as u64).pow(3)
+            PARTICLE_GRIDS.min(renderer.scene.desc.lights.len()) as u64 * (n as u64).pow(3)
         } else {
             0
         };

@@ -11,14 +11,15 @@
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
-    Support, Targets,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, Medium, Method, MethodInfo, Prepared, Support,
+    Targets,
 };
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::shadow_maps::ShadowSettings;
 
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
 
@@ -34,7 +35,7 @@ pub struct State {
 impl State {
     pub fn new(ctx: &PrepareContext) -> Result<State> {
         // No spot pattern reaches the image without in-scattering: the smallest useful texture.
-        let renderer = SceneRenderer::new(ctx, ctx.params.knob("shadow_map")?, 256)?;
+        let renderer = SceneRenderer::new(ctx, ShadowSettings::from_params(ctx.params)?, 256)?;
         let resolve = ResolvePass::new(ctx.gpu, &renderer, "fog resolve", RESOLVE_WGSL, None);
         Ok(State { renderer, resolve })
     }
@@ -69,7 +70,10 @@ impl Method for NoScatter {
     }
 
     fn knobs(&self) -> Vec<Knob> {
-        vec![knobs::shadow_map(1024).meaning("shadow-map resolution per face for surface shadows")]
+        vec![
+            knobs::shadow_map(1024).meaning("shadow-map resolution per face for surface shadows"),
+            knobs::local_shadow_budget(),
+        ]
     }
 
     fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {

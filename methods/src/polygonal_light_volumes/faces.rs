@@ -18,8 +18,6 @@ const FACE_CORNER_ANGLE: f32 = 0.955_316_6;
 pub struct FaceDraw {
     /// Index into the light's `ShadowSlot::clip_from_world` (0 for directional light).
     pub face: u32,
-    /// Shadow-map array layer.
-    pub layer: u32,
     pub world_from_clip: Mat4,
 }
 
@@ -63,7 +61,6 @@ pub fn plan(
     };
     let face = |k: u32| FaceDraw {
         face: k,
-        layer: slot.layer_base + k,
         world_from_clip: slot.clip_from_world[k as usize].inverse(),
     };
     match light {

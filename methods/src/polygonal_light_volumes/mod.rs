@@ -68,8 +68,11 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::gamma::GammaTable;
 use crate::common::height_fog::constant_sigma_only;
+use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, Bindings, ResolvePass};
+use crate::common::shadow_maps::ShadowSettings;
+use crate::common::uniforms::LightMask;
 pub use shaders::{resolve_wgsl, volume_source};
 
 /// Pattern texture size for spot patterns (texels per side).
@@ -88,6 +91,9 @@ struct Knobs {
     shadow_map: u32,
     /// Grid samples per face side: shadow_map × mesh.
     samples: u32,
+    /// Grid vertices per shadow-map texel along a side (local faces of `local_shadow_map`
+    /// texels get that side × mesh samples).
+    mesh: f64,
     /// Γ table size per side; 0: per-fragment quadrature for point lights.
     table: u32,
     panels: u32,
@@ -111,6 +117,7 @@ fn knobs(params: &harness::method::Params) -> Result<Knobs> {
     Ok(Knobs {
         shadow_map,
         samples: (shadow_map as f64 * mesh) as u32,
+        mesh,
         table,
         panels: params.knob("panels")?,
     })
@@ -137,7 +144,11 @@ impl State {
         {
             bail!(why);
         }
-        let renderer = SceneRenderer::new(ctx, k.shadow_map, PATTERN_RES)?;
+        let shadows = ShadowSettings {
+            size: k.shadow_map,
+            local_budget_mib: ctx.params.knob("local_shadow_budget")?,
+        };
+        let renderer = SceneRenderer::new(ctx, shadows, PATTERN_RES)?;
         // table = 0 (per-fragment quadrature): a 2×2 stand-in keeps the binding valid.
         let table = if k.table > 0 {
             GammaTable::build(&ctx.scene.medium().background().phase, k.table, k.table)
@@ -150,8 +161,7 @@ impl State {
             ("QUADRATURE", crate::common::specialize::flag(k.table == 0)),
             ("PANELS", k.panels as f64),
         ];
-        let volumes =
-            volume::VolumePass::new(ctx.gpu, &renderer, &table_view, k.samples, &constants);
+        let volumes = volume::VolumePass::new(ctx.gpu, &renderer, &table_view, k.mesh, &constants);
         let resolve = ResolvePass::per_light(
             ctx.gpu,
             &renderer,
@@ -160,6 +170,7 @@ impl State {
             Bindings {
                 uniform: Some(std::mem::size_of::<ConfigUniform>() as u64),
                 textures: 2,
+                texture_arrays: 0,
                 counters: 0,
             },
             &constants,
@@ -194,6 +205,7 @@ impl Method for PolygonalLightVolumes {
                 .sweep([256, 1024, 2048, 4096])
                 .unit("texels")
                 .meaning("shadow-map resolution per face (a power of two)"),
+            knobs::local_shadow_budget(),
             Knob::float("mesh", 0.25, 0.125..=1.0)
                 .sweep([1.0, 0.5, 0.125])
                 .meaning("light-volume grid vertices per shadow-map texel along each side (1, 0.5, 0.25 or 0.125)"),
@@ -256,7 +268,7 @@ impl Prepared for State {
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
-        let plans = plan_lights(&self.renderer, frame, self.volumes.samples, &mut report);
+        let plans = plan_lights(&self.renderer, frame, self.volumes.mesh, &mut report);
         // Directional light's volume is its shadow volume: its unshadowed integral is always
         // added here; a local light's only when it has no volume.
         let direct = frame
@@ -267,11 +279,12 @@ impl Prepared for State {
             .filter(|(_, (l, p))| {
                 p.is_none() || matches!(l, scenes::LightState::Directional { .. })
             })
-            .fold(0u32, |bits, (k, _)| bits | 1 << k);
+            .fold(LightMask::default(), |mut bits, (k, _)| {
+                bits.set(k);
+                bits
+            });
         if let Some(u) = &self.resolve.uniform {
-            let c = ConfigUniform {
-                direct: [direct, 0, 0, 0],
-            };
+            let c = ConfigUniform { direct: direct.0 };
             gpu.queue.write_buffer(u, 0, bytemuck::bytes_of(&c));
         }
         phases::mark(&mut self.timer, enc, "shadow");
@@ -304,7 +317,7 @@ impl Prepared for State {
 fn plan_lights(
     renderer: &SceneRenderer,
     frame: &FrameState,
-    samples: u32,
+    mesh: f64,
     report: &mut FrameReport,
 ) -> Vec<Option<faces::LightPlan>> {
     let casters = renderer.shadows_on.then(|| {
@@ -322,6 +335,7 @@ fn plan_lights(
                 report.skip(&format!("light-volume {k}"), "no shadow map (no caster)");
                 return None;
             };
+            let samples = volume::samples(slot.size, mesh);
             match faces::plan(light, slot, &corners, casters, samples) {
                 Ok(p) => Some(p),
                 Err(why) => {

@@ -6,7 +6,7 @@
 // resolve_io.wgsl, ldss.wgsl and integral.wgsl.
 
 struct Config {
-    // x: bit k set when light k's unshadowed integral is added here
+    // bit k (light_bit) set when light k's unshadowed integral is added here
     direct: vec4<u32>,
 };
 @group(1) @binding(2) var<uniform> config: Config;
@@ -20,7 +20,7 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let dir = camera_ray_dir(camera, frag.xy);
     let d = pixel_ray_length(px, dir);
     var l_in = vec3<f32>(0.0);
-    if ((config.direct.x & (1u << LIGHT)) != 0u) {
+    if (light_bit(config.direct, LIGHT)) {
         l_in = inscatter_between(LIGHT, dir, 0.0, d);
     }
     var base = vec3<f32>(0.0);

@@ -13,12 +13,9 @@ use crate::common::layouts::{
 };
 use crate::common::pipeline::{self, Stage};
 use crate::common::renderer::SceneRenderer;
-use crate::common::uniforms::MAX_LIGHTS;
 use crate::common::wgsl;
 
 const FACE_STRIDE: u64 = 256;
-/// Six cube faces per light at most.
-const MAX_FACES: u64 = 6 * MAX_LIGHTS as u64;
 pub const ACC_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// Mirrors `Face` in volume.wgsl.
@@ -38,15 +35,21 @@ pub struct VolumePass {
     bind: wgpu::BindGroup,
     faces: wgpu::Buffer,
     pub acc_view: wgpu::TextureView,
-    /// Grid samples per face side (shadow-map size × vertices per texel).
-    pub samples: u32,
+    /// Grid vertices per shadow-map texel along a side (the `mesh` knob).
+    pub mesh: f64,
 }
 
-/// One queued draw: light, face slot in the uniform buffer, directional?
+/// Grid samples per side of a face of `size` texels: `size` × `mesh`.
+pub fn samples(size: u32, mesh: f64) -> u32 {
+    (size as f64 * mesh) as u32
+}
+
+/// One queued draw: light, face slot in the uniform buffer, directional?, grid samples per side.
 struct Draw {
     light: usize,
     slot: u64,
     directional: bool,
+    samples: u32,
 }
 
 impl VolumePass {
@@ -55,7 +58,7 @@ impl VolumePass {
         gpu: &Gpu,
         renderer: &SceneRenderer,
         gamma_view: &wgpu::TextureView,
-        samples: u32,
+        mesh: f64,
         constants: &[(&'static str, f64)],
     ) -> VolumePass {
         let acc = gpu.texture_2d(
@@ -80,7 +83,8 @@ impl VolumePass {
             });
         let faces = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("light-volume faces"),
-            size: FACE_STRIDE * MAX_FACES,
+            // Six cube faces per light at most.
+            size: FACE_STRIDE * 6 * renderer.scene.desc.lights.len().max(1) as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -101,7 +105,7 @@ impl VolumePass {
             &[&renderer.frame_layout, &layout],
         );
         let targets = [pipeline::target(ACC_FORMAT, Some(pipeline::ADDITIVE))];
-        let pipelines = (0..renderer.scene.desc.lights.len().min(MAX_LIGHTS))
+        let pipelines = (0..renderer.scene.desc.lights.len())
             .map(|k| {
                 let own = [&[("LIGHT", k as f64)][..], constants].concat();
                 let all = renderer.specialization.with(&own);
@@ -120,7 +124,7 @@ impl VolumePass {
             bind,
             faces,
             acc_view,
-            samples,
+            mesh,
         }
     }
 
@@ -135,7 +139,7 @@ impl VolumePass {
         plans: &[Option<LightPlan>],
         report: &mut FrameReport,
     ) {
-        let mut data = vec![0u8; (FACE_STRIDE * MAX_FACES) as usize];
+        let mut data = vec![0u8; self.faces.size() as usize];
         let mut draws = Vec::new();
         for (k, (light, plan)) in lights.iter().zip(plans).enumerate() {
             let Some(plan) = plan else { continue };
@@ -144,13 +148,15 @@ impl VolumePass {
                 scenes::LightState::Directional { direction, .. } => *direction,
                 _ => light.position().unwrap_or_default(),
             };
+            let size = renderer.shadows.slots[k].size;
+            let samples = samples(size, self.mesh);
             for f in &plan.faces {
                 let slot = draws.len() as u64;
                 let u = FaceUniform {
                     world_from_clip: f.world_from_clip.to_cols_array_2d(),
                     light: origin.extend(0.0).to_array(),
                     axis: plan.axis.extend(plan.collapse_cos).to_array(),
-                    grid: [f.layer, renderer.shadows.size, self.samples, 0],
+                    grid: [f.face, size, samples, 0],
                     cap: [plan.cap, 0.0, 0.0, 0.0],
                 };
                 let off = (slot * FACE_STRIDE) as usize;
@@ -160,6 +166,7 @@ impl VolumePass {
                     light: k,
                     slot,
                     directional,
+                    samples,
                 });
             }
         }
@@ -181,7 +188,7 @@ impl VolumePass {
         for d in &draws {
             let (grid, walls) = &self.pipelines[d.light];
             pass.set_bind_group(1, &self.bind, &[(d.slot * FACE_STRIDE) as u32]);
-            let t = faces::triangles(d.directional, self.samples);
+            let t = faces::triangles(d.directional, d.samples);
             pass.set_pipeline(grid);
             pass.draw(0..(3 * t.grid) as u32, 0..1);
             if d.directional {

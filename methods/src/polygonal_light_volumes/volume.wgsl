@@ -34,7 +34,8 @@ struct Face {
     light: vec4<f32>,
     // xyz: spot axis; w: cosine beyond which grid vertices collapse onto the light (−2: never)
     axis: vec4<f32>,
-    // x: shadow-map layer; y: map size (texels); z: grid samples per side n; w: unused
+    // x: the light's shadow-map face (its tile: shadow_face_origin); y: the face's size
+    // (texels); z: grid samples per side n; w: unused
     grid: vec4<u32>,
     // x: cap distance (local, m from the light) or cap depth (directional, m along the light)
     cap: vec4<f32>,
@@ -60,7 +61,8 @@ fn grid_vertex(i: u32, j: u32, cap: bool) -> vec3<f32> {
     let size = face.grid.y;
     // Texel rows run down from NDC y = 1 (shadow.wgsl's convention).
     let texel = min(vec2<u32>(vec2<f32>(uv.x, 1.0 - uv.y) * f32(size)), vec2<u32>(size - 1u));
-    let stored = textureLoad(volume_maps, texel, face.grid.x, 0).r;
+    let o = shadow_face_origin(LIGHT, face.grid.x);
+    let stored = textureLoad(volume_maps, o.xy + texel, o.z, 0).r;
     if (light_kind(LIGHT) == LIGHT_DIRECTIONAL) {
         let near = face.world_from_clip * vec4<f32>(ndc, 0.0, 1.0);
         let p0 = near.xyz / near.w;
@@ -78,16 +80,18 @@ fn grid_vertex(i: u32, j: u32, cap: bool) -> vec3<f32> {
 // The nearest stored distance of the texels within a quarter texel of texture position uv:
 // one texel at a texel centre, the two (or four) sharing a texel border — so two faces that see
 // the same edge direction through rounded coordinates still read the same texels.
-fn edge_distance(layer: u32, uv: vec2<f32>) -> f32 {
+fn edge_distance(cube_face: u32, uv: vec2<f32>) -> f32 {
     let size = face.grid.y;
+    let o = shadow_face_origin(LIGHT, cube_face);
+    let layer = o.z;
     let x = clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0)) * f32(size);
     let hi = vec2<f32>(f32(size) - 1.0);
     let lo = vec2<u32>(clamp(floor(x - 0.25), vec2<f32>(0.0), hi));
     let up = vec2<u32>(clamp(floor(x + 0.25), vec2<f32>(0.0), hi));
     return min(
-        min(textureLoad(volume_maps, lo, layer, 0).r, textureLoad(volume_maps, up, layer, 0).r),
-        min(textureLoad(volume_maps, vec2<u32>(lo.x, up.y), layer, 0).r,
-            textureLoad(volume_maps, vec2<u32>(up.x, lo.y), layer, 0).r));
+        min(textureLoad(volume_maps, o.xy + lo, layer, 0).r, textureLoad(volume_maps, o.xy + up, layer, 0).r),
+        min(textureLoad(volume_maps, o.xy + vec2<u32>(lo.x, up.y), layer, 0).r,
+            textureLoad(volume_maps, o.xy + vec2<u32>(up.x, lo.y), layer, 0).r));
 }
 
 // Where the walls of this face and its neighbour across `side` (0: −y, 1: +x, 2: +y, 3: −x in
@@ -117,8 +121,7 @@ fn seam_vertex(i: u32, j: u32, side: u32) -> vec3<f32> {
     else if (a.y >= a.z) { f = select(3u, 2u, w.y > 0.0); }
     else { f = select(5u, 4u, w.z > 0.0); }
     let c = lights.lights[LIGHT].faces[f] * vec4<f32>(face.light.xyz + towards, 1.0);
-    let base = u32(lights.lights[LIGHT].shadow.x + 0.5);
-    let other = edge_distance(base + f, vec2<f32>(0.5 + 0.5 * c.x / c.w, 0.5 - 0.5 * c.y / c.w));
+    let other = edge_distance(f, vec2<f32>(0.5 + 0.5 * c.x / c.w, 0.5 - 0.5 * c.y / c.w));
     let dark = dot(towards, face.axis.xyz) < face.axis.w;
     return face.light.xyz + towards * select(min(min(own, other), face.cap.x), 0.0, dark);
 }

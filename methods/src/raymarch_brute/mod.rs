@@ -28,6 +28,7 @@ use scenes::{FrameState, SceneFeatures};
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
 use crate::common::resolve::{self, ResolvePass};
+use crate::common::shadow_maps::ShadowSettings;
 
 /// `march` in march.wgsl, field for field.
 #[repr(C)]
@@ -55,7 +56,8 @@ pub const MARCH_WGSL: &str = include_str!("march.wgsl");
 impl State {
     pub fn new(ctx: &PrepareContext) -> Result<State> {
         let p = ctx.params;
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
+        let renderer =
+            SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, p.knob("pattern_res")?)?;
         let march = ResolvePass::new(
             ctx.gpu,
             &renderer,
@@ -126,6 +128,7 @@ impl Method for RaymarchBrute {
                 .unit("steps")
                 .meaning("ray-march steps per pixel (equal steps from the eye to the surface or far plane)"),
             knobs::shadow_map(1024).sweep([256, 512, 2048]),
+            knobs::local_shadow_budget(),
             Knob::boolean("jitter", false)
                 .meaning("per-pixel random step offset instead of midpoints"),
             knobs::pattern_res(512),

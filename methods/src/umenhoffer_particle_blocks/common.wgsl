@@ -26,10 +26,11 @@ struct View {
 // Views per light: light k's maps are views 6k .. 6k + 5 (slice-array layers likewise).
 const FACES: u32 = 6u;
 
+// passes::MAX_LIGHTS lights' views (FACES each) and map counts.
 struct Pb {
-    views: array<View, 24>,
+    views: array<View, 96>,
     // per light, x: its views this frame (0: no light map, 1: one map, 6: a cube); y, z, w: unused
-    maps: array<vec4<f32>, 4>,
+    maps: array<vec4<f32>, 16>,
     // x: tile columns; y: tile resolution (texels); z: impostor particles per direction; w: atlas size
     atlas: vec4<f32>,
     // x: clip_fix (0/1); y: background-medium march steps (0: none); z: the cloud dims the

@@ -228,7 +228,7 @@ mod tests {
             prim(Vec3::new(1.0, 0.0, 6.0), 1.0),
         ];
         let c = Vec3::new(0.5, 0.0, 5.5);
-        let mut u = PbUniform::default();
+        let mut u: PbUniform = bytemuck::Zeroable::zeroed();
         let mut views = |l: &LightState| light_views(l, &prims, c, 4, 1, &mut u);
         let sun = LightState::Directional {
             direction: Vec3::NEG_Y,

@@ -81,8 +81,8 @@
 //! cloud through the shared shadow maps; the cloud shadows surfaces through the slices; several
 //! lights, the cube of light maps, held blocks drawn as particles, background dimming (above).
 //!
-//! Limits: at most 4 lights (the renderer's); a block is one uniform-density interval per pixel
-//! (its mean and spread in depth are right, its clumps are not; overlapping blocks are ordered
+//! Limits: at most 16 lights (the light-map views' uniform, `passes::MAX_LIGHTS`); a block is
+//! one uniform-density interval per pixel (its mean and spread in depth are right, its clumps are not; overlapping blocks are ordered
 //! by centre), which near a local light inside the cloud weighs the light's 1/r² peak by the
 //! block's mean density; a cube of light maps costs six light passes; the background medium's
 //! in-scatter is marched (32 steps, in the angle variable of the first local light) in the
@@ -146,6 +146,7 @@ fn shared_knobs() -> Vec<Knob> {
             .meaning("light-map (slice texture) resolution per side"),
         knobs::shadow_map(1024)
             .meaning("resolution of the objects' shadow maps (objects shadowing the cloud)"),
+        knobs::local_shadow_budget(),
     ]
 }
 
@@ -192,6 +193,13 @@ fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
     }
     if let Some(why) = renderer_limits(scene) {
         return Support::No(why);
+    }
+    if scene.lights > passes::MAX_LIGHTS {
+        return Support::No(format!(
+            "{} lights: one cube of light maps (six views, six slice layers) per light, their views in one uniform with room for {} lights",
+            scene.lights,
+            passes::MAX_LIGHTS
+        ));
     }
     if !device.contains(wgpu::Features::FLOAT32_BLENDABLE) {
         return Support::No("needs FLOAT32_BLENDABLE (additive slices, gather compositing)".into());

@@ -20,8 +20,11 @@ use crate::common::wgsl;
 
 /// Light maps per light: one, or the six faces of a cube (`View`s 6k … 6k + 5 of light k).
 pub const FACES: usize = 6;
-/// Lights the uniform has room for (the renderer's limit).
-pub const MAX_LIGHTS: usize = crate::common::uniforms::MAX_LIGHTS;
+/// Lights the method's uniform has room for: six light-map views each (672 B), so 16 lights
+/// take 11 KB of it; `support` refuses more. (The shared renderer holds more; these methods'
+/// per-light cost, a primitive list and up to six light passes and slice layers per light, is
+/// the reason not to size the uniform for all of them.)
+pub const MAX_LIGHTS: usize = 16;
 
 /// One light map; mirrors `View` in common.wgsl.
 #[repr(C)]
@@ -38,7 +41,7 @@ pub struct ViewUniform {
 
 /// Mirrors `Pb` in common.wgsl.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Pod, Zeroable)]
 pub struct PbUniform {
     pub views: [ViewUniform; FACES * MAX_LIGHTS],
     pub maps: [[f32; 4]; MAX_LIGHTS],

@@ -15,6 +15,7 @@ use super::passes::{Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
 use super::{camera_bins, held, light_maps};
 use crate::common::renderer::SceneRenderer;
+use crate::common::shadow_maps::ShadowSettings;
 
 /// The largest atlas side (texels); tiles shrink to fit when there are many blocks.
 const ATLAS_MAX: u32 = 2048;
@@ -76,7 +77,7 @@ impl State {
         let lights = ctx.scene.desc.lights.len();
         let (tiles, cols, tile_res) = atlas(&set, lights, tile_res_knob);
         // The particle methods sample no spot pattern: a small texture.
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, 64)?;
+        let renderer = SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, 64)?;
         let sizes = Sizes {
             prims: set.prims.len() + held::capacity(&set.prims, &members),
             imp: set.imp.len(),
@@ -321,7 +322,7 @@ impl Prepared for State {
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
-        let mut u = PbUniform::default();
+        let mut u: PbUniform = bytemuck::Zeroable::zeroed();
         let prims = &self.set.prims;
         let views: Vec<u32> = frame
             .lights

@@ -19,6 +19,17 @@ struct Hybrid {
 @group(1) @binding(2) var<uniform> hybrid: Hybrid;
 @group(1) @binding(5) var f_table: texture_2d<f32>;
 
+// The F' table's bands (one per light, FPRIME_SIZE² texels) per row: light k's band starts at
+// column (k % FPRIME_BANDS_PER_ROW) · n_γ, row (k / FPRIME_BANDS_PER_ROW) · n_x. Mirrors
+// `FPRIME_BANDS_PER_ROW` in mod.rs.
+const FPRIME_BANDS_PER_ROW: u32 = 16u;
+
+// Light k's F' band's first texel (column, row).
+fn fprime_band(k: u32) -> vec2<u32> {
+    let band = vec2<u32>(k % FPRIME_BANDS_PER_ROW, k / FPRIME_BANDS_PER_ROW);
+    return band * vec2<u32>(u32(hybrid.fprime_ng), u32(hybrid.fprime_nx));
+}
+
 // The light this pipeline handles (set per pipeline; see common::resolve::ResolvePass::per_light).
 override LIGHT: u32 = 0u;
 

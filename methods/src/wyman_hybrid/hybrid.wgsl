@@ -4,8 +4,9 @@
 // Spot lights (§3.2): restricted to the ray's interval inside the cone and integrated by
 // angle-uniform steps (their intensity varies across the beam). Needs PRELUDE and FULLSCREEN.
 
-@group(1) @binding(3) var volume_front: texture_2d<f32>;
-@group(1) @binding(4) var volume_back: texture_2d<f32>;
+// Light k's nearest and farthest polygon distances: channel k % 4 of layer k / 4.
+@group(1) @binding(3) var volume_front: texture_2d_array<f32>;
+@group(1) @binding(4) var volume_back: texture_2d_array<f32>;
 @group(1) @binding(6) var f_prime: texture_2d<f32>;
 // [0]: pixels (and lights) marched; [1]: march steps taken (common::counters).
 @group(1) @binding(15) var<storage, read_write> counters: array<atomic<u32>, 2>;
@@ -19,11 +20,11 @@ fn fprime_lookup(k: u32, fi: f32, x: f32) -> vec3<f32> {
     let j0 = u32(fj);
     let i1 = min(i0 + 1u, u32(ng) - 1u);
     let j1 = min(j0 + 1u, u32(nx) - 1u);
-    let band = k * u32(ng);
+    let o = fprime_band(k);
     let ti = fi - f32(i0);
     let tj = fj - f32(j0);
-    let a = mix(textureLoad(f_prime, vec2<u32>(band + i0, j0), 0).rgb, textureLoad(f_prime, vec2<u32>(band + i1, j0), 0).rgb, ti);
-    let b = mix(textureLoad(f_prime, vec2<u32>(band + i0, j1), 0).rgb, textureLoad(f_prime, vec2<u32>(band + i1, j1), 0).rgb, ti);
+    let a = mix(textureLoad(f_prime, o + vec2<u32>(i0, j0), 0).rgb, textureLoad(f_prime, o + vec2<u32>(i1, j0), 0).rgb, ti);
+    let b = mix(textureLoad(f_prime, o + vec2<u32>(i0, j1), 0).rgb, textureLoad(f_prime, o + vec2<u32>(i1, j1), 0).rgb, ti);
     return mix(a, b, tj);
 }
 
@@ -131,8 +132,8 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(full);
     let dir = camera_ray_dir(camera, full);
     let len = pixel_ray_length(px, dir);
-    let fronts = textureLoad(volume_front, px, 0);
-    let backs = textureLoad(volume_back, px, 0);
+    let fronts = textureLoad(volume_front, px, i32(LIGHT / 4u), 0);
+    let backs = textureLoad(volume_back, px, i32(LIGHT / 4u), 0);
     let n = hybrid.samples;
     var l_in = vec3<f32>(0.0);
     // This pipeline handles light LIGHT (common::resolve per-light mode): with the light index a
@@ -147,10 +148,10 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     var a = span.y;
     var b = span.y;
     var steps = 0u;
-    let back = channel(backs, k);
+    let back = channel(backs, k % 4u);
     if (back >= 0.0) {
         // Shadow polygons on this ray: march between the first and the last.
-        a = clamp(channel(fronts, k), span.x, span.y);
+        a = clamp(channel(fronts, k % 4u), span.x, span.y);
         b = clamp(back, span.x, span.y);
         // No march when every polygon lies behind the surface or outside the spot's cone.
         steps = select(0u, n, b > a);

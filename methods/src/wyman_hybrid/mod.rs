@@ -48,8 +48,8 @@ use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
 use crate::common::resolve::{self, Bindings, ResolvePass};
+use crate::common::shadow_maps::ShadowSettings;
 use crate::common::tables::r32_table;
-use crate::common::uniforms::MAX_LIGHTS;
 use airlight::FTable;
 use shaders::UPSAMPLE_WGSL;
 pub use shaders::{fprime_wgsl, hybrid_wgsl, volumes_source};
@@ -57,6 +57,31 @@ use volumes::ShadowVolumes;
 
 /// F' table samples in cos γ (per light) and in x.
 const FPRIME_SIZE: u32 = 256;
+/// Lights' F' bands per row of the table (airlight.wgsl's `FPRIME_BANDS_PER_ROW`): 4096 texels
+/// wide at most, rows added as lights are.
+const FPRIME_BANDS_PER_ROW: u32 = 16;
+
+/// The F' table's size for `lights` lights: bands of FPRIME_SIZE², FPRIME_BANDS_PER_ROW a row.
+fn fprime_table_size(lights: u32) -> (u32, u32) {
+    let lights = lights.max(1);
+    let cols = lights.min(FPRIME_BANDS_PER_ROW);
+    (
+        FPRIME_SIZE * cols,
+        FPRIME_SIZE * lights.div_ceil(FPRIME_BANDS_PER_ROW),
+    )
+}
+
+/// Light k's band of the F' table: x, y, width, height (texels).
+fn fprime_band(k: usize) -> [u32; 4] {
+    let k = k as u32;
+    let (col, row) = (k % FPRIME_BANDS_PER_ROW, k / FPRIME_BANDS_PER_ROW);
+    [
+        col * FPRIME_SIZE,
+        row * FPRIME_SIZE,
+        FPRIME_SIZE,
+        FPRIME_SIZE,
+    ]
+}
 
 /// `upsample` in upsample.wgsl, field for field.
 #[repr(C)]
@@ -150,7 +175,7 @@ fn f_table(scene: &Scene, n: u32) -> FTable {
 impl FPrime {
     /// The F' table as wide as every light's rows, and the pass that fills it.
     fn new(gpu: &Gpu, renderer: &SceneRenderer) -> FPrime {
-        let (w, h) = (FPRIME_SIZE * MAX_LIGHTS as u32, FPRIME_SIZE);
+        let (w, h) = fprime_table_size(renderer.scene.desc.lights.len() as u32);
         let pass = ResolvePass::per_light(
             gpu,
             renderer,
@@ -159,10 +184,13 @@ impl FPrime {
             Bindings {
                 uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
                 textures: 3,
+                // The shadow-volume distances (3, 4) are arrays: four lights a layer.
+                texture_arrays: 0b11,
                 counters: 0,
             },
             &[],
-        );
+        )
+        .with_light_rects(fprime_band);
         FPrime {
             pass,
             table: render_target(gpu, "F' table", w, h),
@@ -220,6 +248,7 @@ impl Method for WymanHybrid {
                 .unit("steps")
                 .meaning("ray-march steps between the first and last shadow polygon (and per lit segment of a spot)"),
             knobs::shadow_map(1024).sweep([512, 2048]),
+            knobs::local_shadow_budget(),
             Knob::int("table", 256, 2..=4096)
                 .sweep([32, 64])
                 .unit("samples per side")
@@ -301,7 +330,8 @@ impl State {
         let use_fprime: bool = p.knob("fprime")?;
         let scale: u32 = p.knob("scale")?;
         let bilateral: bool = p.knob("bilateral")?;
-        let renderer = SceneRenderer::new(ctx, p.knob("shadow_map")?, p.knob("pattern_res")?)?;
+        let renderer =
+            SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, p.knob("pattern_res")?)?;
         let table = f_table(ctx.scene, p.knob("table")?);
         let table_tex = r32_table(gpu, "F(u,v)", table.nu, table.nv, &table.data);
         let volumes = ShadowVolumes::new(gpu, &renderer, ctx.no_skip);
@@ -314,6 +344,7 @@ impl State {
             Bindings {
                 uniform: Some(std::mem::size_of::<HybridUniform>() as u64),
                 textures: 4,
+                texture_arrays: 0b11,
                 counters: 2,
             },
             &[("AIRLIGHT", flag(analytic)), ("FPRIME", flag(use_fprime))],
@@ -378,12 +409,13 @@ impl State {
     ) {
         let volumes = [&self.volumes.front_view, &self.volumes.back_view];
         if let Some(fp) = &self.fprime {
+            let (width, height) = fprime_table_size(self.renderer.scene.desc.lights.len() as u32);
             let t = Targets {
                 inscatter: &fp.table,
                 surface: targets.surface,
                 total: &fp.unused,
-                width: FPRIME_SIZE * MAX_LIGHTS as u32,
-                height: FPRIME_SIZE,
+                width,
+                height,
             };
             let extra = [volumes[0], volumes[1], &self.table_view];
             fp.pass.encode_with(gpu, enc, &self.renderer, &t, &extra);

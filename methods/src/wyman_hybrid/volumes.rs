@@ -1,7 +1,8 @@
 //! wyman-hybrid's shadow volumes (§3.1): the quads extruded from the casters' silhouettes as
 //! seen from each light (rebuilt on the CPU only when a light, an object or the eye moved), and
 //! the pass that rasterises them from the eye into the nearest and farthest polygon distance per
-//! pixel (min / max blending, one channel per light).
+//! pixel (min / max blending, one channel per light: lights 4g … 4g + 3 in layer g of two
+//! array targets, one pass per layer).
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -11,6 +12,7 @@ use scenes::{FrameState, LightState};
 
 use super::shaders::volumes_source;
 use crate::common::gpu_scene::write_vertices;
+use crate::common::layered::Layered;
 use crate::common::pipeline::{self, MAX, MIN, Stage, both, target};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{ShadowCasters, light_pos};
@@ -19,6 +21,8 @@ use crate::common::wgsl;
 
 /// The nearest and farthest polygon distance targets.
 const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Lights per layer of the targets: one channel each.
+const LIGHTS_PER_LAYER: usize = 4;
 /// What a target holds where no polygon was drawn: the nearest is "far", the farthest "none".
 const NO_NEAREST: f64 = 1e30;
 const NO_FARTHEST: f64 = -1.0;
@@ -36,38 +40,46 @@ pub(super) struct ShadowVolumes {
     pipeline: wgpu::RenderPipeline,
     vertex_buffer: Option<wgpu::Buffer>,
     vertex_count: u32,
+    /// Per layer of the targets: its lights' quads' vertex range.
+    layer_ranges: Vec<std::ops::Range<u32>>,
     /// Lights, transforms and eye position the current quads were built for (the extrusion
     /// length depends on the eye).
     built_for: Option<(Vec<LightState>, Vec<Mat4>, Vec3)>,
     /// `--no-skip`: rebuild silhouettes every frame.
     no_skip: bool,
     silhouette_edges: usize,
+    /// The targets as arrays (for the hybrid pass) and per layer (for drawing).
     pub front_view: wgpu::TextureView,
     pub back_view: wgpu::TextureView,
+    layer_views: Vec<[wgpu::TextureView; 2]>,
 }
 
 impl ShadowVolumes {
     pub fn new(gpu: &Gpu, renderer: &SceneRenderer, no_skip: bool) -> ShadowVolumes {
-        let target = |label| {
-            gpu.texture_2d(
-                label,
-                renderer.width,
-                renderer.height,
-                VOLUME_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            )
-            .create_view(&Default::default())
-        };
+        let layers = renderer
+            .scene
+            .desc
+            .lights
+            .len()
+            .div_ceil(LIGHTS_PER_LAYER)
+            .max(1) as u32;
+        let size = (renderer.width, renderer.height);
+        let target = |label| Layered::new(gpu, label, size, layers, VOLUME_FORMAT);
+        let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
         ShadowVolumes {
             casters: ShadowCasters::new(&renderer.scene),
             pipeline: volume_pipeline(gpu, renderer),
             vertex_buffer: None,
             vertex_count: 0,
+            layer_ranges: Vec::new(),
             built_for: None,
             no_skip,
             silhouette_edges: 0,
-            front_view: target("shadow-volume front"),
-            back_view: target("shadow-volume back"),
+            layer_views: (front.layers.into_iter().zip(back.layers))
+                .map(|(f, b)| [f, b])
+                .collect(),
+            front_view: front.array,
+            back_view: back.array,
         }
     }
 
@@ -102,7 +114,12 @@ impl ShadowVolumes {
         let cam = frame.camera.position;
         let mut verts: Vec<VolumeVertex> = Vec::new();
         let mut edges = 0;
+        self.layer_ranges.clear();
         for (k, light) in frame.lights.iter().enumerate() {
+            if k % LIGHTS_PER_LAYER == 0 {
+                let start = verts.len() as u32;
+                self.layer_ranges.push(start..start);
+            }
             let pos = light_pos(light);
             let reach = 2.0
                 * (frame.camera.far + light.position().map_or(0.0, |p| (p - cam).length()))
@@ -115,6 +132,9 @@ impl ShadowVolumes {
                         light: k as u32,
                     }));
                 }
+            }
+            if let Some(r) = self.layer_ranges.last_mut() {
+                r.end = verts.len() as u32;
             }
         }
         self.silhouette_edges = edges;
@@ -143,24 +163,28 @@ impl ShadowVolumes {
                 a: v,
             })
         };
-        let mut pass = gpu.render_pass(
-            enc,
-            &wgpu::RenderPassDescriptor {
-                label: Some("shadow volumes"),
-                color_attachments: &[
-                    color_attachment(&self.front_view, clear(NO_NEAREST)),
-                    color_attachment(&self.back_view, clear(NO_FARTHEST)),
-                ],
-                ..Default::default()
-            },
-        );
-        if let (Some(vb), true) = (&self.vertex_buffer, self.vertex_count > 0) {
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
-            pass.set_vertex_buffer(0, vb.slice(..));
-            pass.draw(0..self.vertex_count, 0..1);
+        for (k, [front, back]) in self.layer_views.iter().enumerate() {
+            let mut pass = gpu.render_pass(
+                enc,
+                &wgpu::RenderPassDescriptor {
+                    label: Some("shadow volumes"),
+                    color_attachments: &[
+                        color_attachment(front, clear(NO_NEAREST)),
+                        color_attachment(back, clear(NO_FARTHEST)),
+                    ],
+                    ..Default::default()
+                },
+            );
+            let range = self.layer_ranges.get(k).filter(|r| !r.is_empty());
+            if let (Some(vb), Some(range), true) =
+                (&self.vertex_buffer, range, self.vertex_count > 0)
+            {
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &renderer.frame_bind, &[]);
+                pass.set_vertex_buffer(0, vb.slice(..));
+                pass.draw(range.clone(), 0..1);
+            }
         }
-        drop(pass);
         if self.no_casters() && !self.no_skip {
             report.skip(
                 "shadow-volumes",

@@ -1,4 +1,5 @@
-// Shadow-volume quads seen from the eye: per light k (channel k), the nearest and farthest
+// Shadow-volume quads seen from the eye: per light k (channel k % 4 of layer k / 4, one pass
+// per layer drawing that layer's lights), the nearest and farthest
 // distance along each pixel's ray at which it crosses a shadow polygon. Min and max blending
 // into two targets; no depth test (polygons behind the visible surface still count: the
 // resolve clamps to the ray's length, so a ray ending inside a shadow marches to its end).
@@ -31,6 +32,6 @@ const NO_BACK: f32 = -1.0;
 @fragment
 fn fs(i: VsOut) -> Out {
     let d = length(i.world - camera.position.xyz);
-    let mine = vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(i.light);
+    let mine = vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(i.light % 4u);
     return Out(select(vec4<f32>(NO_FRONT), vec4<f32>(d), mine), select(vec4<f32>(NO_BACK), vec4<f32>(d), mine));
 }

@@ -13,7 +13,6 @@ use crate::common::gpu_scene::GpuScene;
 use crate::common::layouts::{buffer_entry, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
-use crate::common::uniforms::MAX_LIGHTS;
 
 impl Passes {
     /// Every pass of every light into `acc_view`.
@@ -43,7 +42,7 @@ impl Passes {
             Some(mut pre) => {
                 self.encode_depth(&f, &mut pre);
                 if let Some(pixel) = &self.pixel {
-                    for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+                    for (k, light) in self.draws.iter().enumerate() {
                         self.encode_crossings(&f, &mut pre, k, light, pixel, &pixel.count);
                     }
                 }
@@ -62,7 +61,7 @@ impl Passes {
             if self.tess.is_some() {
                 self.encode_depth_of(&f, enc, &renderer.gpu_scene);
             }
-            for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+            for (k, light) in self.draws.iter().enumerate() {
                 self.encode_count(&f, enc, k, light, "biri-poly surface-shadow count");
                 shadows.encode(enc, renderer, surface, &self.depth_view, k);
             }
@@ -75,7 +74,7 @@ impl Passes {
             self.encode_first_pass(&f, enc);
         }
         let mut first = self.cfg.accumulate == Accumulate::Float;
-        for (k, light) in self.draws.iter().enumerate().take(MAX_LIGHTS) {
+        for (k, light) in self.draws.iter().enumerate() {
             self.encode_spot_rays(&f, enc, k);
             if let Some(pixel) = &self.pixel {
                 self.encode_crossings(&f, enc, k, light, pixel, &pixel.gather);

@@ -1,6 +1,7 @@
 // Lights (ARCHITECTURE §1) with the spot falloff and the pattern texture. Mirrors
 // common::uniforms::{LightUniform, LightsUniform}.
-const MAX_LIGHTS: u32 = 4u;
+// common::uniforms::MAX_LIGHTS (the uniform's capacity; a header and 128 × 480 B < 64 KiB).
+const MAX_LIGHTS: u32 = 128u;
 const LIGHT_POINT: u32 = 0u;
 const LIGHT_SPOT: u32 = 1u;
 const LIGHT_DIRECTIONAL: u32 = 2u;
@@ -16,8 +17,8 @@ struct Light {
     right: vec4<f32>,
     // xyz: spot slide frame up; w: pattern layer (< 0: no pattern)
     up: vec4<f32>,
-    // x: shadow map layer base (< 0: no shadow map); y: number of faces (6 or 1);
-    // z: shadow map size (texels); w: depth bias scale
+    // x: first shadow-atlas tile (< 0: no shadow map); y: log2 of the tiles per atlas row;
+    // z: face size (texels); w: depth bias scale (shadow.wgsl)
     shadow: vec4<f32>,
     // clip_from_world of each shadow-map face (+X, −X, +Y, −Y, +Z, −Z; or one orthographic)
     faces: array<mat4x4<f32>, 6>,
@@ -26,7 +27,7 @@ struct Light {
 struct Lights {
     // x: number of lights
     count: vec4<u32>,
-    lights: array<Light, 4>,
+    lights: array<Light, 128>,
 };
 
 // The functions below take the light's index and read the `lights` uniform (frame_bindings.wgsl)
@@ -34,13 +35,16 @@ struct Lights {
 
 // Scene-baked light layout (common::specialize): a scene's light count and kinds are fixed for a
 // run, so passes that set these constants compile them in and the per-light loops and kind
-// branches fold away. The default, UNBAKED, means "read the lights uniform".
+// branches fold away. The default, UNBAKED, means "read the lights uniform". The kinds of the
+// first four lights are baked one by one; of the rest, LIGHT_KINDS_REST holds which kinds occur
+// (bit 1 << kind), so `scene_has_light_kind` still folds for scenes without a kind.
 const UNBAKED: u32 = 0xffffffffu;
 override LIGHT_COUNT: u32 = UNBAKED;
 override LIGHT_KIND_0: u32 = UNBAKED;
 override LIGHT_KIND_1: u32 = UNBAKED;
 override LIGHT_KIND_2: u32 = UNBAKED;
 override LIGHT_KIND_3: u32 = UNBAKED;
+override LIGHT_KINDS_REST: u32 = UNBAKED;
 
 fn light_count() -> u32 {
     if (LIGHT_COUNT != UNBAKED) { return LIGHT_COUNT; }
@@ -53,7 +57,8 @@ fn light_kind(k: u32) -> u32 {
         case 0u: { baked = LIGHT_KIND_0; }
         case 1u: { baked = LIGHT_KIND_1; }
         case 2u: { baked = LIGHT_KIND_2; }
-        default: { baked = LIGHT_KIND_3; }
+        case 3u: { baked = LIGHT_KIND_3; }
+        default: {}
     }
     if (baked != UNBAKED) { return baked; }
     return u32(lights.lights[k].position.w + 0.5);
@@ -67,7 +72,13 @@ fn scene_has_light_kind(kind: u32) -> bool {
     return LIGHT_KIND_0 == kind
         || (LIGHT_COUNT > 1u && LIGHT_KIND_1 == kind)
         || (LIGHT_COUNT > 2u && LIGHT_KIND_2 == kind)
-        || (LIGHT_COUNT > 3u && LIGHT_KIND_3 == kind);
+        || (LIGHT_COUNT > 3u && LIGHT_KIND_3 == kind)
+        || (LIGHT_COUNT > 4u && (LIGHT_KINDS_REST & (1u << kind)) != 0u);
+}
+
+// Bit k of a 128-bit light mask (common::uniforms::LightMask).
+fn light_bit(mask: vec4<u32>, k: u32) -> bool {
+    return ((mask[k / 32u] >> (k % 32u)) & 1u) != 0u;
 }
 
 // smoothstep(cos_outer, cos_inner, cos_angle), as scenes::light::spot_falloff.

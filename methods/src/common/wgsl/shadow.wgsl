@@ -1,12 +1,35 @@
 // Shadow-map visibility. The map stores, per texel, the distance from the light to the nearest
 // caster (local lights) or the depth along the light direction (directional light); it is an
-// R32Float array with one layer per face. Needs lights.wgsl and frame_bindings.wgsl.
+// atlas (common::shadow_maps): an R32Float array of layers, a directional face filling a layer,
+// local faces tiles of shadow.z² texels. Needs lights.wgsl and
+// frame_bindings.wgsl.
 
 // What a shadow map holds where nothing is stored (no map, or outside every face): "no caster".
 const SHADOW_NONE: f32 = 3.0e38;
 
-// Where world point x falls in light k's shadow map: (texel x, texel y, layer, 1) as floats, or
-// w = 0 without a map or outside its faces.
+// Where face `face` of light k lies in the atlas: (texel origin x, y, layer). Its tiles are
+// consecutive, counted in tiles of its own side, 2^shadow.y to a row. Shifts and masks, not
+// divisions: lavapipe scalarises integer division per lane, and this runs per shadow lookup
+// (raymarch-brute's 1-light frame was ~30 % slower with them). Mirrors
+// common::uniforms::ShadowSlot::face_tile.
+fn shadow_face_origin(k: u32, face: u32) -> vec3<u32> {
+    let sh = lights.lights[k].shadow;
+    let size = u32(sh.z + 0.5);
+    let row_shift = u32(sh.y + 0.5);
+    let tile = u32(sh.x + 0.5) + face;
+    let in_layer = tile & ((1u << (2u * row_shift)) - 1u);
+    let col = in_layer & ((1u << row_shift) - 1u);
+    return vec3<u32>(col * size, (in_layer >> row_shift) * size, tile >> (2u * row_shift));
+}
+
+// The stored value of texel `texel` (within the face, 0 … size − 1) of light k's face `face`.
+fn shadow_load(k: u32, face: u32, texel: vec2<i32>) -> f32 {
+    let o = shadow_face_origin(k, face);
+    return textureLoad(shadow_maps, vec2<i32>(o.xy) + texel, i32(o.z), 0).r;
+}
+
+// Where world point x falls in light k's shadow map: (texel x, texel y within the face, face,
+// 1) as floats, or w = 0 without a map or outside its faces.
 fn shadow_texel(k: u32, x: vec3<f32>) -> vec4<f32> {
     let sh = lights.lights[k].shadow;
     let base = sh.x;
@@ -25,7 +48,7 @@ fn shadow_texel(k: u32, x: vec3<f32>) -> vec4<f32> {
     if (any(abs(ndc) > vec2<f32>(1.0))) { return vec4<f32>(0.0); }
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
     let texel = min(floor(uv * size), vec2<f32>(size - 1.0));
-    return vec4<f32>(texel, floor(base + 0.5) + f32(face), 1.0);
+    return vec4<f32>(texel, f32(face), 1.0);
 }
 
 // The stored caster distance (local lights) or depth (directional) of light k in the texel that
@@ -33,7 +56,7 @@ fn shadow_texel(k: u32, x: vec3<f32>) -> vec4<f32> {
 fn shadow_stored(k: u32, x: vec3<f32>) -> f32 {
     let t = shadow_texel(k, x);
     if (t.w == 0.0) { return SHADOW_NONE; }
-    return textureLoad(shadow_maps, vec2<i32>(t.xy), i32(t.z), 0).r;
+    return shadow_load(k, u32(t.z), vec2<i32>(t.xy));
 }
 
 // The depth test as an affine bound: x is lit iff dist · b.x ≤ stored + b.y, where dist is the
@@ -66,11 +89,13 @@ fn shadow_visibility_pcf(k: u32, x: vec3<f32>) -> f32 {
     let b = shadow_bound(k);
     let d = shadow_distance(k, x) * b.x - b.y;
     let last = i32(lights.lights[k].shadow.z) - 1;
+    let o = shadow_face_origin(k, u32(t.z));
     var lit = 0.0;
     for (var j = -1; j <= 1; j++) {
         for (var i = -1; i <= 1; i++) {
             let texel = clamp(vec2<i32>(t.xy) + vec2<i32>(i, j), vec2<i32>(0), vec2<i32>(last));
-            lit += select(0.0, 1.0, d <= textureLoad(shadow_maps, texel, i32(t.z), 0).r);
+            let stored = textureLoad(shadow_maps, vec2<i32>(o.xy) + texel, i32(o.z), 0).r;
+            lit += select(0.0, 1.0, d <= stored);
         }
     }
     return lit / 9.0;
