@@ -499,6 +499,14 @@ pub enum Shape {
     },
     /// A Wavefront OBJ file, path relative to the scene file.
     Obj { path: String },
+    /// One triangle primitive of a glTF 2.0 file (path relative to the scene file): primitive
+    /// `primitive` of the mesh of node `node`, in the file's world space (the node hierarchy
+    /// multiplied out; `transform` then applies on top). What an `import` makes.
+    Gltf {
+        path: String,
+        node: u32,
+        primitive: u32,
+    },
 }
 
 fn default_segments() -> u32 {

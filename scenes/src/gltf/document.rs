@@ -1,0 +1,244 @@
+//! Reading a glTF 2.0 file — `.gltf` JSON or `.glb` binary — and every buffer it names: the
+//! GLB's binary chunk, `data:` URIs (base64) and files beside the `.gltf` (never the network).
+//! The JSON is parsed and index-checked by the `gltf` crate; what it leaves unchecked (buffer
+//! lengths, required extensions) is checked here. Every failure is a [`GltfError`] naming the
+//! file and the glTF path, never a panic.
+
+use std::fmt;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::Path;
+
+use ::gltf::json;
+use base64::Engine;
+
+/// Extensions the importer understands; any other in `extensionsRequired` is refused.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual"];
+
+/// A problem with a glTF file: the file, the glTF path inside it (`nodes[3].mesh`,
+/// `accessors[5]`; empty for the file as a whole) and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfError {
+    pub file: String,
+    pub path: String,
+    pub message: String,
+}
+
+impl GltfError {
+    pub fn new(file: &str, path: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            file: file.to_string(),
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+
+    /// The path and message without the file (`nodes[3].mesh: ...`).
+    pub fn located_message(&self) -> String {
+        if self.path.is_empty() {
+            self.message.clone()
+        } else {
+            format!("{}: {}", self.path, self.message)
+        }
+    }
+}
+
+impl fmt::Display for GltfError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.file, self.located_message())
+    }
+}
+
+impl std::error::Error for GltfError {}
+
+/// A parsed glTF file with its buffers loaded, one byte vector per `buffers[i]`.
+pub struct Document {
+    /// The file's name in messages.
+    pub file: String,
+    pub root: json::Root,
+    pub buffers: Vec<Vec<u8>>,
+}
+
+impl Document {
+    pub fn error(&self, path: impl Into<String>, message: impl Into<String>) -> GltfError {
+        GltfError::new(&self.file, path, message)
+    }
+}
+
+/// Reads and parses a `.gltf` or `.glb` file; external buffers resolve against its folder.
+pub fn read(path: &Path) -> Result<Document, GltfError> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| {
+        let what = match e.kind() {
+            std::io::ErrorKind::NotFound => "glTF file not found".to_string(),
+            _ => format!("cannot read the glTF file: {e}"),
+        };
+        GltfError::new(&file, "", what)
+    })?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    parse(&bytes, &file, base)
+}
+
+/// Parses glTF bytes (JSON or GLB); `file` names it in messages, `base` is the folder external
+/// buffer files are read from.
+pub fn parse(bytes: &[u8], file: &str, base: &Path) -> Result<Document, GltfError> {
+    // The crate's parsers are not ours to audit: contain a panic on hostile input as a refusal.
+    let parsed = catch_unwind(AssertUnwindSafe(|| ::gltf::Gltf::from_slice(bytes)))
+        .map_err(|_| GltfError::new(file, "", "the glTF parser failed on malformed input"))?;
+    let gltf = parsed.map_err(|e| describe(file, e))?;
+    let blob = gltf.blob;
+    let root = gltf.document.into_json();
+    for (i, ext) in root.extensions_required.iter().enumerate() {
+        if !SUPPORTED_EXTENSIONS.contains(&ext.as_str()) {
+            return Err(GltfError::new(
+                file,
+                format!("extensionsRequired[{i}]"),
+                format!(
+                    "extension {ext} is required by the file but not supported (supported: {})",
+                    SUPPORTED_EXTENSIONS.join(", ")
+                ),
+            ));
+        }
+    }
+    let mut blob = blob;
+    let mut buffers = Vec::with_capacity(root.buffers.len());
+    for (i, b) in root.buffers.iter().enumerate() {
+        let path = format!("buffers[{i}]");
+        let data = match &b.uri {
+            None if i == 0 => blob.take().ok_or_else(|| {
+                GltfError::new(
+                    file,
+                    &path,
+                    "has no uri and the file has no GLB binary chunk",
+                )
+            })?,
+            None => {
+                return Err(GltfError::new(
+                    file,
+                    &path,
+                    "has no uri (only buffers[0] may be a GLB's binary chunk)",
+                ));
+            }
+            Some(uri) => load_uri(uri, base).map_err(|m| GltfError::new(file, &path, m))?,
+        };
+        let declared = b.byte_length.0;
+        if (data.len() as u64) < declared {
+            return Err(GltfError::new(
+                file,
+                format!("{path}.byteLength"),
+                format!("is {declared} bytes but the buffer holds {}", data.len()),
+            ));
+        }
+        buffers.push(data);
+    }
+    Ok(Document {
+        file: file.to_string(),
+        root,
+        buffers,
+    })
+}
+
+/// The crate's error as ours, with its glTF path where it gives one.
+fn describe(file: &str, e: ::gltf::Error) -> GltfError {
+    match e {
+        ::gltf::Error::Validation(problems) => {
+            let more = problems.len().saturating_sub(1);
+            let (path, what) = problems
+                .into_iter()
+                .next()
+                .map(|(p, e)| (p.to_string(), e.to_string()))
+                .unwrap_or_default();
+            let tail = if more > 0 {
+                format!(" (and {more} more problems)")
+            } else {
+                String::new()
+            };
+            GltfError::new(file, path, format!("{what}{tail}"))
+        }
+        ::gltf::Error::Binary(e) => GltfError::new(file, "", format!("not a valid GLB file: {e}")),
+        ::gltf::Error::Deserialize(e) => {
+            GltfError::new(file, "", format!("not valid glTF JSON: {e}"))
+        }
+        e => GltfError::new(file, "", format!("cannot read glTF: {e}")),
+    }
+}
+
+/// A buffer's bytes from a `data:` URI or a file relative to `base`.
+fn load_uri(uri: &str, base: &Path) -> Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (_, payload) = rest
+            .split_once(";base64,")
+            .ok_or("uri: a data: URI must be base64 (data:...;base64,...)")?;
+        return base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .map_err(|e| format!("uri: invalid base64 in the data: URI: {e}"));
+    }
+    if uri.contains("://") {
+        return Err(format!(
+            "uri: {uri}: only files beside the glTF file and data: URIs are read (no network)"
+        ));
+    }
+    let relative = percent_decode(uri).ok_or_else(|| format!("uri: {uri}: bad %-escape"))?;
+    let full = base.join(relative);
+    std::fs::read(&full).map_err(|e| format!("uri: cannot read {}: {e}", full.display()))
+}
+
+/// URI %-escapes (`%20`) decoded; None on a malformed escape or invalid UTF-8.
+fn percent_decode(s: &str) -> Option<String> {
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percent_escapes_decode_and_bad_ones_are_refused() {
+        assert_eq!(
+            percent_decode("my%20level.bin").as_deref(),
+            Some("my level.bin")
+        );
+        assert_eq!(percent_decode("a%2").as_deref(), None);
+        assert_eq!(percent_decode("a%zz").as_deref(), None);
+    }
+
+    #[test]
+    fn network_uris_and_missing_buffers_name_the_buffer() {
+        let text =
+            r#"{"asset":{"version":"2.0"},"buffers":[{"uri":"http://x/y.bin","byteLength":4}]}"#;
+        let e = parse(text.as_bytes(), "lvl.gltf", Path::new("."))
+            .err()
+            .unwrap();
+        assert_eq!(e.path, "buffers[0]");
+        assert!(e.message.contains("no network"), "{e}");
+        let text = r#"{"asset":{"version":"2.0"},"buffers":[{"uri":"data:application/octet-stream;base64,AAAA","byteLength":8}]}"#;
+        let e = parse(text.as_bytes(), "lvl.gltf", Path::new("."))
+            .err()
+            .unwrap();
+        assert_eq!(
+            e.to_string(),
+            "lvl.gltf: buffers[0].byteLength: is 8 bytes but the buffer holds 3"
+        );
+    }
+
+    #[test]
+    fn unsupported_required_extensions_are_refused() {
+        let text = r#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]}"#;
+        let e = parse(text.as_bytes(), "lvl.gltf", Path::new("."))
+            .err()
+            .unwrap();
+        assert_eq!(e.path, "extensionsRequired[0]", "{e}");
+    }
+}

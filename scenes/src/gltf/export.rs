@@ -1,0 +1,1 @@
+//! Export: any scene as a `.glb` (see `to_glb`).
