@@ -19,6 +19,7 @@ pub mod lights;
 pub mod material;
 pub mod nodes;
 pub mod primitive;
+pub mod sample;
 pub mod scene;
 
 use std::path::Path;

@@ -117,7 +117,8 @@ pub fn placed_nodes(doc: &Document, roots: &[usize]) -> Result<Vec<Placed>, Gltf
     Ok(out)
 }
 
-/// The world matrix of one node, found by walking up from it to its root.
+/// The world matrix of one node of the imported scene (the hierarchy is walked from the
+/// scene's roots, so a node outside it, or a broken hierarchy, is an error).
 pub fn world_matrix(doc: &Document, node: usize) -> Result<Mat4, GltfError> {
     let roots = roots(doc);
     placed_nodes(doc, &roots)?
