@@ -152,6 +152,8 @@ fn errors_name_the_file_and_the_gltf_path() {
         ("extensions.KHR_lights_punctual.lights[0].intensity",
             Box::new(|v| v["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(-1.0))),
         ("nodes[5].translation", Box::new(|v| v["nodes"][5]["translation"] = json!([0.0, 1e39, 0.0]))),
+        ("accessors[0]", Box::new(|v| set_buffer_f32(v, 1, f32::NAN))),
+        ("nodes[1].rotation", Box::new(|v| v["nodes"][1]["rotation"] = json!([0.0, 0.0, 0.0, 2.0]))),
         ("buffers[0]", Box::new(|v| v["buffers"][0]["uri"] = json!("no-such-file.bin"))),
         ("meshes[1].primitives[0]", Box::new(|v| v["nodes"][2]["scale"] = json!([0.0, 1.0, 1.0]))),
         ("nodes[2]", Box::new(|v| v["nodes"][2]["children"] = json!([1]))),
@@ -169,6 +171,17 @@ fn errors_name_the_file_and_the_gltf_path() {
         let err = standalone(&format!("err-standalone{i}"), &level).expect_err(path);
         assert!(err.contains("level.gltf: ") && err.contains(path), "{path}:\n{err}");
     }
+}
+
+/// Sets the `k`-th f32 of the embedded buffer (the floor's POSITION data comes first).
+fn set_buffer_f32(level: &mut Value, k: usize, x: f32) {
+    use base64::Engine;
+    let engine = base64::engine::general_purpose::STANDARD;
+    let uri = level["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let (head, data) = uri.split_once(";base64,").unwrap();
+    let mut bin = engine.decode(data).unwrap();
+    bin[4 * k..4 * k + 4].copy_from_slice(&x.to_le_bytes());
+    level["buffers"][0]["uri"] = json!(format!("{head};base64,{}", engine.encode(bin)));
 }
 
 #[test]

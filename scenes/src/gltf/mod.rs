@@ -169,11 +169,28 @@ fn add_mesh(
     skipped: &mut Vec<Ignored>,
 ) -> Result<(), GltfError> {
     let node = &doc.root.nodes[placed.node];
-    let count = doc.root.meshes.get(mesh).map_or(0, |m| m.primitives.len());
+    let count = doc
+        .root
+        .meshes
+        .get(mesh)
+        .ok_or_else(|| {
+            doc.error(
+                format!("nodes[{}].mesh", placed.node),
+                format!("no such mesh: the file has {}", doc.root.meshes.len()),
+            )
+        })?
+        .primitives
+        .len();
     for k in 0..count {
         let prim_path = format!("meshes[{mesh}].primitives[{k}]");
         let p = primitive::get(doc, mesh, k)?;
         skipped.extend(primitive::ignored_parts(p, &prim_path));
+        if p.mode == json::validation::Checked::Invalid {
+            return Err(doc.error(
+                format!("{prim_path}.mode"),
+                "unknown mode: allowed are 0 to 6 (POINTS … TRIANGLE_FAN)",
+            ));
+        }
         if !primitive::is_triangles(p) {
             skipped.push(Ignored::new(
                 format!("{prim_path}.mode"),
