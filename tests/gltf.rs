@@ -65,7 +65,10 @@ fn check_records(results: &Results, bound: f64) -> Vec<String> {
             Status::Failed => problems.push(format!("{}: failed: {:?}", who(r), r.reason)),
             Status::Ok => match harness::verdict::headline(r, "inscatter") {
                 Some(e) if e.is_finite() && e < bound => {}
-                e => problems.push(format!("{}: inscatter headline {e:?} (bound {bound})", who(r))),
+                e => problems.push(format!(
+                    "{}: inscatter headline {e:?} (bound {bound})",
+                    who(r)
+                )),
             },
         }
     }
@@ -128,7 +131,11 @@ fn exported_fence_spot_scores_the_same_headline_as_the_original() {
         .arg(&glb)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let original = scenes::library::resolve("fence-spot").unwrap();
     let back = scenes::library::resolve(glb.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let results = run_all(&gpu, &[original, back], "gltf-export");
@@ -184,6 +191,13 @@ fn the_reference_cache_key_changes_with_the_gltf_content() {
     level["nodes"][4]["matrix"] = json!(m);
     std::fs::write(dir.join("level.gltf"), level.to_string()).unwrap();
     let after = scenes::load_scene(&path).unwrap();
-    assert_eq!(before.desc.objects, after.desc.objects, "the descriptions are equal");
-    assert_ne!(key(&before), key(&after), "the key must hash the imported meshes");
+    assert_eq!(
+        before.desc.objects, after.desc.objects,
+        "the descriptions are equal"
+    );
+    assert_ne!(
+        key(&before),
+        key(&after),
+        "the key must hash the imported meshes"
+    );
 }

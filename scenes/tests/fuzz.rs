@@ -501,7 +501,12 @@ fn check_gltf(
     what: &dyn Fn() -> String,
 ) -> Result<bool, TestCaseError> {
     let res = res.map_err(|_| TestCaseError::fail(format!("the loader panicked on {}", what())))?;
-    prop_assert_eq!(panics_since_last_call(), 0, "a panic (contained) on {}", what());
+    prop_assert_eq!(
+        panics_since_last_call(),
+        0,
+        "a panic (contained) on {}",
+        what()
+    );
     match res {
         Err(e) => {
             let msg = e.to_string();
@@ -556,7 +561,11 @@ fn mutated_gltf_levels_never_panic_and_refusals_name_the_file() {
         })
         .unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    eprintln!("{} of {} mutated glTF levels accepted", accepted.get(), cases());
+    eprintln!(
+        "{} of {} mutated glTF levels accepted",
+        accepted.get(),
+        cases()
+    );
     assert!(accepted.get() > 0, "no mutated level was accepted");
 }
 

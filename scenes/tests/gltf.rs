@@ -44,10 +44,16 @@ fn standalone(test: &str, level: &Value) -> Result<Scene, String> {
 fn the_sample_level_imports_its_nodes_lights_and_camera() {
     let s = import_scene("sample", &sample::level(), "").unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = s.desc.objects.iter().map(|o| o.name.as_str()).collect();
-    assert_eq!(names, ["floor", "left pillar", "right pillar", "tilted box"]);
+    assert_eq!(
+        names,
+        ["floor", "left pillar", "right pillar", "tilted box"]
+    );
     assert_eq!(s.meshes.len(), 4);
     assert_eq!(s.triangle_count(), 2 + 3 * 12);
-    assert!(s.desc.objects[1].material.two_sided, "doubleSided → two_sided");
+    assert!(
+        s.desc.objects[1].material.two_sided,
+        "doubleSided → two_sided"
+    );
     assert_eq!(s.desc.objects[0].material.albedo, Vec3::splat(0.7));
     assert_eq!(s.desc.lights.len(), 3);
     assert!(s.ignored.is_empty(), "{:?}", s.ignored);
@@ -72,7 +78,10 @@ fn lights_convert_candela_and_lux_to_radiometric_units() {
             position,
             intensity,
         } => {
-            assert!(close(intensity, Vec3::new(1.0, 0.9, 0.8) * sample::POINT_W_PER_SR));
+            assert!(close(
+                intensity,
+                Vec3::new(1.0, 0.9, 0.8) * sample::POINT_W_PER_SR
+            ));
             assert!((position - Vec3::new(2.0, 3.5, 1.5)).length() < 1e-6);
         }
         ref l => panic!("light 0 should be a point light: {l:?}"),
@@ -137,28 +146,72 @@ fn a_child_node_is_placed_by_the_product_of_its_ancestors() {
 #[test]
 fn errors_name_the_file_and_the_gltf_path() {
     let cases: Vec<(&str, Box<dyn Fn(&mut Value)>)> = vec![
-        ("nodes[2].mesh", Box::new(|v| v["nodes"][2]["mesh"] = json!(99))),
-        ("meshes[0].primitives[0].attributes", Box::new(|v| {
-            v["meshes"][0]["primitives"][0]["attributes"].as_object_mut().unwrap().remove("POSITION");
-        })),
-        ("accessors[0]", Box::new(|v| v["accessors"][0]["count"] = json!(1_000_000))),
-        ("accessors[2]", Box::new(|v| {
-            // Two vertices left: the floor's indices reach past them.
-            v["accessors"][0]["count"] = json!(2);
-            v["accessors"][1]["count"] = json!(2);
-        })),
-        ("extensions.KHR_lights_punctual.lights[1].spot.outerConeAngle",
-            Box::new(|v| v["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["outerConeAngle"] = json!(1.5708))),
-        ("extensions.KHR_lights_punctual.lights[0].intensity",
-            Box::new(|v| v["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(-1.0))),
-        ("nodes[5].translation", Box::new(|v| v["nodes"][5]["translation"] = json!([0.0, 1e39, 0.0]))),
+        (
+            "nodes[2].mesh",
+            Box::new(|v| v["nodes"][2]["mesh"] = json!(99)),
+        ),
+        (
+            "meshes[0].primitives[0].attributes",
+            Box::new(|v| {
+                v["meshes"][0]["primitives"][0]["attributes"]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("POSITION");
+            }),
+        ),
+        (
+            "accessors[0]",
+            Box::new(|v| v["accessors"][0]["count"] = json!(1_000_000)),
+        ),
+        (
+            "accessors[2]",
+            Box::new(|v| {
+                // Two vertices left: the floor's indices reach past them.
+                v["accessors"][0]["count"] = json!(2);
+                v["accessors"][1]["count"] = json!(2);
+            }),
+        ),
+        (
+            "extensions.KHR_lights_punctual.lights[1].spot.outerConeAngle",
+            Box::new(|v| {
+                v["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["outerConeAngle"] =
+                    json!(1.5708)
+            }),
+        ),
+        (
+            "extensions.KHR_lights_punctual.lights[0].intensity",
+            Box::new(|v| {
+                v["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(-1.0)
+            }),
+        ),
+        (
+            "nodes[5].translation",
+            Box::new(|v| v["nodes"][5]["translation"] = json!([0.0, 1e39, 0.0])),
+        ),
         ("accessors[0]", Box::new(|v| set_buffer_f32(v, 1, f32::NAN))),
-        ("nodes[1].rotation", Box::new(|v| v["nodes"][1]["rotation"] = json!([0.0, 0.0, 0.0, 2.0]))),
-        ("buffers[0]", Box::new(|v| v["buffers"][0]["uri"] = json!("no-such-file.bin"))),
-        ("meshes[1].primitives[0]", Box::new(|v| v["nodes"][2]["scale"] = json!([0.0, 1.0, 1.0]))),
-        ("nodes[2]", Box::new(|v| v["nodes"][2]["children"] = json!([1]))),
-        ("materials[1].pbrMetallicRoughness.baseColorFactor",
-            Box::new(|v| v["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"] = json!([2.0, 0.0, 0.0, 1.0]))),
+        (
+            "nodes[1].rotation",
+            Box::new(|v| v["nodes"][1]["rotation"] = json!([0.0, 0.0, 0.0, 2.0])),
+        ),
+        (
+            "buffers[0]",
+            Box::new(|v| v["buffers"][0]["uri"] = json!("no-such-file.bin")),
+        ),
+        (
+            "meshes[1].primitives[0]",
+            Box::new(|v| v["nodes"][2]["scale"] = json!([0.0, 1.0, 1.0])),
+        ),
+        (
+            "nodes[2]",
+            Box::new(|v| v["nodes"][2]["children"] = json!([1])),
+        ),
+        (
+            "materials[1].pbrMetallicRoughness.baseColorFactor",
+            Box::new(|v| {
+                v["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"] =
+                    json!([2.0, 0.0, 0.0, 1.0])
+            }),
+        ),
     ];
     for (i, (path, mutate)) in cases.iter().enumerate() {
         let mut level = sample::level();
@@ -169,7 +222,10 @@ fn errors_name_the_file_and_the_gltf_path() {
             "case {path}: the message must name the scene file, the glTF file and {path}:\n{err}"
         );
         let err = standalone(&format!("err-standalone{i}"), &level).expect_err(path);
-        assert!(err.contains("level.gltf: ") && err.contains(path), "{path}:\n{err}");
+        assert!(
+            err.contains("level.gltf: ") && err.contains(path),
+            "{path}:\n{err}"
+        );
     }
 }
 
@@ -193,9 +249,15 @@ fn the_scene_file_camera_wins_and_a_missing_camera_is_refused() {
     level["nodes"][8].as_object_mut().unwrap().remove("camera");
     assert!(import_scene("own-camera2", &level, cam).is_ok());
     let err = import_scene("no-camera", &level, "").unwrap_err();
-    assert!(err.contains("scene.json") && err.contains("no perspective camera"), "{err}");
+    assert!(
+        err.contains("scene.json") && err.contains("no perspective camera"),
+        "{err}"
+    );
     let err = standalone("no-camera-standalone", &level).unwrap_err();
-    assert!(err.contains("level.gltf") && err.contains("perspective camera"), "{err}");
+    assert!(
+        err.contains("level.gltf") && err.contains("perspective camera"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -247,7 +309,11 @@ fn unmodelled_content_is_listed_with_its_gltf_path() {
     level["meshes"][0]["primitives"][0]["mode"] = json!(0);
     let s = import_scene("ignored-points", &level, "").unwrap();
     assert_eq!(s.desc.objects.len(), 3);
-    assert!(s.ignored.join("\n").contains("meshes[0].primitives[0].mode"));
+    assert!(
+        s.ignored
+            .join("\n")
+            .contains("meshes[0].primitives[0].mode")
+    );
 }
 
 #[test]
@@ -302,13 +368,19 @@ fn every_library_scene_survives_export_and_import() {
             assert_eq!(oa.len(), ob.len(), "{name}: triangles");
             for (ta, tb) in oa.iter().zip(ob) {
                 for (pa, pb) in ta.iter().zip(tb) {
-                    assert!((*pa - *pb).length() <= 1e-5 * (1.0 + pa.length()), "{name}: {pa} vs {pb}");
+                    assert!(
+                        (*pa - *pb).length() <= 1e-5 * (1.0 + pa.length()),
+                        "{name}: {pa} vs {pb}"
+                    );
                 }
             }
         }
         for (oa, ob) in original.desc.objects.iter().zip(&back.desc.objects) {
             assert_eq!(oa.material, ob.material, "{name}: material");
-            assert_eq!(oa.casts_volumetric_shadow, ob.casts_volumetric_shadow, "{name}");
+            assert_eq!(
+                oa.casts_volumetric_shadow, ob.casts_volumetric_shadow,
+                "{name}"
+            );
         }
         let (fa, fb) = (original.frame(0), back.frame(0));
         assert_eq!(fa.lights.len(), fb.lights.len(), "{name}: lights");
@@ -316,32 +388,77 @@ fn every_library_scene_survives_export_and_import() {
             assert_lights_match(name, la, lb);
         }
         let (ca, cb) = (fa.camera, fb.camera);
-        assert!((ca.position - cb.position).length() < 1e-5, "{name}: camera position");
+        assert!(
+            (ca.position - cb.position).length() < 1e-5,
+            "{name}: camera position"
+        );
         let dir = |c: &scenes::CameraPose| (c.look_at - c.position).normalize();
-        assert!((dir(&ca) - dir(&cb)).length() < 1e-5, "{name}: camera direction");
-        assert!(ca.view_from_world().abs_diff_eq(cb.view_from_world(), 1e-4), "{name}: camera");
+        assert!(
+            (dir(&ca) - dir(&cb)).length() < 1e-5,
+            "{name}: camera direction"
+        );
+        assert!(
+            ca.view_from_world().abs_diff_eq(cb.view_from_world(), 1e-4),
+            "{name}: camera"
+        );
         assert!((ca.fov_y_deg - cb.fov_y_deg).abs() < 1e-4);
         assert_eq!((ca.near, ca.far), (cb.near, cb.far), "{name}");
     }
 }
 
 fn assert_lights_match(name: &str, a: &LightState, b: &LightState) {
-    let close = |x: Vec3, y: Vec3| (x - y).abs().max_element() <= 1e-5 * (1.0 + x.abs().max_element());
+    let close =
+        |x: Vec3, y: Vec3| (x - y).abs().max_element() <= 1e-5 * (1.0 + x.abs().max_element());
     match (a, b) {
         (
-            LightState::Point { position: p, intensity: i },
-            LightState::Point { position: q, intensity: j },
+            LightState::Point {
+                position: p,
+                intensity: i,
+            },
+            LightState::Point {
+                position: q,
+                intensity: j,
+            },
         ) => assert!(close(*p, *q) && close(*i, *j), "{name}: {a:?} vs {b:?}"),
         (
-            LightState::Spot { position: p, direction: d, intensity: i, cos_inner: ci, cos_outer: co, pattern: pa, .. },
-            LightState::Spot { position: q, direction: e, intensity: j, cos_inner: cj, cos_outer: cp, pattern: pb, .. },
+            LightState::Spot {
+                position: p,
+                direction: d,
+                intensity: i,
+                cos_inner: ci,
+                cos_outer: co,
+                pattern: pa,
+                ..
+            },
+            LightState::Spot {
+                position: q,
+                direction: e,
+                intensity: j,
+                cos_inner: cj,
+                cos_outer: cp,
+                pattern: pb,
+                ..
+            },
         ) => {
-            assert!(close(*p, *q) && close(*d, *e) && close(*i, *j), "{name}: {a:?} vs {b:?}");
-            assert_eq!((ci, co, pa), (cj, cp, pb), "{name}: exact cones and pattern");
+            assert!(
+                close(*p, *q) && close(*d, *e) && close(*i, *j),
+                "{name}: {a:?} vs {b:?}"
+            );
+            assert_eq!(
+                (ci, co, pa),
+                (cj, cp, pb),
+                "{name}: exact cones and pattern"
+            );
         }
         (
-            LightState::Directional { direction: d, irradiance: i },
-            LightState::Directional { direction: e, irradiance: j },
+            LightState::Directional {
+                direction: d,
+                irradiance: i,
+            },
+            LightState::Directional {
+                direction: e,
+                irradiance: j,
+            },
         ) => assert!(close(*d, *e) && close(*i, *j), "{name}: {a:?} vs {b:?}"),
         _ => panic!("{name}: light kinds differ: {a:?} vs {b:?}"),
     }

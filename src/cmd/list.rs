@@ -24,7 +24,10 @@ pub fn run(a: ListArgs, registry: Registry) -> Result<()> {
     if let Some(spec) = &a.scenes {
         scenes_out = crate::args::pick_scenes(spec)?;
     }
-    for name in scenes::library::names().into_iter().filter(|_| a.scenes.is_none()) {
+    for name in scenes::library::names()
+        .into_iter()
+        .filter(|_| a.scenes.is_none())
+    {
         let s = scenes::library::resolve(name).map_err(|e| anyhow!(e))?;
         scenes_out.push(s);
     }

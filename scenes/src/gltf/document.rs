@@ -150,7 +150,11 @@ fn split_and_check(bytes: &[u8], file: &str) -> Result<(json::Root, Option<Vec<u
     let root: json::Root = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let path = if path == "." { String::new() } else { path };
-        GltfError::new(file, path, format!("not valid glTF JSON: {}", e.into_inner()))
+        GltfError::new(
+            file,
+            path,
+            format!("not valid glTF JSON: {}", e.into_inner()),
+        )
     })?;
     // Not the crate's `validate`: it indexes arrays unchecked (a POSITION accessor index out
     // of range panics in gltf-json 1.4.1, found by tests/fuzz.rs). Every index this importer

@@ -1,6 +1,6 @@
 //! Any scene as a binary glTF (`.glb`) that a viewer opens: each object's mesh as the GPU sees
 //! it (procedural shapes tessellated, OBJ and glTF meshes as loaded) under a node with its
-//! frame-0 `world_from_local` matrix; albedo as `baseColorFactor` (metallic 0, roughness 1),
+//! frame-0 `world_from_local` (as translation, rotation and scale); albedo as `baseColorFactor` (metallic 0, roughness 1),
 //! `two_sided` as `doubleSided`; lights as `KHR_lights_punctual` with the inverse unit
 //! conversion ([`super::lights::photometric`]); the camera as a perspective camera node.
 //! What glTF cannot say goes in our extras ([`super::extras`]) so that importing the file
@@ -159,11 +159,8 @@ impl Builder {
                 "mode": 4
             }]
         }));
-        let mut node = json!({
-            "name": object_name(i, o),
-            "mesh": self.meshes.len() - 1,
-            "matrix": world.to_cols_array(),
-        });
+        let mut node = json!({ "name": object_name(i, o), "mesh": self.meshes.len() - 1 });
+        set_trs(&mut node, world);
         if !o.casts_volumetric_shadow {
             let ours = NodeExtras {
                 casts_volumetric_shadow: Some(false),
@@ -237,13 +234,26 @@ impl Builder {
                 "zfar": pose.far
             }
         }));
-        let world_from_view = pose.view_from_world().inverse();
-        self.nodes.push(json!({
-            "name": "camera",
-            "camera": self.cameras.len() - 1,
-            "matrix": world_from_view.to_cols_array()
-        }));
+        let mut node = json!({ "name": "camera", "camera": self.cameras.len() - 1 });
+        set_trs(&mut node, &pose.view_from_world().inverse());
+        self.nodes.push(node);
         self.nodes.len() - 1
+    }
+}
+
+/// A node's `translation`, `rotation` and `scale` (each only where not the identity): glTF
+/// wants TRS that recompose to the matrix, and an object's `world_from_local` is T · R · S
+/// with positive scales, so it decomposes exactly up to rounding.
+fn set_trs(node: &mut Value, world: &Mat4) {
+    let (scale, rotation, translation) = world.to_scale_rotation_translation();
+    if translation != Vec3::ZERO {
+        node["translation"] = json!(translation.to_array());
+    }
+    if rotation != Quat::IDENTITY {
+        node["rotation"] = json!(rotation.normalize().to_array());
+    }
+    if scale != Vec3::ONE {
+        node["scale"] = json!(scale.to_array());
     }
 }
 

@@ -43,10 +43,21 @@ pub fn level() -> Value {
     let (qp, qn, qi) = quad();
     let (cp, cn, ci) = cube();
     let mut mesh = |p: &[Vec3], n: &[Vec3], i: &[u16], material: usize| {
-        let (lo, hi) = p.iter().fold((Vec3::MAX, Vec3::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
-        let pa = push(floats(p), json!({"componentType": 5126, "count": p.len(), "type": "VEC3", "min": lo.to_array(), "max": hi.to_array()}));
-        let na = push(floats(n), json!({"componentType": 5126, "count": n.len(), "type": "VEC3"}));
-        let ia = push(shorts(i), json!({"componentType": 5123, "count": i.len(), "type": "SCALAR"}));
+        let (lo, hi) = p
+            .iter()
+            .fold((Vec3::MAX, Vec3::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
+        let pa = push(
+            floats(p),
+            json!({"componentType": 5126, "count": p.len(), "type": "VEC3", "min": lo.to_array(), "max": hi.to_array()}),
+        );
+        let na = push(
+            floats(n),
+            json!({"componentType": 5126, "count": n.len(), "type": "VEC3"}),
+        );
+        let ia = push(
+            shorts(i),
+            json!({"componentType": 5123, "count": i.len(), "type": "SCALAR"}),
+        );
         json!({"primitives": [{"attributes": {"POSITION": pa, "NORMAL": na}, "indices": ia, "material": material}]})
     };
     let meshes = vec![mesh(&qp, &qn, &qi, 0), mesh(&cp, &cn, &ci, 1)];
@@ -164,7 +175,14 @@ fn quad() -> (Vec<Vec3>, Vec<Vec3>, Vec<u16>) {
 /// A unit cube centred on the origin, counter-clockwise from outside, flat normals.
 fn cube() -> (Vec<Vec3>, Vec<Vec3>, Vec<u16>) {
     let (mut p, mut n, mut idx) = (Vec::new(), Vec::new(), Vec::new());
-    for axis in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z] {
+    for axis in [
+        Vec3::X,
+        Vec3::Y,
+        Vec3::Z,
+        Vec3::NEG_X,
+        Vec3::NEG_Y,
+        Vec3::NEG_Z,
+    ] {
         let u = axis.any_orthonormal_vector();
         let v = axis.cross(u);
         let base = p.len() as u16;
