@@ -64,7 +64,7 @@ fn check_records(results: &Results, bound: f64) -> Vec<String> {
             Status::Skipped => problems.push(format!("{}: refused without a reason", who(r))),
             Status::Failed => problems.push(format!("{}: failed: {:?}", who(r), r.reason)),
             Status::Ok => match harness::verdict::headline(r, "inscatter") {
-                Some(e) if e.is_finite() && e < bound => {}
+                Some(e) if e.is_finite() && e <= bound => {}
                 e => problems.push(format!(
                     "{}: inscatter headline {e:?} (bound {bound})",
                     who(r)
@@ -76,8 +76,9 @@ fn check_records(results: &Results, bound: f64) -> Vec<String> {
 }
 
 /// A loose bound on the in-scatter headline (relative MAE) at 32²: the methods' own
-/// approximations at this size reach tens of percent on a new scene, while an import that
-/// misplaced the geometry, lost a light or got the units wrong by 683 is far beyond 1.
+/// approximations at this size reach tens of percent on a new scene, `no-scatter` (no
+/// in-scatter at all, by design) is exactly 1, while an import that misplaced the geometry,
+/// lost a light or got the units wrong by 683 is far beyond 1.
 const LOOSE: f64 = 1.0;
 
 #[test]
@@ -87,6 +88,15 @@ fn a_gltf_level_renders_through_every_homogeneous_method() {
     let scene = scenes::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.desc.lights.len(), 3);
     let results = run_all(&gpu, &[scene], "gltf-level");
+    for r in &results.records {
+        eprintln!(
+            "{:<32} {:?} inscatter headline {:?} {:?}",
+            who(r),
+            r.status,
+            harness::verdict::headline(r, "inscatter"),
+            r.reason
+        );
+    }
     let problems = check_records(&results, LOOSE);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     let ok: Vec<&Record> = results
@@ -107,14 +117,6 @@ fn a_gltf_level_renders_through_every_homogeneous_method() {
             "{}: ignored = {:?}",
             who(r),
             r.ignored
-        );
-    }
-    for r in &results.records {
-        eprintln!(
-            "{:<32} {:?} inscatter headline {:?}",
-            who(r),
-            r.status,
-            harness::verdict::headline(r, "inscatter")
         );
     }
 }

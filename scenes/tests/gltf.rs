@@ -463,3 +463,35 @@ fn assert_lights_match(name: &str, a: &LightState, b: &LightState) {
         _ => panic!("{name}: light kinds differ: {a:?} vs {b:?}"),
     }
 }
+
+/// Our exact values in extras are used only while they agree with the glTF fields: a spot
+/// moved in another tool (its node) keeps the node's position, while a cone angle that still
+/// agrees keeps its exact degrees.
+#[test]
+fn extras_yield_to_edited_gltf_fields() {
+    let mut level = sample::level();
+    let exact_inner: f32 = 17.188_734; // 0.3 rad in degrees, rounded to f32
+    level["extensions"]["KHR_lights_punctual"]["lights"][1]["extras"] = json!({"scatterbench": {
+        "position": [9.0, 9.0, 9.0], "inner_deg": exact_inner, "outer_deg": 45.0
+    }});
+    let s = import_scene("agree", &level, "").unwrap();
+    let scenes::desc::LightDesc::Spot {
+        position,
+        inner_deg,
+        outer_deg,
+        ..
+    } = &s.desc.lights[1]
+    else {
+        panic!("light 1 is the spot")
+    };
+    assert_eq!(
+        *position,
+        Vec3::new(-1.0, 5.0, -1.0),
+        "the node wins over a stale extra"
+    );
+    assert_eq!(*inner_deg, exact_inner, "an agreeing extra is used exactly");
+    assert!(
+        (*outer_deg - 0.5f32.to_degrees()).abs() < 1e-4,
+        "45° ≠ 0.5 rad: the glTF wins"
+    );
+}

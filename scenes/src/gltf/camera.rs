@@ -2,10 +2,13 @@
 //! −Z with +Y up; `yfov` (radians) is the vertical field of view, `znear`/`zfar` the clip
 //! depths (an infinite projection, no `zfar`, gets the suite's default far plane of 100 m).
 //! `aspectRatio` is not modelled: the image's width/height sets the horizontal field of view.
+//! An exported camera's exact position, look-at point, up hint and field of view travel in
+//! `cameras[i].extras.scatterbench` and are used while they agree with the node.
 
 use glam::{Mat4, Vec3};
 
 use super::document::{Document, GltfError};
+use super::extras::{self, CameraExtras, agreeing, near, near3, same_direction};
 use crate::desc::CameraDesc;
 
 /// Far plane for a camera without `zfar`, m (the scene format's default).
@@ -57,13 +60,31 @@ pub fn import(doc: &Document, index: usize, world: &Mat4) -> Result<Option<Camer
             "its node's transform makes the up direction parallel to the view direction",
         ));
     }
+    let ours: CameraExtras =
+        extras::read(doc, &format!("{path}.extras"), &c.extras)?.unwrap_or_default();
+    let exact = exact_pose(&ours).filter(|&(p, l, u)| {
+        near3(p, position)
+            && same_direction(l - p, forward)
+            && same_direction(true_up(l - p, u), up)
+    });
+    let (position, look_at, up) = exact.unwrap_or((position, position + forward, up));
     Ok(Some(CameraDesc {
         position,
-        look_at: position + forward,
+        look_at,
         up,
-        fov_y_deg,
+        fov_y_deg: agreeing(ours.fov_y_deg, fov_y_deg, near),
         near: p.znear,
         far,
         keyframes: vec![],
     }))
+}
+
+/// (position, look_at, up) from our extras, when all three are there.
+fn exact_pose(e: &CameraExtras) -> Option<(Vec3, Vec3, Vec3)> {
+    Some((e.position?, e.look_at?, e.up?))
+}
+
+/// The up direction of a camera looking along `forward` with the `up` hint.
+fn true_up(forward: Vec3, up: Vec3) -> Vec3 {
+    forward.cross(up).cross(forward)
 }

@@ -5,7 +5,8 @@
 //! conversion ([`super::lights::photometric`]); the camera as a perspective camera node.
 //! What glTF cannot say goes in our extras ([`super::extras`]) so that importing the file
 //! gives the same scene back: the medium and scene-wide fields, Phong lobes,
-//! `casts_volumetric_shadow`, spot cones in exact degrees and spot patterns. Animation is not
+//! `casts_volumetric_shadow`, spot cones in exact degrees and spot patterns, and the exact
+//! light and camera values that the glTF fields round. Animation is not
 //! exported: the file holds frame 0 (`asset.extras.scatterbench.frames` records the count).
 //! Particle media travel in the extras' medium like any other.
 
@@ -14,7 +15,7 @@ use std::borrow::Cow;
 use glam::{Mat4, Quat, Vec3};
 use serde_json::{Value, json};
 
-use super::extras::{self, AssetExtras, LightExtras, MaterialExtras, NodeExtras};
+use super::extras::{self, AssetExtras, CameraExtras, LightExtras, MaterialExtras, NodeExtras};
 use super::lights::photometric;
 use crate::desc::{LightDesc, ObjectDesc};
 use crate::light::LightState;
@@ -193,6 +194,13 @@ impl Builder {
         let mut light = json!({
             "name": format!("light {k}"), "type": kind, "color": color, "intensity": intensity
         });
+        let (given_position, given_direction) = as_given(desc);
+        let mut ours = LightExtras {
+            position: (kind != "directional").then_some(given_position.unwrap_or(position)),
+            direction: (kind != "point").then_some(given_direction.unwrap_or(direction)),
+            intensity: Some(rgb),
+            ..LightExtras::default()
+        };
         if let LightDesc::Spot {
             inner_deg,
             outer_deg,
@@ -204,13 +212,10 @@ impl Builder {
                 "innerConeAngle": inner_deg.to_radians(),
                 "outerConeAngle": outer_deg.to_radians()
             });
-            let ours = LightExtras {
-                inner_deg: Some(*inner_deg),
-                outer_deg: Some(*outer_deg),
-                pattern: pattern.clone(),
-            };
-            light["extras"] = extras::wrap(ours);
+            (ours.inner_deg, ours.outer_deg) = (Some(*inner_deg), Some(*outer_deg));
+            ours.pattern = pattern.clone();
         }
+        light["extras"] = extras::wrap(ours);
         self.lights.push(light);
         // A glTF light shines down its node's −Z.
         let rotation = Quat::from_rotation_arc(Vec3::NEG_Z, direction.normalize());
@@ -225,7 +230,14 @@ impl Builder {
 
     /// The camera at frame 0 and its node (looking down −Z, +Y up); the node's index.
     fn camera(&mut self, pose: &crate::CameraPose) -> usize {
+        let ours = CameraExtras {
+            position: Some(pose.position),
+            look_at: Some(pose.look_at),
+            up: Some(pose.up),
+            fov_y_deg: Some(pose.fov_y_deg),
+        };
         self.cameras.push(json!({
+            "extras": extras::wrap(ours),
             "name": "camera",
             "type": "perspective",
             "perspective": {
@@ -238,6 +250,31 @@ impl Builder {
         set_trs(&mut node, &pose.view_from_world().inverse());
         self.nodes.push(node);
         self.nodes.len() - 1
+    }
+}
+
+/// A static light's position and direction as the scene file wrote them (the direction not
+/// normalised, so that the import's frame state normalises the same numbers); None for an
+/// animated one, whose frame-0 state is exported.
+fn as_given(desc: &LightDesc) -> (Option<Vec3>, Option<Vec3>) {
+    match desc {
+        LightDesc::Point {
+            position,
+            keyframes,
+            ..
+        } if keyframes.is_empty() => (Some(*position), None),
+        LightDesc::Spot {
+            position,
+            direction,
+            keyframes,
+            ..
+        } if keyframes.is_empty() => (Some(*position), Some(*direction)),
+        LightDesc::Directional {
+            direction,
+            keyframes,
+            ..
+        } if keyframes.is_empty() => (None, Some(*direction)),
+        _ => (None, None),
     }
 }
 

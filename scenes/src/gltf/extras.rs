@@ -1,10 +1,15 @@
 //! What glTF cannot say about a scatterbench scene, carried in glTF `extras` under the key
 //! `scatterbench` so that importing an exported file restores the scene: the medium and other
 //! scene-wide fields (`asset.extras`), Phong lobes (`materials[i].extras`), whether an object
-//! casts volumetric shadows (`nodes[i].extras`), and a spot's exact cone in degrees and its
-//! pattern (`KHR_lights_punctual.lights[i].extras`). Other applications' extras are left alone.
+//! casts volumetric shadows (`nodes[i].extras`), a light's exact placement, intensity, cone in
+//! degrees and pattern (`KHR_lights_punctual.lights[i].extras`), the camera's exact pose
+//! (`cameras[i].extras`). Exact values restore what the glTF fields round (radians, the
+//! quaternion of a direction, candela) and are used only while they agree with those fields
+//! ([`agreeing`]): an edit in another tool changes the glTF fields, and then they win. Other
+//! applications' extras are left alone.
 
 use ::gltf::json::extras::RawValue;
+use glam::Vec3;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -49,17 +54,66 @@ pub struct NodeExtras {
     pub casts_volumetric_shadow: Option<bool>,
 }
 
-/// `KHR_lights_punctual.lights[i].extras.scatterbench` of a spot light: its cone in degrees
-/// (glTF's radians in f32 lose the last bit) and its pattern.
+/// `KHR_lights_punctual.lights[i].extras.scatterbench`: the light as the scene gave it
+/// (position in m, direction as written, intensity in W/sr or irradiance in W/m²) and a spot's
+/// cone in degrees and its pattern.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct LightExtras {
+    #[serde(default)]
+    pub position: Option<Vec3>,
+    #[serde(default)]
+    pub direction: Option<Vec3>,
+    #[serde(default)]
+    pub intensity: Option<Vec3>,
     #[serde(default)]
     pub inner_deg: Option<f32>,
     #[serde(default)]
     pub outer_deg: Option<f32>,
     #[serde(default)]
     pub pattern: Option<Pattern>,
+}
+
+/// `cameras[i].extras.scatterbench`: the camera as the scene gave it.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CameraExtras {
+    #[serde(default)]
+    pub position: Option<Vec3>,
+    #[serde(default)]
+    pub look_at: Option<Vec3>,
+    #[serde(default)]
+    pub up: Option<Vec3>,
+    #[serde(default)]
+    pub fov_y_deg: Option<f32>,
+}
+
+/// How close (relative to 1 + the value's size) an exact value must be to the one derived
+/// from the glTF fields to be used: f32 rounding of a round trip is ~1e-7.
+pub const AGREEMENT: f32 = 1e-5;
+
+/// `exact` (from our extras) when `agree(exact)` holds against the glTF-derived value, else
+/// `derived`.
+pub fn agreeing<T: Copy>(exact: Option<T>, derived: T, agree: impl Fn(T, T) -> bool) -> T {
+    exact.filter(|&e| agree(e, derived)).unwrap_or(derived)
+}
+
+/// Whether two vectors agree within [`AGREEMENT`].
+pub fn near3(a: Vec3, b: Vec3) -> bool {
+    (a - b).length() <= AGREEMENT * (1.0 + b.length())
+}
+
+/// Whether two numbers agree within [`AGREEMENT`].
+pub fn near(a: f32, b: f32) -> bool {
+    (a - b).abs() <= AGREEMENT * (1.0 + b.abs())
+}
+
+/// Whether two directions agree within [`AGREEMENT`] once normalised.
+pub fn same_direction(a: Vec3, b: Vec3) -> bool {
+    match (a.try_normalize(), b.try_normalize()) {
+        (Some(a), Some(b)) => near3(a, b),
+        _ => false,
+    }
 }
 
 /// Our part of an `extras` value at `path` (e.g. `nodes[3].extras`): None when the extras are

@@ -14,7 +14,7 @@ use ::gltf::json::validation::Checked;
 use glam::{Mat4, Vec3};
 
 use super::document::{Document, GltfError};
-use super::extras::{self, LightExtras};
+use super::extras::{self, LightExtras, agreeing, near, near3, same_direction};
 use super::ignored::{self, Ignored};
 use crate::desc::LightDesc;
 
@@ -54,9 +54,12 @@ pub fn import(doc: &Document, index: usize, world: &Mat4) -> Result<ImportedLigh
         .and_then(|k| k.lights.get(index))
         .ok_or_else(|| doc.error(&path, "no such light"))?;
     check_color_and_intensity(doc, &path, l)?;
-    let rgb = radiometric(l.color, l.intensity);
-    let position = world.transform_point3(Vec3::ZERO);
-    let direction = world.transform_vector3(Vec3::NEG_Z);
+    let ours: LightExtras =
+        extras::read(doc, &format!("{path}.extras"), &l.extras)?.unwrap_or_default();
+    let rgb = agreeing(ours.intensity, radiometric(l.color, l.intensity), near3);
+    let position = agreeing(ours.position, world.transform_point3(Vec3::ZERO), near3);
+    let derived = world.transform_vector3(Vec3::NEG_Z);
+    let direction = agreeing(ours.direction, derived, same_direction);
     let mut ignored = Vec::new();
     if l.range.is_some() {
         ignored.push(Ignored::new(format!("{path}.range"), ignored::LIGHT_RANGE));
@@ -73,14 +76,14 @@ pub fn import(doc: &Document, index: usize, world: &Mat4) -> Result<ImportedLigh
             keyframes: vec![],
         },
         Checked::Valid(Type::Spot) => {
-            let (inner_deg, outer_deg, pattern) = spot_cone(doc, &path, l)?;
+            let (inner_deg, outer_deg) = spot_cone(doc, &path, l, &ours)?;
             LightDesc::Spot {
                 position,
                 direction: unit_direction(doc, &path, direction)?,
                 inner_deg,
                 outer_deg,
                 intensity: rgb,
-                pattern,
+                pattern: ours.pattern,
                 keyframes: vec![],
             }
         }
@@ -122,14 +125,14 @@ fn unit_direction(doc: &Document, path: &str, d: Vec3) -> Result<Vec3, GltfError
     })
 }
 
-/// (inner_deg, outer_deg, pattern). glTF's cone angles in radians, 0 ≤ inner < outer < π/2;
-/// the exported exact degrees (extras) are used when they agree with the radians (an edit in
-/// another tool changes the radians, and then the radians win).
+/// (inner_deg, outer_deg): glTF's cone angles in radians, 0 ≤ inner < outer < π/2, or the
+/// exported exact degrees where they agree.
 fn spot_cone(
     doc: &Document,
     path: &str,
     l: &Light,
-) -> Result<(f32, f32, Option<crate::desc::Pattern>), GltfError> {
+    ours: &LightExtras,
+) -> Result<(f32, f32), GltfError> {
     let spot = l
         .spot
         .as_ref()
@@ -148,12 +151,10 @@ fn spot_cone(
             format!("must be in [0, outerConeAngle = {outer}) radians, got {inner}"),
         ));
     }
-    let ours: LightExtras =
-        extras::read(doc, &format!("{path}.extras"), &l.extras)?.unwrap_or_default();
-    let agrees = |deg: Option<f32>, rad: f32| deg.filter(|d| (d.to_radians() - rad).abs() < 1e-5);
-    let inner_deg = agrees(ours.inner_deg, inner).unwrap_or(inner.to_degrees());
-    let outer_deg = agrees(ours.outer_deg, outer).unwrap_or(outer.to_degrees());
-    Ok((inner_deg, outer_deg, ours.pattern))
+    Ok((
+        agreeing(ours.inner_deg, inner.to_degrees(), near),
+        agreeing(ours.outer_deg, outer.to_degrees(), near),
+    ))
 }
 
 #[cfg(test)]
