@@ -142,10 +142,13 @@ fn a_child_node_is_placed_by_the_product_of_its_ancestors() {
     assert!(mesh.normals.iter().any(|n| (*n - nx).length() < 1e-5));
 }
 
+/// A change to the sample level's JSON.
+type Mutation = Box<dyn Fn(&mut Value)>;
+
 /// Each mutation of the sample must be refused with the glTF path it breaks.
 #[test]
 fn errors_name_the_file_and_the_gltf_path() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>)> = vec![
+    let cases: Vec<(&str, Mutation)> = vec![
         (
             "nodes[2].mesh",
             Box::new(|v| v["nodes"][2]["mesh"] = json!(99)),
@@ -175,7 +178,7 @@ fn errors_name_the_file_and_the_gltf_path() {
             "extensions.KHR_lights_punctual.lights[1].spot.outerConeAngle",
             Box::new(|v| {
                 v["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["outerConeAngle"] =
-                    json!(1.5708)
+                    json!(std::f64::consts::FRAC_PI_2)
             }),
         ),
         (

@@ -171,7 +171,7 @@ fn triangles(
     let n = order.len();
     Ok(match p.mode {
         Checked::Valid(Mode::Triangles) => {
-            if n % 3 != 0 {
+            if !n.is_multiple_of(3) {
                 return Err(doc.error(
                     path,
                     format!("TRIANGLES needs a multiple of 3 vertices, got {n}"),
