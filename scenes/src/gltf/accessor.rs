@@ -16,11 +16,7 @@ fn elements<'d>(
     want: &[(Type, ComponentType)],
 ) -> Result<(ComponentType, Vec<&'d [u8]>), GltfError> {
     let path = format!("accessors[{index}]");
-    let a = doc
-        .root
-        .accessors
-        .get(index)
-        .ok_or_else(|| doc.error(&path, "no such accessor"))?;
+    let a = doc.item(&doc.root.accessors, "accessors", index)?;
     let (Checked::Valid(ty), Checked::Valid(ct)) = (a.type_, a.component_type) else {
         return Err(doc.error(&path, "invalid type or componentType"));
     };
@@ -51,11 +47,7 @@ fn elements<'d>(
         )
     })?;
     let view_path = format!("bufferViews[{}]", view_index.value());
-    let view = doc
-        .root
-        .buffer_views
-        .get(view_index.value())
-        .ok_or_else(|| doc.error(&view_path, "no such buffer view"))?;
+    let view = doc.item(&doc.root.buffer_views, "bufferViews", view_index.value())?;
     let buffer = doc
         .buffers
         .get(view.buffer.value())

@@ -17,11 +17,7 @@ pub const DEFAULT_FAR: f32 = 100.0;
 /// `cameras[index]` placed by its node's world matrix; None for an orthographic camera.
 pub fn import(doc: &Document, index: usize, world: &Mat4) -> Result<Option<CameraDesc>, GltfError> {
     let path = format!("cameras[{index}]");
-    let c = doc
-        .root
-        .cameras
-        .get(index)
-        .ok_or_else(|| doc.error(&path, "no such camera"))?;
+    let c = doc.item(&doc.root.cameras, "cameras", index)?;
     let Some(p) = &c.perspective else {
         return Ok(None);
     };

@@ -63,6 +63,22 @@ impl Document {
     pub fn error(&self, path: impl Into<String>, message: impl Into<String>) -> GltfError {
         GltfError::new(&self.file, path, message)
     }
+
+    /// `items[index]`, of the top-level array named `what` (`"cameras"`), or an error at
+    /// `what[index]` saying how many there are.
+    pub fn item<'a, T>(
+        &self,
+        items: &'a [T],
+        what: &str,
+        index: usize,
+    ) -> Result<&'a T, GltfError> {
+        items.get(index).ok_or_else(|| {
+            self.error(
+                format!("{what}[{index}]"),
+                format!("no such entry: the file has {} {what}", items.len()),
+            )
+        })
+    }
 }
 
 /// Reads and parses a `.gltf` or `.glb` file; external buffers resolve against its folder.

@@ -19,11 +19,7 @@ pub fn import(doc: &Document, index: Option<usize>) -> Result<(Material, Vec<Ign
         return Ok((Material::default(), vec![]));
     };
     let path = format!("materials[{index}]");
-    let m = doc
-        .root
-        .materials
-        .get(index)
-        .ok_or_else(|| doc.error(&path, "no such material"))?;
+    let m = doc.item(&doc.root.materials, "materials", index)?;
     let pbr = &m.pbr_metallic_roughness;
     let [r, g, b, a] = pbr.base_color_factor.0;
     if ![r, g, b, a]

@@ -170,15 +170,8 @@ fn add_mesh(
 ) -> Result<(), GltfError> {
     let node = &doc.root.nodes[placed.node];
     let count = doc
-        .root
-        .meshes
-        .get(mesh)
-        .ok_or_else(|| {
-            doc.error(
-                format!("nodes[{}].mesh", placed.node),
-                format!("no such mesh: the file has {}", doc.root.meshes.len()),
-            )
-        })?
+        .item(&doc.root.meshes, "meshes", mesh)
+        .map_err(|e| doc.error(format!("nodes[{}].mesh", placed.node), e.located_message()))?
         .primitives
         .len();
     for k in 0..count {
@@ -237,10 +230,7 @@ pub fn shape_mesh(path: &Path, node: u32, primitive: u32) -> Result<TriMesh, Str
     let doc = document::read(path).map_err(|e| e.to_string())?;
     let at = format!("nodes[{node}]");
     let mesh = doc
-        .root
-        .nodes
-        .get(node as usize)
-        .ok_or_else(|| doc.error(&at, "no such node"))
+        .item(&doc.root.nodes, "nodes", node as usize)
         .and_then(|n| {
             n.mesh
                 .ok_or_else(|| doc.error(format!("{at}.mesh"), "the node has no mesh"))

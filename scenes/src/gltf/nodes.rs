@@ -19,11 +19,7 @@ pub struct Placed {
 /// `translation`, `rotation` (unit quaternion x, y, z, w) and `scale`. Every number finite.
 pub fn local_matrix(doc: &Document, index: usize) -> Result<Mat4, GltfError> {
     let path = format!("nodes[{index}]");
-    let n = doc
-        .root
-        .nodes
-        .get(index)
-        .ok_or_else(|| doc.error(&path, "no such node"))?;
+    let n = doc.item(&doc.root.nodes, "nodes", index)?;
     let finite = |field: &str, v: &[f32]| {
         if v.iter().all(|x| x.is_finite()) {
             Ok(())
