@@ -15,6 +15,8 @@ use harness::runner::run;
 use harness::testing::{gpu_or_skip, run_config, temp_dir};
 use serde_json::json;
 
+mod common;
+
 const RES: u32 = 32;
 
 fn homogeneous_methods() -> Vec<&'static dyn Method> {
@@ -128,16 +130,8 @@ fn exported_fence_spot_scores_the_same_headline_as_the_original() {
     let dir = temp_dir("gltf-export");
     std::fs::create_dir_all(&dir).unwrap();
     let glb = dir.join("fence-spot-gltf.glb");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_scatterbench"))
-        .args(["export", "fence-spot", "--gltf"])
-        .arg(&glb)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (code, err) = common::cli(&["export", "fence-spot", "--gltf", glb.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
     let original = scenes::library::resolve("fence-spot").unwrap();
     let back = scenes::library::resolve(glb.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let results = run_all(&gpu, &[original, back], "gltf-export");
@@ -202,4 +196,32 @@ fn the_reference_cache_key_changes_with_the_gltf_content() {
         key(&after),
         "the key must hash the imported meshes"
     );
+}
+
+/// `export` writes a .glb that `validate` accepts as a scene (a variant here: any scene name
+/// works), and refuses a non-.glb output or an unknown scene with exit 2, writing nothing.
+#[test]
+fn export_writes_a_valid_scene_and_refuses_bad_arguments() {
+    let dir = temp_dir("gltf-export-cli");
+    let glb = dir.join("spring.glb");
+    let (code, err) = common::cli(&[
+        "export",
+        "spring-point-sub1",
+        "--gltf",
+        glb.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = common::scatterbench(&["validate", glb.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let sub = scenes::library::resolve("spring-point-sub1").unwrap();
+    let want = format!("{} triangles, 1 lights", sub.triangle_count());
+    assert!(out.contains(&want), "{out} lacks {want}");
+    let gltf = dir.join("spring.gltf");
+    let (code, err) = common::cli(&["export", "spring-point", "--gltf", gltf.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--gltf") && err.contains(".glb"), "{err}");
+    let (code, err) = common::cli(&["export", "no-such-scene", "--gltf", glb.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no-such-scene"), "{err}");
+    assert!(!gltf.exists(), "a refused export writes nothing");
 }
