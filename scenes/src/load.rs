@@ -83,7 +83,7 @@ impl std::error::Error for SceneError {}
 /// ([`crate::gltf::scene::load`]). The scene's name is the file stem.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     if crate::gltf::scene::is_gltf_path(path) {
-        return crate::gltf::scene::load(path);
+        return crate::gltf::scene::load(path).map_err(|p| gltf_problems(path, p));
     }
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
@@ -104,7 +104,8 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// against `base`. A top-level `"import"` brings in a glTF file's objects, lights and camera
 /// ([`crate::gltf::scene`]).
 pub fn parse_scene(text: &str, file: &str, name: &str, base: &Path) -> Result<Scene, SceneError> {
-    let imported = crate::gltf::scene::import_of(text, file, base)?;
+    let imported = crate::gltf::scene::import_of(text, base)
+        .map_err(|m| invalid(text, file, vec![Problem::new("import", m)]))?;
     let mut desc = match &imported {
         Some(i) => deserialize_value(i.value.clone(), text, file)?,
         None => deserialize(text, file)?,
@@ -181,6 +182,29 @@ fn deserialize_value(
             message: strip_position(&e.into_inner().to_string()),
         }
     })
+}
+
+/// A glTF file's problems (at glTF paths; an empty path is the file as a whole) as the file's
+/// scene error.
+fn gltf_problems(path: &Path, mut problems: Vec<Problem>) -> SceneError {
+    let file = path.display().to_string();
+    if let [p] = problems.as_slice()
+        && p.path.is_empty()
+    {
+        return SceneError::Io {
+            file,
+            message: problems.remove(0).message,
+        };
+    }
+    let problems = problems
+        .into_iter()
+        .map(|problem| LocatedProblem {
+            line: None,
+            column: None,
+            problem,
+        })
+        .collect();
+    SceneError::Invalid { file, problems }
 }
 
 /// The problems, each positioned in `text` where its field is.

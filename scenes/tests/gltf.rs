@@ -498,3 +498,35 @@ fn extras_yield_to_edited_gltf_fields() {
         "45° ≠ 0.5 rad: the glTF wins"
     );
 }
+
+/// An imported scene's description is self-contained: written out as JSON (its objects are
+/// `gltf` shapes naming file, node and primitive) and parsed again, it builds the same meshes.
+#[test]
+fn an_imported_description_parses_back_to_the_same_scene() {
+    let dir = scratch("described");
+    write(&dir, "level.gltf", sample::level().to_string().as_bytes());
+    let text = format!(r#"{{"import": "level.gltf", {MEDIUM}}}"#);
+    let s = parse_scene(&text, "scene.json", "scene", &dir).unwrap();
+    let again = serde_json::to_string(&s.desc).unwrap();
+    assert!(again.contains(r#""kind":"gltf""#), "{again}");
+    let back = parse_scene(&again, "again.json", "scene", &dir).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(back.desc, s.desc);
+    assert_eq!(back.meshes, s.meshes);
+    // The left pillar (node 2) shows mesh 1, which has one primitive.
+    let mut missing = s.desc.clone();
+    if let scenes::desc::Shape::Gltf { primitive, .. } = &mut missing.objects[1].shape {
+        *primitive = 3;
+    }
+    let err = parse_scene(
+        &serde_json::to_string(&missing).unwrap(),
+        "m.json",
+        "m",
+        &dir,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("objects[1].shape") && err.contains("meshes[1].primitives[3]"),
+        "{err}"
+    );
+}

@@ -9,7 +9,6 @@ use glam::Vec3;
 
 use super::{GltfError, Level, import};
 use crate::desc::{MediumDesc, SceneDesc};
-use crate::load::{LocatedProblem, SceneError};
 use crate::mesh::obj::resolve_path;
 use crate::phase::Phase;
 use crate::scene::Scene;
@@ -43,9 +42,9 @@ pub struct Imported {
     pub camera_imported: bool,
 }
 
-/// The import of a scene file's text, if it has a top-level `"import"`. Errors name the scene
-/// file's `import` field and, inside the message, the glTF file and path.
-pub fn import_of(text: &str, file: &str, base: &Path) -> Result<Option<Imported>, SceneError> {
+/// The import of a scene file's text, if it has a top-level `"import"`. An error is the
+/// message for the scene file's `import` field, naming the glTF file and path.
+pub fn import_of(text: &str, base: &Path) -> Result<Option<Imported>, String> {
     if !text.contains("\"import\"") {
         return Ok(None);
     }
@@ -55,31 +54,20 @@ pub fn import_of(text: &str, file: &str, base: &Path) -> Result<Option<Imported>
     let Some(field) = map.remove("import") else {
         return Ok(None);
     };
-    let refuse = |message: String| {
-        let at = crate::locate::locate(text, "import");
-        SceneError::Invalid {
-            file: file.to_string(),
-            problems: vec![LocatedProblem {
-                line: at.map(|a| a.0),
-                column: at.map(|a| a.1),
-                problem: Problem::new("import", message),
-            }],
-        }
-    };
     let serde_json::Value::String(shape_path) = field else {
-        return Err(refuse(format!(
+        return Err(format!(
             "must be the path of a .gltf or .glb file (a string), got {field}"
-        )));
+        ));
     };
     let level = import(&resolve_path(base, &shape_path), &shape_path)
-        .map_err(|e: GltfError| refuse(e.to_string()))?;
+        .map_err(|e: GltfError| e.to_string())?;
     let camera_imported = !map.contains_key("camera");
     if camera_imported {
         let Some((camera, _)) = &level.camera else {
-            return Err(refuse(format!(
+            return Err(format!(
                 "{}: the scene file gives no camera and the glTF file has no perspective camera",
                 level.file
-            )));
+            ));
         };
         let camera = serde_json::to_value(camera).expect("a camera serialises");
         map.insert("camera".into(), camera);
@@ -167,23 +155,16 @@ impl Origins {
 
 /// A `.gltf`/`.glb` file as a scene by itself: its objects, lights and first perspective
 /// camera, the medium of its `asset.extras.scatterbench` (an exported scene's) or
-/// [`default_medium`]. Without a camera or a light it is refused.
-pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let file = path.display().to_string();
+/// [`default_medium`]. Without a camera or a light it is refused. Problems are at glTF paths
+/// (an empty path: the file as a whole); `crate::load::load_scene` names the file.
+pub fn load(path: &Path) -> Result<Scene, Vec<Problem>> {
     let shape_path = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let base = path.parent().unwrap_or(Path::new(""));
-    let level = import(path, &shape_path).map_err(as_scene_error)?;
-    let refuse = |path: &str, message: &str| SceneError::Invalid {
-        file: file.clone(),
-        problems: vec![LocatedProblem {
-            line: None,
-            column: None,
-            problem: Problem::new(path, message),
-        }],
-    };
+    let level = import(path, &shape_path).map_err(|e| vec![Problem::new(e.path, e.message)])?;
+    let refuse = |path: &str, message: &str| vec![Problem::new(path, message)];
     let Some((camera, _)) = level.camera.clone() else {
         return Err(refuse(
             "cameras",
@@ -213,23 +194,16 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         indirect_single_scattering: extras.indirect_single_scattering,
     };
     let origins = splice(&mut desc, &level, true);
-    let problems: Vec<LocatedProblem> = validate(&desc, base)
+    let problems: Vec<Problem> = validate(&desc, base)
         .into_iter()
-        .map(|p| {
-            // Inside the glTF file itself, a problem is at its glTF path.
-            let problem = match origins.origin_of(&p) {
-                Some((origin, message)) => Problem::new(origin, message),
-                None => p,
-            };
-            LocatedProblem {
-                line: None,
-                column: None,
-                problem,
-            }
+        // Inside the glTF file itself, a problem is at its glTF path.
+        .map(|p| match origins.origin_of(&p) {
+            Some((origin, message)) => Problem::new(origin, message),
+            None => p,
         })
         .collect();
     if !problems.is_empty() {
-        return Err(SceneError::Invalid { file, problems });
+        return Err(problems);
     }
     Ok(Scene {
         name: path
@@ -245,23 +219,4 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         source: Some(path.to_path_buf()),
         ignored: level.ignored,
     })
-}
-
-/// A glTF problem as a scene error of the glTF file.
-fn as_scene_error(e: GltfError) -> SceneError {
-    if e.path.is_empty() {
-        SceneError::Io {
-            file: e.file,
-            message: e.message,
-        }
-    } else {
-        SceneError::Invalid {
-            file: e.file,
-            problems: vec![LocatedProblem {
-                line: None,
-                column: None,
-                problem: Problem::new(e.path, e.message),
-            }],
-        }
-    }
 }
