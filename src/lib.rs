@@ -44,6 +44,9 @@ enum Command {
     List(cmd::list::ListArgs),
     /// Validate scene files: exit 0, or exit 2 listing every problem.
     Validate(cmd::validate::ValidateArgs),
+    /// Write a scene as binary glTF (.glb) for Blender or a glTF viewer; importing it restores
+    /// the scene (medium and what glTF can't say travel in extras).
+    Export(cmd::export::ExportArgs),
     /// Render the CPU ground truth of a scene (EXR + PNG + a JSON with time and convergence).
     Reference(cmd::reference::ReferenceArgs),
     /// Fill a reference cache with every frame of scenes at resolutions (for runs and bundles).
@@ -96,6 +99,7 @@ pub fn main_with(registry: Registry) -> ExitCode {
         Command::Adapters(a) => cmd::adapters::run(a),
         Command::List(a) => cmd::list::run(a, registry),
         Command::Validate(a) => cmd::validate::run(a),
+        Command::Export(a) => cmd::export::run(a),
         Command::Reference(a) => cmd::reference::run(a),
         Command::References(a) => cmd::references::run(a),
         Command::Report(a) => cmd::report::run(a),

@@ -530,6 +530,14 @@ pub enum Shape {
         #[serde(default = "one_f")]
         detail: f32,
     },
+    /// One triangle primitive of a glTF 2.0 file (path relative to the scene file): primitive
+    /// `primitive` of the mesh of node `node`, in the file's world space (the node hierarchy
+    /// multiplied out; `transform` then applies on top). What an `import` makes.
+    Gltf {
+        path: String,
+        node: u32,
+        primitive: u32,
+    },
 }
 
 fn default_segments() -> u32 {

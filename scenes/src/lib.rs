@@ -7,6 +7,7 @@
 
 pub mod camera;
 pub mod desc;
+pub mod gltf;
 pub mod library;
 pub mod light;
 pub mod load;

@@ -51,7 +51,8 @@ pub fn load(name: &str) -> Option<Result<Scene, SceneError>> {
 
 /// A library name, a variant `<library-name>-sub<L>` (every caster subdivided L ≤
 /// [`MAX_SUB_LEVELS`] times, [`crate::variants`]) or `<atrium scene>-lights<N>` (N torches),
-/// or a path to a scene file. Unknown names are refused with the valid ones.
+/// or a path to a scene file (JSON, or a `.gltf`/`.glb` as a scene by itself,
+/// [`crate::gltf::scene::load`]). Unknown names are refused with the valid ones.
 pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
     if let Some(r) = load(name_or_path) {
         return r.map_err(|e| e.to_string());
@@ -76,11 +77,14 @@ pub fn resolve(name_or_path: &str) -> Result<Scene, String> {
             .and_then(|s| variants::with_torches(&s, n));
     }
     let p = Path::new(name_or_path);
-    if p.extension().is_some_and(|e| e == "json") || p.is_file() {
+    if p.extension().is_some_and(|e| e == "json")
+        || crate::gltf::scene::is_gltf_path(p)
+        || p.is_file()
+    {
         return load_scene(p).map_err(|e| e.to_string());
     }
     Err(format!(
-        "unknown scene '{name_or_path}': valid library scenes are {} (or a variant <scene>-sub<L>, L ≤ {MAX_SUB_LEVELS}, atrium-lights<N>, N ≤ 64, or a path to a .json file)",
+        "unknown scene '{name_or_path}': valid library scenes are {} (or a variant <scene>-sub<L>, L ≤ {MAX_SUB_LEVELS}, atrium-lights<N>, N ≤ 64, or a path to a .json, .gltf or .glb file)",
         names().join(", ")
     ))
 }

@@ -79,8 +79,12 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// Loads and validates a scene file. The scene's name is the file stem.
+/// Loads and validates a scene file — JSON, or a `.gltf`/`.glb` file as a scene by itself
+/// ([`crate::gltf::scene::load`]). The scene's name is the file stem.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    if crate::gltf::scene::is_gltf_path(path) {
+        return crate::gltf::scene::load(path).map_err(|p| gltf_problems(path, p));
+    }
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
         file: file.clone(),
@@ -96,24 +100,27 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-/// Parses and validates scene text. `file` names it in messages; OBJ paths resolve against `base`.
+/// Parses and validates scene text. `file` names it in messages; OBJ and glTF paths resolve
+/// against `base`. A top-level `"import"` brings in a glTF file's objects, lights and camera
+/// ([`crate::gltf::scene`]).
 pub fn parse_scene(text: &str, file: &str, name: &str, base: &Path) -> Result<Scene, SceneError> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    let desc: SceneDesc = serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        SceneError::Syntax {
-            file: file.to_string(),
-            line: inner.line(),
-            column: inner.column(),
-            path,
-            message: strip_position(&inner.to_string()),
-        }
-    })?;
+    let imported = crate::gltf::scene::import_of(text, base)
+        .map_err(|m| invalid(text, file, vec![Problem::new("import", m)]))?;
+    let mut desc = match &imported {
+        Some(i) => deserialize_value(i.value.clone(), text, file)?,
+        None => deserialize(text, file)?,
+    };
+    let own_objects = desc.objects.len();
+    let origins = imported
+        .as_ref()
+        .map(|i| crate::gltf::scene::splice(&mut desc, &i.level, i.camera_imported));
     let mut problems = validate(&desc, base);
+    if let Some(o) = &origins {
+        problems = problems.into_iter().map(|p| o.relocate(p)).collect();
+    }
     let mut meshes = Vec::with_capacity(desc.objects.len());
     if problems.is_empty() {
-        for (i, o) in desc.objects.iter().enumerate() {
+        for (i, o) in desc.objects.iter().take(own_objects).enumerate() {
             match shared_mesh(&o.shape, base) {
                 Ok(m) if m.indices.is_empty() => problems.push(Problem::new(
                     format!("objects[{i}].shape"),
@@ -125,28 +132,98 @@ pub fn parse_scene(text: &str, file: &str, name: &str, base: &Path) -> Result<Sc
         }
     }
     if !problems.is_empty() {
-        let problems = problems
-            .into_iter()
-            .map(|problem| {
-                let at = crate::locate::locate(text, &problem.path);
-                LocatedProblem {
-                    line: at.map(|a| a.0),
-                    column: at.map(|a| a.1),
-                    problem,
-                }
-            })
-            .collect();
-        return Err(SceneError::Invalid {
-            file: file.to_string(),
-            problems,
-        });
+        return Err(invalid(text, file, problems));
     }
+    let (imported_meshes, ignored) = imported.map_or((vec![], vec![]), |i| {
+        let meshes = i.level.objects.into_iter().map(|o| Arc::new(o.mesh));
+        (meshes.collect(), i.level.ignored)
+    });
+    meshes.extend(imported_meshes);
     Ok(Scene {
         name: name.to_string(),
         desc,
         meshes,
         source: None,
+        ignored,
     })
+}
+
+/// The scene description in `text`, or the first syntax or type error with its position.
+fn deserialize(text: &str, file: &str) -> Result<SceneDesc, SceneError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        SceneError::Syntax {
+            file: file.to_string(),
+            line: inner.line(),
+            column: inner.column(),
+            path,
+            message: strip_position(&inner.to_string()),
+        }
+    })
+}
+
+/// The scene description from a JSON value made from `text` (an import's), or the first type
+/// error, positioned at the field in `text` (or its nearest enclosing object).
+fn deserialize_value(
+    value: serde_json::Value,
+    text: &str,
+    file: &str,
+) -> Result<SceneDesc, SceneError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        let (line, column) = crate::locate::locate(text, &path).unwrap_or((1, 1));
+        SceneError::Syntax {
+            file: file.to_string(),
+            line,
+            column,
+            path,
+            message: strip_position(&e.into_inner().to_string()),
+        }
+    })
+}
+
+/// A glTF file's problems (at glTF paths; an empty path is the file as a whole) as the file's
+/// scene error.
+fn gltf_problems(path: &Path, mut problems: Vec<Problem>) -> SceneError {
+    let file = path.display().to_string();
+    if let [p] = problems.as_slice()
+        && p.path.is_empty()
+    {
+        return SceneError::Io {
+            file,
+            message: problems.remove(0).message,
+        };
+    }
+    let problems = problems
+        .into_iter()
+        .map(|problem| LocatedProblem {
+            line: None,
+            column: None,
+            problem,
+        })
+        .collect();
+    SceneError::Invalid { file, problems }
+}
+
+/// The problems, each positioned in `text` where its field is.
+fn invalid(text: &str, file: &str, problems: Vec<Problem>) -> SceneError {
+    let problems = problems
+        .into_iter()
+        .map(|problem| {
+            let at = crate::locate::locate(text, &problem.path);
+            LocatedProblem {
+                line: at.map(|a| a.0),
+                column: at.map(|a| a.1),
+                problem,
+            }
+        })
+        .collect();
+    SceneError::Invalid {
+        file: file.to_string(),
+        problems,
+    }
 }
 
 /// serde_json appends " at line L column C"; we print the position ourselves.
@@ -218,5 +295,10 @@ pub fn build_mesh(shape: &Shape, base: &Path) -> Result<TriMesh, String> {
         Shape::Obj { ref path } => obj::load_obj(&obj::resolve_path(base, path))?,
         Shape::Atrium { detail } => atrium::stone(detail),
         Shape::AtriumBanners { detail } => atrium::banners(detail),
+        Shape::Gltf {
+            ref path,
+            node,
+            primitive,
+        } => crate::gltf::shape_mesh(&obj::resolve_path(base, path), node, primitive)?,
     })
 }

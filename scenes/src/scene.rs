@@ -24,6 +24,10 @@ pub struct Scene {
     pub meshes: Vec<Arc<TriMesh>>,
     /// The file it came from (None for the built-in library).
     pub source: Option<PathBuf>,
+    /// Content of imported files the suite does not model (glTF textures, light ranges, …),
+    /// one line each naming the file and the glTF paths; the runner appends these to every
+    /// record's `ignored`. Empty for scenes without an import.
+    pub ignored: Vec<String>,
 }
 
 /// The homogeneous medium's coefficients in the form integrators want.

@@ -61,7 +61,7 @@ fn triangle_estimate(s: &Shape) -> Option<u64> {
         }
         Shape::Pencil { .. } => 64,
         Shape::Fence { posts, rails, .. } => 12 * (n(*posts) + n(*rails)),
-        Shape::Obj { .. } => return None,
+        Shape::Obj { .. } | Shape::Gltf { .. } => return None,
         Shape::Atrium { detail } | Shape::AtriumBanners { detail } => {
             if !(atrium::MIN_DETAIL..=atrium::MAX_DETAIL).contains(detail) {
                 return None;
@@ -641,6 +641,15 @@ fn shape(c: &mut Checker, p: &str, s: &Shape, base: &Path) {
                 c.push(
                     &f("path"),
                     format!("OBJ file not found: {}", full.display()),
+                );
+            }
+        }
+        Shape::Gltf { path, .. } => {
+            let full = crate::mesh::obj::resolve_path(base, path);
+            if !full.is_file() {
+                c.push(
+                    &f("path"),
+                    format!("glTF file not found: {}", full.display()),
                 );
             }
         }

@@ -4,7 +4,8 @@
 //! features and a medium without panicking, with finite cameras.
 //!
 //! OBJ input goes through the same loader with arbitrary OBJ statements in a file an `obj`
-//! shape names.
+//! shape names. glTF input: the sample level (`scenes::gltf::sample`) mutated as JSON (through
+//! a scene file's `import` and as a scene by itself) and as .glb bytes, plus arbitrary bytes.
 //!
 //! CI runs a fixed number of cases (`FUZZ_CASES`, default 2000 per property, about a second in
 //! release). A longer manual run: `FUZZ_CASES=20000 cargo test --release -p scenes --test fuzz`.
@@ -490,4 +491,149 @@ fn arbitrary_obj_files_never_panic_and_refusals_name_the_object() {
     eprintln!("{} of {} OBJ files accepted", accepted.get(), cases());
     // The generator must reach the accepting path too, or the checks above never run.
     assert!(accepted.get() > 0, "no generated OBJ file was accepted");
+}
+
+/// The contract for a loaded glTF level: never a panic (counted, contained or not); a refusal
+/// names `file`; an accepted scene has finite geometry, in-range indices and frame states.
+fn check_gltf(
+    res: std::thread::Result<Result<scenes::Scene, scenes::SceneError>>,
+    file: &str,
+    what: &dyn Fn() -> String,
+) -> Result<bool, TestCaseError> {
+    let res = res.map_err(|_| TestCaseError::fail(format!("the loader panicked on {}", what())))?;
+    prop_assert_eq!(
+        panics_since_last_call(),
+        0,
+        "a panic (contained) on {}",
+        what()
+    );
+    match res {
+        Err(e) => {
+            let msg = e.to_string();
+            prop_assert!(msg.starts_with(file), "refusal does not name {file}: {msg}");
+            prop_assert!(msg.len() > file.len() + 4, "refusal says nothing: {msg}");
+            Ok(false)
+        }
+        Ok(scene) => {
+            for m in &scene.meshes {
+                let n = m.positions.len() as u32;
+                prop_assert!(m.positions.iter().chain(&m.normals).all(|p| p.is_finite()));
+                prop_assert!(m.indices.iter().flatten().all(|&i| i < n));
+            }
+            let f = scene.frame(0);
+            prop_assert!(f.camera.position.is_finite());
+            let _ = scene.features();
+            Ok(true)
+        }
+    }
+}
+
+/// glTF input: the sample level's JSON (`scenes::gltf::sample`, buffer embedded) with fields
+/// replaced, removed or added, loaded both through a scene file's `import` and as a scene by
+/// itself. Same number of cases as the JSON and OBJ properties.
+#[test]
+fn mutated_gltf_levels_never_panic_and_refusals_name_the_file() {
+    let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-gltf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let level = scenes::gltf::sample::level();
+    let scene_text = r#"{"import": "level.gltf", "medium": {"kind": "homogeneous", "sigma_a": [0.01, 0.01, 0.01], "sigma_s": [0.05, 0.05, 0.05]}}"#;
+    let standalone = dir.join("level.gltf");
+    let standalone_name = standalone.display().to_string();
+    panics_since_last_call();
+    let accepted = std::cell::Cell::new(0u32);
+    runner()
+        .run(&prop::collection::vec(mutation(), 1..4), |ms| {
+            let mut v = level.clone();
+            for m in &ms {
+                mutate(&mut v, m);
+            }
+            let text = v.to_string();
+            std::fs::write(&standalone, &text).unwrap();
+            let what = || format!("glTF:\n{text}");
+            let imported = catch_unwind(AssertUnwindSafe(|| {
+                parse_scene(scene_text, FILE, "fuzz", &dir)
+            }));
+            let ok = check_gltf(imported, FILE, &what)?;
+            let alone = catch_unwind(AssertUnwindSafe(|| scenes::load_scene(&standalone)));
+            check_gltf(alone, &standalone_name, &what)?;
+            accepted.set(accepted.get() + ok as u32);
+            Ok(())
+        })
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!(
+        "{} of {} mutated glTF levels accepted",
+        accepted.get(),
+        cases()
+    );
+    assert!(accepted.get() > 0, "no mutated level was accepted");
+}
+
+/// A byte-level edit of a .glb file.
+#[derive(Clone, Debug)]
+enum ByteEdit {
+    Set(usize, u8),
+    Truncate(usize),
+    Insert(usize, Vec<u8>),
+}
+
+fn byte_edit() -> impl Strategy<Value = ByteEdit> {
+    prop_oneof![
+        4 => (any::<usize>(), any::<u8>()).prop_map(|(i, b)| ByteEdit::Set(i, b)),
+        1 => any::<usize>().prop_map(ByteEdit::Truncate),
+        1 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..16))
+            .prop_map(|(i, b)| ByteEdit::Insert(i, b)),
+    ]
+}
+
+/// .glb input: the sample level as GLB with bytes changed, cut or inserted (header, chunk
+/// lengths, JSON and binary chunk alike), or arbitrary bytes after the magic; loaded as a
+/// scene by itself. Same number of cases as the JSON and OBJ properties.
+#[test]
+fn mutated_and_arbitrary_glb_bytes_never_panic_and_refusals_name_the_file() {
+    let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-glb-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let glb = scenes::gltf::sample::to_glb(&scenes::gltf::sample::level()).unwrap();
+    let path = dir.join("level.glb");
+    let name = path.display().to_string();
+    panics_since_last_call();
+    let accepted = std::cell::Cell::new(0u32);
+    let strategy = (
+        any::<bool>(),
+        prop::collection::vec(byte_edit(), 1..6),
+        prop::collection::vec(any::<u8>(), 0..256),
+    );
+    runner()
+        .run(&strategy, |(arbitrary, edits, noise)| {
+            let bytes = if arbitrary {
+                [b"glTF".as_slice(), &noise].concat()
+            } else {
+                let mut b = glb.clone();
+                for e in &edits {
+                    match e {
+                        ByteEdit::Set(i, x) => {
+                            let n = b.len().max(1);
+                            if let Some(t) = b.get_mut(i % n) {
+                                *t = *x;
+                            }
+                        }
+                        ByteEdit::Truncate(i) => b.truncate(i % (b.len() + 1)),
+                        ByteEdit::Insert(i, x) => {
+                            let at = i % (b.len() + 1);
+                            b.splice(at..at, x.iter().copied());
+                        }
+                    }
+                }
+                b
+            };
+            std::fs::write(&path, &bytes).unwrap();
+            let what = || format!("GLB bytes {:?}", &bytes[..bytes.len().min(64)]);
+            let res = catch_unwind(AssertUnwindSafe(|| scenes::load_scene(&path)));
+            accepted.set(accepted.get() + check_gltf(res, &name, &what)? as u32);
+            Ok(())
+        })
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("{} of {} GLB files accepted", accepted.get(), cases());
+    assert!(accepted.get() > 0, "no GLB file was accepted");
 }

@@ -13,17 +13,27 @@ pub struct ListArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Scenes to list instead of the library: comma-separated names, variants or paths
+    /// (.json, .gltf, .glb), as for `run --scenes`.
+    #[arg(long)]
+    pub scenes: Option<String>,
 }
 
 pub fn run(a: ListArgs, registry: Registry) -> Result<()> {
     let mut scenes_out = Vec::new();
-    for name in scenes::library::names() {
+    if let Some(spec) = &a.scenes {
+        scenes_out = crate::args::pick_scenes(spec)?;
+    }
+    for name in scenes::library::names()
+        .into_iter()
+        .filter(|_| a.scenes.is_none())
+    {
         let s = scenes::library::resolve(name).map_err(|e| anyhow!(e))?;
         scenes_out.push(s);
     }
     if a.json {
         let v = serde_json::json!({
-            "scenes": scenes_out.iter().map(|s| serde_json::json!({"name": s.name, "description": s.desc.description, "features": s.features()})).collect::<Vec<_>>(),
+            "scenes": scenes_out.iter().map(|s| serde_json::json!({"name": s.name, "description": s.desc.description, "features": s.features(), "ignored": s.ignored})).collect::<Vec<_>>(),
             "methods": methods_json(registry, &scenes_out),
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -48,6 +58,9 @@ pub fn run(a: ListArgs, registry: Registry) -> Result<()> {
                 "  {:<20} medium: homogeneous with exponential height fog",
                 ""
             );
+        }
+        for line in &s.ignored {
+            println!("  {:<20} ignored: {line}", "");
         }
     }
     print_methods(registry);

@@ -4,6 +4,7 @@
 pub mod adapters;
 pub mod compare;
 pub mod device;
+pub mod export;
 pub mod list;
 pub mod merge;
 pub mod pipe;

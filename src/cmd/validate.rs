@@ -10,7 +10,7 @@ use crate::args::refuse;
 
 #[derive(Args)]
 pub struct ValidateArgs {
-    /// Scene files (.json).
+    /// Scene files (.json, or .gltf/.glb as scenes by themselves).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
 }

@@ -43,6 +43,9 @@ pub struct SceneHeader {
     pub name: String,
     pub desc: SceneDesc,
     pub source: Option<PathBuf>,
+    /// The scene's unmodelled imported content (`Scene::ignored`).
+    #[serde(default)]
+    pub ignored: Vec<String>,
     /// Per mesh: (positions, normals, triangles).
     pub meshes: Vec<(usize, usize, usize)>,
     /// Width and height of the reference images (inscatter, surface, total, and the
@@ -99,6 +102,7 @@ pub fn write_scene(
         name: scene.name.clone(),
         desc: scene.desc.clone(),
         source: scene.source.clone(),
+        ignored: scene.ignored.clone(),
         meshes: scene
             .meshes
             .iter()
@@ -157,6 +161,7 @@ pub fn read_scene(
         desc: header.desc,
         meshes,
         source: header.source,
+        ignored: header.ignored,
     };
     let reference = ReferenceImages {
         inscatter,

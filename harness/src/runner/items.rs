@@ -79,11 +79,13 @@ pub fn run_items(
                     reference = Some((item.scene, r, tone));
                 }
                 let (_, r, tone) = reference.as_ref().expect("set above");
-                let ignored = if let Support::Partial(v) = support {
+                let mut ignored = if let Support::Partial(v) = support {
                     v
                 } else {
                     Vec::new()
                 };
+                // Imported content the suite does not model applies to every method.
+                ignored.extend(scene.ignored.iter().cloned());
                 let mut rec = dispatch.run(item.scene, scene, entry, params, r, tone)?;
                 rec.ignored = ignored;
                 rec

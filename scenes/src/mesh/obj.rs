@@ -141,7 +141,11 @@ fn describe(name: &str, error: &tobj::LoadError) -> String {
 /// for the rest. Accumulation is keyed by exact position rather than vertex index: tobj splits
 /// a vertex wherever its texture coordinates differ, and smoothing per index would turn every
 /// UV seam into a visible shading crease.
-fn fill_normals(positions: &[Vec3], given: &[Option<Vec3>], indices: &[[u32; 3]]) -> Vec<Vec3> {
+pub(crate) fn fill_normals(
+    positions: &[Vec3],
+    given: &[Option<Vec3>],
+    indices: &[[u32; 3]],
+) -> Vec<Vec3> {
     if given.iter().all(Option::is_some) {
         return given.iter().flatten().copied().collect();
     }
