@@ -91,6 +91,8 @@ fn out_of_range_numbers_exit_2_naming_the_argument_value_and_range() {
             "none",
             "--res",
             "none",
+            "--lights",
+            "none",
             "--out",
             o,
         ],

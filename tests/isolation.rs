@@ -586,6 +586,8 @@ fn every_command_exits_cleanly_on_a_closed_pipe() {
                 "16",
                 "--res",
                 "16",
+                "--lights",
+                "none",
                 "--frames",
                 "1",
                 "--warmup",
