@@ -31,6 +31,7 @@ pub fn default_medium() -> MediumDesc {
         sigma_s: Vec3::splat(0.02),
         phase: Phase::HenyeyGreenstein { g: 0.2 },
         ambient: Vec3::ZERO,
+        height_fog: None,
     }
 }
 
