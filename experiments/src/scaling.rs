@@ -259,6 +259,7 @@ fn spec(plan: &Plan, opts: &Options, capped: &[String]) -> Spec {
         sweeps.push(Sweep {
             axis: "triangles".into(),
             label: "caster triangles".into(),
+            scene: None,
             note: format!(
                 "{} with its casters tessellated by midpoint subdivision (spheres from a 32×16 UV sphere), at {tw}×{th}, default parameters, {} timed frames",
                 base.name, opts.record.frames
@@ -280,6 +281,7 @@ fn spec(plan: &Plan, opts: &Options, capped: &[String]) -> Spec {
         sweeps.push(Sweep {
             axis: "pixels".into(),
             label: "pixels".into(),
+            scene: None,
             note: format!(
                 "{} as in the library ({base_tris} caster triangles) at {} px², default parameters, {} timed frames{}",
                 base.name,
@@ -333,6 +335,7 @@ fn light_sweep(plan: &Plan, opts: &Options, scene: &Scene) -> Sweep {
     Sweep {
         axis: "lights".into(),
         label: "local lights".into(),
+        scene: Some(scene.name.clone()),
         note: format!(
             "{} ({} triangles) with N point lights on its columns (its {kept} directional light(s) kept, its spots removed), at {w}×{h}, default parameters, {} timed frames",
             scene.name,

@@ -38,6 +38,10 @@ pub struct Sweep {
     pub label: String,
     /// What was held fixed, shown under the plot.
     pub note: String,
+    /// The scene this sweep's variants come from, where it is not the spec's `base_scene`
+    /// (the light sweep's atrium). Absent in scaling.json files written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<String>,
     pub points: Vec<SweepPoint>,
 }
 
@@ -223,7 +227,8 @@ pub fn view(run_dir: &Path, results: &Results, plots: &Path) -> Result<Option<Sc
             .collect();
         let stem = format!("scaling-{}", anchor(&sweep.axis));
         let (png, svg) = (format!("{stem}.png"), format!("{stem}.svg"));
-        let title = format!("{}: frame time vs {}", spec.base_scene, sweep.label);
+        let scene = sweep.scene.as_deref().unwrap_or(&spec.base_scene);
+        let title = format!("{scene}: frame time vs {}", sweep.label);
         let (plot, plot_note) = match crate::plot::loglog(
             &title,
             &sweep.label,

@@ -822,6 +822,7 @@ fn scaling_section_fits_the_slopes_of_the_records() {
             axis: "triangles".into(),
             label: "caster triangles".into(),
             note: "at 32×32".into(),
+            scene: None,
             points,
         }],
     }
