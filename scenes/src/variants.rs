@@ -46,8 +46,13 @@ pub fn caster_triangles(scene: &Scene) -> usize {
 
 /// `name` split into a base name and subdivision levels when it reads `<base>-sub<L>`.
 pub fn parse_sub(name: &str) -> Option<(&str, u32)> {
-    let (base, levels) = name.rsplit_once("-sub")?;
-    Some((base, levels.parse().ok()?))
+    split_count(name, "-sub")
+}
+
+/// `<base><tag><N>` split into the base name and N, when N parses.
+fn split_count<'a, N: std::str::FromStr>(name: &'a str, tag: &str) -> Option<(&'a str, N)> {
+    let (base, n) = name.rsplit_once(tag)?;
+    Some((base, n.parse().ok()?))
 }
 
 /// The scene a `<scene>-sub<L>` variant was made from (the name itself otherwise).
@@ -107,8 +112,7 @@ pub fn at_resolution(scene: &Scene, n: u32) -> Scene {
 
 /// `name` split into a base name and a torch count when it reads `<base>-lights<N>`.
 pub fn parse_lights(name: &str) -> Option<(&str, usize)> {
-    let (base, n) = name.rsplit_once("-lights")?;
-    Some((base, n.parse().ok()?))
+    split_count(name, "-lights")
 }
 
 /// `scene` (which must contain atrium stonework) with its point and spot lights replaced by
