@@ -80,6 +80,11 @@ pub struct ErrorMetrics {
     /// ([`super::headline::Temporal`]); absent with fewer than two frames and in per-frame entries.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub temporal: Option<f64>,
+    /// `mean(t) / mean(r)` over every pixel and channel: 1 when the method's image carries the
+    /// reference's energy (a constant-factor error reads as that factor); null when the
+    /// reference's mean is ≤ 1e-30. Absent in results written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_ratio: Option<f64>,
 }
 
 /// Linear radiance → display sRGB in `[0, 1]`: exposure, per-channel
@@ -342,6 +347,7 @@ fn hdr_metrics(test: &Image, reference: &Image) -> ErrorMetrics {
         max_abs,
         headline: Some(super::headline::headline(test, reference)),
         smape: Some(super::headline::smape(test, reference)),
+        mean_ratio: (mean_r > 1e-30).then(|| test.mean() / mean_r),
         ..ErrorMetrics::default()
     }
 }

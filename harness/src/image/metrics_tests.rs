@@ -116,6 +116,30 @@ fn hand_computed_2x2() {
     assert_eq!(m.p99_abs, 2.0);
     // mean(r) = (3 + 6 + 0 + 12) / 12 = 1.75.
     assert!((m.rel_rmse - (6.5f64 / 12.0).sqrt() / 1.75).abs() < 1e-15);
+    // Σt = 3 + 7 + 2 + 11 = 23 over Σr = 21.
+    assert!((m.mean_ratio.unwrap() - 23.0 / 21.0).abs() < 1e-15);
+}
+
+#[test]
+fn mean_ratio_reads_a_constant_factor_and_is_null_on_a_black_reference() {
+    let reference = pattern(16, 12);
+    let mut test = reference.clone();
+    for p in &mut test.pixels {
+        *p = p.map(|c| 2.5 * c);
+    }
+    let m = compare(&test, &reference, &ToneMap::default()).unwrap();
+    assert!(
+        (m.mean_ratio.unwrap() - 2.5).abs() < 1e-6,
+        "{:?}",
+        m.mean_ratio
+    );
+    let black = Image::new(16, 12);
+    assert_eq!(
+        compare(&test, &black, &ToneMap::default())
+            .unwrap()
+            .mean_ratio,
+        None
+    );
 }
 
 #[test]
