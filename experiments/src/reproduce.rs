@@ -124,6 +124,25 @@ pub fn plan(papers: &[&str], registry: &[&'static dyn Method]) -> Result<Plan> {
             }
         }
     }
+    // The floor of every scene at its defaults, so each equal-error time has its floor ratio
+    // (ARCHITECTURE §4.5); a registry without the floor method prints times alone.
+    let floor = Config {
+        label: "floor",
+        method: analysis::FLOOR_METHOD,
+        params: &[],
+    };
+    if find(registry, floor.method).is_some() {
+        for (si, s) in scene_names.iter().enumerate() {
+            let (entry, params) = resolve(registry, &floor)?;
+            if keys.insert(record_key(s, entry.id(), &params)) {
+                work.push(WorkItem {
+                    scene: si,
+                    entry,
+                    params,
+                });
+            }
+        }
+    }
     Ok(Plan {
         registry: registry.to_vec(),
         notes,
@@ -496,9 +515,19 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
             .filter(|r| r.scene == scene)
             .collect();
         let basis = TimeBasis::for_records(recs.iter().copied());
+        let floor_ms = analysis::floor_ms(&recs, basis);
         let _ = writeln!(t, "### {scene} ({})\n", basis.label());
+        let _ = match floor_ms {
+            Some(f) => writeln!(
+                t,
+                "Floor ({}, no in-scatter): {f:.2} ms; each time below is also given as a multiple of it.\n",
+                analysis::FLOOR_METHOD
+            ),
+            None => writeln!(t, "No floor in this run: floor ratios are undefined.\n"),
+        };
         let _ = writeln!(t, "| method | {} |", header.join(" | "));
         let _ = writeln!(t, "|---|{}", "---|".repeat(BUDGETS.len()));
+        let recs = analysis::contenders(&recs);
         let mut ids: Vec<&str> = recs.iter().map(|r| r.method.as_str()).collect();
         ids.sort();
         ids.dedup();
@@ -509,8 +538,11 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
                 .iter()
                 .map(|&b| match analysis::cheapest_under_budget(&pts, b) {
                     Some(p) => format!(
-                        "{:.2} ms ({}, {:.2} %)",
+                        "{:.2} ms{} ({}, {:.2} %)",
                         p.time,
+                        analysis::floor_ratio(p.time, floor_ms)
+                            .map(|r| format!(" = {r:.2}× floor"))
+                            .unwrap_or_default(),
                         crate::params_text(registry, id, &mine[p.index].params),
                         p.error * 100.0
                     ),

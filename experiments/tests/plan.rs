@@ -39,3 +39,24 @@ fn the_built_in_registry_runs_every_table() {
     assert_eq!(p.experiments.len(), PAPERS.len(), "{}", p.notes);
     assert!(!p.notes.contains("skipped"), "{}", p.notes);
 }
+
+/// Every scene of the plan gets the floor at its defaults when the registry has it, so the
+/// equal-error tables can give floor ratios; without it, no floor work appears.
+#[test]
+fn the_plan_times_the_floor_on_every_scene_when_it_is_registered() {
+    let floor = report::analysis::FLOOR_METHOD;
+    let with = plan(
+        &["dobashi"],
+        &registered(&["dobashi-virtual-planes", floor]),
+    )
+    .unwrap();
+    let floor_scenes: Vec<usize> = with
+        .work
+        .iter()
+        .filter(|w| w.entry.id() == floor)
+        .map(|w| w.scene)
+        .collect();
+    assert_eq!(floor_scenes, (0..with.scenes.len()).collect::<Vec<_>>());
+    let without = plan(&["dobashi"], &registered(&["dobashi-virtual-planes"])).unwrap();
+    assert!(without.work.iter().all(|w| w.entry.id() != floor));
+}

@@ -31,6 +31,12 @@ pub fn metrics<'a>(record: &'a Record, aov: &str) -> Option<&'a ErrorMetrics> {
     record.errors.get(aov)
 }
 
+/// The method whose time is the floor of a scene (ARCHITECTURE §4.5): it renders the scene
+/// without scattering (surfaces and the medium's attenuation only), so its time is what every
+/// method pays before any in-scatter. Not a contender: verdicts leave it out (its error is the
+/// whole in-scatter) and give each winner's time as a multiple of it.
+pub const FLOOR_METHOD: &str = "no-scatter";
+
 /// Radius of the light core around each visible light's projection, as a fraction of the
 /// image height: 2 % (5 px at 256², 10 px at 512²), so it covers the same solid angle at any
 /// resolution. A disc of it is ≈ 0.12 % of a square image — about the set the headline trims.

@@ -5,6 +5,7 @@
 //! the page and the plots only display what they return.
 
 use harness::results::{Record, Status};
+pub use harness::verdict::FLOOR_METHOD;
 
 use crate::metric::Metric;
 
@@ -50,6 +51,31 @@ impl TimeBasis {
             TimeBasis::Wall => Some(t.wall_ms.median),
         }
     }
+}
+
+/// The floor's time on `basis` (ARCHITECTURE §4.5): the fastest ok, timed [`FLOOR_METHOD`]
+/// record among `records` (one scene of one run); None where the run has no floor there.
+pub fn floor_ms(records: &[&Record], basis: TimeBasis) -> Option<f64> {
+    records
+        .iter()
+        .filter(|r| r.method == FLOOR_METHOD && r.status == Status::Ok)
+        .filter_map(|r| basis.time_ms(r))
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .min_by(f64::total_cmp)
+}
+
+/// The records that compete in a verdict: every one but the floor's.
+pub fn contenders<'a>(records: &[&'a Record]) -> Vec<&'a Record> {
+    records
+        .iter()
+        .copied()
+        .filter(|r| r.method != FLOOR_METHOD)
+        .collect()
+}
+
+/// A time as a multiple of the floor ("1.20×"), or None where there is no floor.
+pub fn floor_ratio(time_ms: f64, floor_ms: Option<f64>) -> Option<f64> {
+    floor_ms.map(|f| time_ms / f)
 }
 
 /// One configuration's cost and error; `index` points back into the caller's list.

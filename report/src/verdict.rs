@@ -1,6 +1,8 @@
 //! The verdict that opens the page: per scene, the methods on the time-vs-error Pareto front
 //! and the fastest configuration under each error budget, with one sentence in words — for
-//! every metric the page offers (the verdict metric shown first).
+//! every metric the page offers (the verdict metric shown first). The floor (`no-scatter`,
+//! ARCHITECTURE §4.5) is not a contender: it is left out of the front and the budgets, shown
+//! in its own column, and each winner's time is given as a multiple of it.
 
 use harness::results::{Record, Results};
 use serde::Serialize;
@@ -19,8 +21,10 @@ pub struct VerdictTable {
 pub struct VerdictRow {
     pub scene: String,
     pub anchor: String,
-    /// Methods on the scene's front, fastest first, each with its time.
+    /// Methods on the scene's front, fastest first (the floor left out).
     pub front: Vec<String>,
+    /// The floor's time ("4.1 ms"), or None where the run has no floor on this scene.
+    pub floor: Option<String>,
     /// Per budget: "method · time" of the fastest configuration within it, or None.
     pub budgets: Vec<Option<BudgetWinner>>,
     pub sentence: String,
@@ -32,6 +36,8 @@ pub struct BudgetWinner {
     pub time: String,
     pub error: String,
     pub params: String,
+    /// Its time as a multiple of the floor's ("1.20×"), None where the run has no floor.
+    pub floor_ratio: Option<String>,
 }
 
 /// Per metric, per scene.
@@ -55,6 +61,8 @@ fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
         .filter(|r| r.scene == scene)
         .collect();
     let basis = TimeBasis::for_records(records.iter().copied());
+    let floor_ms = analysis::floor_ms(&records, basis);
+    let records = analysis::contenders(&records);
     let points = analysis::points_by(&records, basis, metric);
     let front_points = analysis::pareto_front(&points);
     let front = ordered(
@@ -78,6 +86,7 @@ fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
                     } else {
                         String::new()
                     },
+                    floor_ratio: analysis::floor_ratio(p.time, floor_ms).map(times_floor),
                 }
             })
         })
@@ -86,9 +95,15 @@ fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
         scene: scene.to_string(),
         anchor: crate::format::anchor(scene),
         front,
+        floor: floor_ms.map(|f| format!("{} ms", ms(f))),
         sentence: sentence(scene, &budgets, points.is_empty()),
         budgets,
     }
+}
+
+/// A floor ratio as the page prints it: "1.20×" (three significant digits).
+pub fn times_floor(ratio: f64) -> String {
+    format!("{}×", rel(ratio))
 }
 
 /// An error budget as the page names it ("5 %").
@@ -103,13 +118,14 @@ pub fn sentence(scene: &str, budgets: &[Option<BudgetWinner>], nothing_scored: b
         return format!("{scene}: no method has a timed, scored record.");
     }
     // Winners in budget order, merging consecutive budgets won by the same method.
-    let mut parts: Vec<(String, Vec<String>)> = Vec::new();
+    // (method, its floor ratio where the first budget it won has one, budgets).
+    let mut parts: Vec<(String, Option<String>, Vec<String>)> = Vec::new();
     let mut missed: Vec<String> = Vec::new();
     for (b, w) in BUDGETS.iter().zip(budgets) {
         match w {
-            Some(w) => match parts.iter_mut().find(|(m, _)| *m == w.method) {
-                Some((_, bs)) => bs.push(pct(*b)),
-                None => parts.push((w.method.clone(), vec![pct(*b)])),
+            Some(w) => match parts.iter_mut().find(|(m, _, _)| *m == w.method) {
+                Some((_, _, bs)) => bs.push(pct(*b)),
+                None => parts.push((w.method.clone(), w.floor_ratio.clone(), vec![pct(*b)])),
             },
             None => missed.push(pct(*b)),
         }
@@ -117,7 +133,13 @@ pub fn sentence(scene: &str, budgets: &[Option<BudgetWinner>], nothing_scored: b
     let mut out = format!("{scene}: ");
     let said: Vec<String> = parts
         .iter()
-        .map(|(m, bs)| format!("{m} is the fastest under {}", bs.join(" and ")))
+        .map(|(m, ratio, bs)| {
+            let at = ratio
+                .as_ref()
+                .map(|r| format!(" ({r} the floor)"))
+                .unwrap_or_default();
+            format!("{m} is the fastest under {}{at}", bs.join(" and "))
+        })
         .collect();
     out.push_str(&said.join("; "));
     if !missed.is_empty() {
@@ -143,8 +165,64 @@ mod tests {
             time: "1 ms".into(),
             error: "0".into(),
             params: String::new(),
+            floor_ratio: None,
         })
     }
+
+    /// The floor is the fastest configuration at 100 % error: it must not head the front or win
+    /// a budget, and each winner's time reads as its multiple (worked out by hand).
+    #[test]
+    fn the_floor_is_no_contender_and_winners_read_as_multiples_of_it() {
+        use crate::fixture::synthetic::{Measured, record, run};
+        use harness::method::Params;
+        let none = Params::new();
+        let mut results = run("lavapipe", 128);
+        for (method, time_ms, headline) in [
+            (FLOOR, 4.0, 1.0),
+            ("m-fast", 5.0, 0.2),
+            ("m-good", 6.0, 0.04),
+            ("m-exact", 10.0, 0.001),
+        ] {
+            let measured = Some(Measured { time_ms, headline });
+            results.records.push(record("s", method, &none, measured));
+        }
+        let row = row(&results, "s", Metric::Verdict);
+        assert_eq!(row.front, ["m-fast", "m-good", "m-exact"]);
+        assert_eq!(row.floor.as_deref(), Some("4.00 ms"));
+        let winners: Vec<(&str, Option<&str>)> = row
+            .budgets
+            .iter()
+            .map(|w| {
+                let w = w.as_ref().expect("every budget is won");
+                (w.method.as_str(), w.floor_ratio.as_deref())
+            })
+            .collect();
+        // 10 / 4 = 2.5, 6 / 4 = 1.5; the floor (error 100 %) wins nothing.
+        assert_eq!(
+            winners,
+            [
+                ("m-exact", Some("2.50×")),
+                ("m-good", Some("1.50×")),
+                ("m-good", Some("1.50×"))
+            ]
+        );
+        assert!(
+            row.sentence
+                .contains("m-exact is the fastest under 1 % (2.50× the floor)")
+        );
+        // Without a floor record the ratios are undefined, not guessed.
+        results.records.retain(|r| r.method != FLOOR);
+        let row = super::row(&results, "s", Metric::Verdict);
+        assert!(row.floor.is_none());
+        assert!(
+            row.budgets
+                .iter()
+                .flatten()
+                .all(|w| w.floor_ratio.is_none())
+        );
+    }
+
+    const FLOOR: &str = crate::analysis::FLOOR_METHOD;
 
     #[test]
     fn sentences_merge_budgets_and_name_the_missed_ones() {

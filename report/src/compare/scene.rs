@@ -13,10 +13,7 @@ use super::tolerance;
 use crate::analysis::{self, BUDGETS, TimeBasis};
 use crate::metric::{Metric, verdict_error};
 
-/// The method whose time is the floor a scene's other times are divided by: it renders the
-/// scene without scattering, so its time is what every method pays before any in-scatter.
-/// Not a contender: it is left out of the verdicts (its error is the whole in-scatter).
-pub const FLOOR_METHOD: &str = "no-scatter";
+pub use crate::analysis::FLOOR_METHOD;
 
 /// A run's records of `scene` whose keys every run has (`common`), first of each key only.
 fn records<'a>(run: &'a Run, scene: &str, common: &BTreeSet<String>) -> Vec<&'a Record> {
@@ -32,7 +29,10 @@ fn records<'a>(run: &'a Run, scene: &str, common: &BTreeSet<String>) -> Vec<&'a 
 pub fn compare(runs: &[Run], scene: &str, common: &BTreeSet<String>) -> SceneComparison {
     let per_run: Vec<Vec<&Record>> = runs.iter().map(|r| records(r, scene, common)).collect();
     let basis = TimeBasis::for_records(per_run.iter().flatten().copied());
-    let floor_ms: Vec<Option<f64>> = per_run.iter().map(|rs| floor(rs, basis)).collect();
+    let floor_ms: Vec<Option<f64>> = per_run
+        .iter()
+        .map(|rs| analysis::floor_ms(rs, basis))
+        .collect();
     let rows = rows(&per_run, basis, &floor_ms);
     let tau = pairs(runs.len())
         .map(|(a, b)| pair_tau(&rows, a, b))
@@ -55,16 +55,6 @@ pub fn compare(runs: &[Run], scene: &str, common: &BTreeSet<String>) -> SceneCom
 /// Every pair (a, b), a < b, of `n` runs.
 pub fn pairs(n: usize) -> impl Iterator<Item = (usize, usize)> {
     (0..n).flat_map(move |a| (a + 1..n).map(move |b| (a, b)))
-}
-
-/// The fastest ok, timed floor record's time.
-fn floor(records: &[&Record], basis: TimeBasis) -> Option<f64> {
-    records
-        .iter()
-        .filter(|r| r.method == FLOOR_METHOD && r.status == Status::Ok)
-        .filter_map(|r| basis.time_ms(r))
-        .filter(|t| t.is_finite() && *t > 0.0)
-        .min_by(f64::total_cmp)
 }
 
 /// One row per key, in the first run's order with the floor first.
@@ -103,7 +93,7 @@ fn cell(r: &Record, basis: TimeBasis, floor: Option<f64>) -> Cell {
         status: r.status,
         reason: r.reason.clone(),
         time_ms,
-        ratio: time_ms.zip(floor).map(|(t, f)| t / f),
+        ratio: time_ms.and_then(|t| analysis::floor_ratio(t, floor)),
         headline: verdict_error(r).filter(|_| ok),
     }
 }
@@ -124,11 +114,7 @@ fn pair_tau(rows: &[Row], a: usize, b: usize) -> PairTau {
 
 /// The run's verdict among the contenders (every configuration but the floor's).
 fn verdict(records: &[&Record], basis: TimeBasis) -> Verdict {
-    let contenders: Vec<&Record> = records
-        .iter()
-        .copied()
-        .filter(|r| r.method != FLOOR_METHOD)
-        .collect();
+    let contenders = analysis::contenders(records);
     let points = analysis::points_by(&contenders, basis, Metric::Verdict);
     let pick = |p: analysis::Point| {
         let r = contenders[p.index];

@@ -4,11 +4,18 @@
 use super::model::{Comparison, Pick, SceneComparison};
 use super::page::percent;
 
-fn pick_text(p: Option<&Pick>) -> String {
-    p.map(|p| p.method.clone()).unwrap_or_else(|| "none".into())
+/// "biri-polynomial (7.75× floor)"; the ratio is left out where the run has no floor.
+fn pick_text(p: Option<&Pick>, floor_ms: Option<f64>) -> String {
+    let Some(p) = p else {
+        return "none".into();
+    };
+    match crate::analysis::floor_ratio(p.time_ms, floor_ms) {
+        Some(r) => format!("{} ({} floor)", p.method, crate::verdict::times_floor(r)),
+        None => p.method.clone(),
+    }
 }
 
-/// "window-sun: fastest ≤ 1 %: A biri-polynomial, B biri-shadow-volumes".
+/// "window-sun: fastest ≤ 1 %: A biri-polynomial (7.75× floor), B biri-shadow-volumes (4.80× floor)".
 fn changed_lines(s: &SceneComparison, labels: &[&str], budgets: &[f64]) -> Vec<String> {
     let per_run = |f: &dyn Fn(usize) -> String| {
         labels
@@ -39,7 +46,7 @@ fn changed_lines(s: &SceneComparison, labels: &[&str], budgets: &[f64]) -> Vec<S
                 "{}: fastest ≤ {}: {}",
                 s.scene,
                 crate::verdict::pct(*budget),
-                per_run(&|i| pick_text(s.verdicts[i].budgets[b].as_ref()))
+                per_run(&|i| pick_text(s.verdicts[i].budgets[b].as_ref(), s.floor_ms[i]))
             ));
         }
     }

@@ -237,7 +237,11 @@ fn json_and_page_state_the_tolerance_and_the_summary_names_the_changes() {
     assert_eq!(with_class("section", "scene"), 2);
     let text = summary::lines(&c).join("\n");
     assert!(text.contains("verdicts changed on 1 of 2 scenes"), "{text}");
-    assert!(text.contains("s1: fastest ≤ 5 %: A m-a, B m-b"), "{text}");
+    // m-a 20 / 10 ms, m-b 150 / 50 ms: each as a multiple of its own run's floor.
+    assert!(
+        text.contains("s1: fastest ≤ 5 %: A m-a (2.00× floor), B m-b (3.00× floor)"),
+        "{text}"
+    );
     assert!(text.contains("s1 m-c: A 0.00400 %, B 0.111 %"), "{text}");
     assert!(
         text.contains("mean τ 0.67 over 2 scenes, pooled τ 0.56"),
