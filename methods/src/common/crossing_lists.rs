@@ -12,7 +12,8 @@
 //!    always holds every crossing of this frame;
 //! 4. gather: the method draws the same planes with the same pipeline state calling
 //!    `crossing_append` into the harness's encoder;
-//! 5. walk: `crossing_sorted` sorts one list by distance, `crossing_walk`
+//! 5. walk: `crossing_sorted` sorts one list by distance (a merge sort in private memory up
+//!    to 256 crossings, an insertion sort in the pool beyond; tests/crossing_sort.rs), `crossing_walk`
 //!    (`wgsl/crossing_passes.wgsl`) walks it from the eye's shadow count and sums the method's
 //!    `crossing_lit(px, a, b)` over the lit intervals.
 //!
