@@ -382,7 +382,7 @@ fn light_at(l: &LightDesc, f: f32) -> LightState {
             keyframes,
         } => LightState::Spot {
             position: animate(*position, keyframes, f, |k| k.position),
-            direction: animate(*direction, keyframes, f, |k| k.direction).normalize(),
+            direction: animate_direction(*direction, keyframes, f),
             cos_inner: inner_deg.to_radians().cos(),
             cos_outer: outer_deg.to_radians().cos(),
             tan_outer: outer_deg.to_radians().tan(),
@@ -394,10 +394,17 @@ fn light_at(l: &LightDesc, f: f32) -> LightState {
             irradiance,
             keyframes,
         } => LightState::Directional {
-            direction: animate(*direction, keyframes, f, |k| k.direction).normalize(),
+            direction: animate_direction(*direction, keyframes, f),
             irradiance: *irradiance,
         },
     }
+}
+
+/// A light's direction at frame f: every key's direction normalised *before* the component-wise
+/// interpolation (so a key's length never weighs it), the result normalised again (scenes/README
+/// "Keyframes").
+fn animate_direction(base: Vec3, keys: &[crate::desc::LightKey], f: f32) -> Vec3 {
+    animate(base, keys, f, |k| k.direction.map(Vec3::normalize)).normalize()
 }
 
 /// Interpolates the light keys that set a field, falling back to the static value.

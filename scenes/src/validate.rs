@@ -138,6 +138,12 @@ pub fn validate(d: &SceneDesc, base: &Path) -> Vec<Problem> {
         let p = format!("objects[{i}]");
         shape(&mut c, &format!("{p}.shape"), &o.shape, base);
         transform(&mut c, &format!("{p}.transform"), &o.transform);
+        unique_frames(
+            &mut c,
+            &format!("{p}.keyframes"),
+            "",
+            o.keyframes.iter().map(|k| k.frame).enumerate(),
+        );
         for (k, key) in o.keyframes.iter().enumerate() {
             c.finite(&format!("{p}.keyframes[{k}].frame"), key.frame);
             transform(
@@ -192,6 +198,12 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
             format!("must be greater than near ({}), got {}", cam.near, cam.far),
         );
     }
+    unique_frames(
+        c,
+        "camera.keyframes",
+        "",
+        cam.keyframes.iter().map(|k| k.frame).enumerate(),
+    );
     for (k, key) in cam.keyframes.iter().enumerate() {
         let p = format!("camera.keyframes[{k}]");
         c.finite(&format!("{p}.frame"), key.frame);
@@ -486,7 +498,51 @@ fn light(c: &mut Checker, p: &str, l: &LightDesc) {
     }
 }
 
+/// Two keys at one frame are ambiguous (which value holds there?): each later key whose frame
+/// an earlier one already keys is refused at its `frame`, naming the earlier key. `what` names
+/// the keyed field for lights, whose keys may set position and direction separately.
+fn unique_frames(
+    c: &mut Checker,
+    keys_path: &str,
+    what: &str,
+    frames: impl Iterator<Item = (usize, f32)>,
+) {
+    let mut seen: Vec<(usize, f32)> = Vec::new();
+    for (k, frame) in frames {
+        if let Some((first, _)) = seen.iter().find(|(_, f)| *f == frame) {
+            c.push(
+                &format!("{keys_path}[{k}].frame"),
+                format!(
+                    "frame {frame} already has a key{what} ({keys_path}[{first}]): two keys at one \
+                     frame are ambiguous; give each key its own frame"
+                ),
+            );
+        } else if frame.is_finite() {
+            seen.push((k, frame));
+        }
+    }
+}
+
 fn light_keys(c: &mut Checker, p: &str, keys: &[LightKey], has_direction: bool) {
+    let keys_path = format!("{p}.keyframes");
+    let keyed = |field: fn(&LightKey) -> bool| {
+        keys.iter()
+            .enumerate()
+            .filter(move |(_, k)| field(k))
+            .map(|(i, k)| (i, k.frame))
+    };
+    unique_frames(
+        c,
+        &keys_path,
+        " setting position",
+        keyed(|k| k.position.is_some()),
+    );
+    unique_frames(
+        c,
+        &keys_path,
+        " setting direction",
+        keyed(|k| k.direction.is_some()),
+    );
     for (k, key) in keys.iter().enumerate() {
         let kp = format!("{p}.keyframes[{k}]");
         c.finite(&format!("{kp}.frame"), key.frame);

@@ -840,6 +840,31 @@ fn keys_may_come_in_any_order_and_animate_direction_and_camera() {
     }
 }
 
+/// Direction keys are normalised before they are interpolated (scenes/README "Keyframes"): a
+/// long key does not pull the halfway direction toward itself.
+#[test]
+fn direction_keys_are_normalised_before_interpolation() {
+    let text = r#"{
+      "camera": { "position": [0, 1, 5], "look_at": [0, 1, 0] },
+      "medium": { "kind": "homogeneous", "sigma_a": [0, 0, 0], "sigma_s": [0.1, 0.1, 0.1] },
+      "lights": [ { "kind": "spot", "position": [0, 3, 0], "direction": [0, -1, 0],
+                    "inner_deg": 10, "outer_deg": 20, "intensity": [1, 1, 1],
+                    "keyframes": [ { "frame": 0, "direction": [0, -10, 0] }, { "frame": 2, "direction": [1, 0, 0] } ] } ],
+      "frames": 3
+    }"#;
+    let s =
+        parse_scene(text, "keys.json", "keys", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    match s.frame(1).lights[0] {
+        // Halfway between the unit keys (0,−1,0) and (1,0,0): (1,−1,0)/√2. Interpolating the
+        // raw keys would give (0.5,−5,0)/|…|, 5.7° from straight down.
+        LightState::Spot { direction, .. } => {
+            let want = Vec3::new(1.0, -1.0, 0.0).normalize();
+            assert!((direction - want).length() < 1e-6, "{direction}")
+        }
+        ref o => panic!("{o:?}"),
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The documentation's example
 // ---------------------------------------------------------------------------------------------
