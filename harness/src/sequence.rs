@@ -16,6 +16,7 @@ use scenes::Scene;
 
 use crate::image::Image;
 use crate::image::headline::{Temporal, masked_relative};
+use crate::image::lag::{LagFigures, LagFlicker};
 use crate::image::metrics::{ToneMap, compare};
 use crate::reference::{self, ReferenceImages, Settings};
 use crate::results::{ErrorsPerFrame, FrameErrors};
@@ -62,6 +63,8 @@ pub struct FrameScorer<'a> {
     /// Animated scenes: every frame's reference ([`frame_references`]); empty when static.
     references: Vec<Arc<ReferenceImages>>,
     temporal: [Temporal; 3],
+    /// Lag and flicker per AOV, fed the same frames in the order they were shown.
+    lag: [LagFlicker; 3],
     frames: Vec<FrameErrors>,
     /// Time spent scoring, s (the harness's work, reported in `timing.score_ms`).
     pub seconds: f64,
@@ -88,6 +91,7 @@ impl<'a> FrameScorer<'a> {
             frame0,
             references,
             temporal: Default::default(),
+            lag: Default::default(),
             frames: Vec::new(),
             seconds: 0.0,
         })
@@ -112,8 +116,9 @@ impl<'a> FrameScorer<'a> {
         let r: &ReferenceImages = r.as_deref().unwrap_or(self.frame0);
         let refs = [&r.inscatter, &r.surface, &r.total];
         let clean: Vec<Image> = images.iter().map(finite).collect();
-        for ((t, img), refimg) in self.temporal.iter_mut().zip(&clean).zip(refs) {
-            t.push(img, refimg);
+        for (k, (img, refimg)) in clean.iter().zip(refs).enumerate() {
+            self.temporal[k].push(img, refimg);
+            self.lag[k].push(img, refimg);
         }
         if !self.animated() {
             return Ok(());
@@ -138,11 +143,32 @@ impl<'a> FrameScorer<'a> {
         Ok(())
     }
 
-    /// The per-frame errors (animated scenes only) and the temporal figure per AOV.
-    pub fn finish(self) -> (Option<ErrorsPerFrame>, [Option<f64>; 3]) {
-        let temporal = [0, 1, 2].map(|k| self.temporal[k].value());
+    /// The per-frame errors (animated scenes only) and the temporal figures per AOV.
+    pub fn finish(self) -> (Option<ErrorsPerFrame>, [TemporalFigures; 3]) {
+        let figures = [0, 1, 2].map(|k| TemporalFigures {
+            temporal: self.temporal[k].value(),
+            lag: self.lag[k].value(),
+        });
         let per_frame = (!self.frames.is_empty()).then(|| ErrorsPerFrame::new(self.frames));
-        (per_frame, temporal)
+        (per_frame, figures)
+    }
+}
+
+/// An AOV's figures over a record's shown frames (None with fewer than two).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TemporalFigures {
+    /// The temporal-stability figure ([`Temporal`]).
+    pub temporal: Option<f64>,
+    /// Lag and flicker ([`LagFlicker`]).
+    pub lag: Option<LagFigures>,
+}
+
+impl TemporalFigures {
+    /// Writes the figures into an AOV's error entry.
+    pub fn write(&self, m: &mut crate::image::metrics::ErrorMetrics) {
+        m.temporal = self.temporal;
+        m.lag_frames = self.lag.map(|l| l.lag_frames);
+        m.flicker = self.lag.and_then(|l| l.flicker);
     }
 }
 
@@ -200,12 +226,14 @@ mod tests {
             });
             scorer.timed_frame(f, &frame).unwrap();
         }
-        let (per_frame, temporal) = scorer.finish();
+        let (per_frame, figures) = scorer.finish();
         assert!(
             per_frame.is_none(),
             "a static scene has no per-frame errors"
         );
-        temporal
+        // A static scene: nothing to lag behind.
+        assert!(figures.iter().all(|f| f.lag.unwrap().lag_frames == 0.0));
+        figures.map(|f| f.temporal)
     }
 
     #[test]
@@ -233,8 +261,20 @@ mod tests {
         assert_eq!(refs.len(), scene.frame_count() as usize);
         let mut exact = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
         let mut frozen = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
+        let mut late = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
         for f in 3..11u32 {
             let own = &refs[(f % 8) as usize];
+            // Shows the frame shown before (frame 3 shows frame 2): one frame late.
+            let previous = &refs[((f - 1) % 8) as usize];
+            late.timed_frame(
+                f,
+                &[
+                    previous.inscatter.clone(),
+                    previous.surface.clone(),
+                    previous.total.clone(),
+                ],
+            )
+            .unwrap();
             exact
                 .timed_frame(
                     f,
@@ -257,7 +297,15 @@ mod tests {
         assert_eq!(exact_frames.frames.len(), 8);
         assert_eq!(exact_frames.frames[0].frame, 3);
         assert_eq!(exact_frames.worst["total"].headline, 0.0);
-        assert_eq!(exact_t[2], Some(0.0));
+        assert_eq!(exact_t[2].temporal, Some(0.0));
+        let exact_lag = exact_t[2].lag.unwrap();
+        assert_eq!((exact_lag.lag_frames, exact_lag.flicker), (0.0, Some(0.0)));
+        let (_, late_t) = late.finish();
+        let late_lag = late_t[2].lag.unwrap();
+        assert!((late_lag.lag_frames - 1.0).abs() < 0.02, "{late_lag:?}");
+        assert!(late_lag.flicker.unwrap() < 1e-6, "{late_lag:?}");
+        // The plain temporal figure cannot tell this lag from flicker.
+        assert!(late_t[2].temporal.unwrap() > 0.0);
         let (frozen_frames, frozen_t) = frozen.finish();
         let frozen_frames = frozen_frames.expect("animated");
         for fe in &frozen_frames.frames {
@@ -269,6 +317,6 @@ mod tests {
             }
         }
         assert_ne!(frozen_frames.worst["total"].frame, Some(0));
-        assert!(frozen_t[2].unwrap() > 0.0);
+        assert!(frozen_t[2].temporal.unwrap() > 0.0);
     }
 }

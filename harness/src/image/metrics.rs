@@ -85,6 +85,15 @@ pub struct ErrorMetrics {
     /// reference's mean is ≤ 1e-30. Absent in results written before it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mean_ratio: Option<f64>,
+    /// Frames of lag over the record's shown frames ([`super::lag`]): how many frames late the
+    /// images match the references best (0 … 3); absent with fewer than two frames.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lag_frames: Option<f64>,
+    /// The frame-to-frame change of the error not explained by the lag ([`super::lag`]), a
+    /// fraction of the mean radiance; absent with fewer than two frames (or no pair of frames
+    /// reaching back the lag).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flicker: Option<f64>,
 }
 
 /// Linear radiance → display sRGB in `[0, 1]`: exposure, per-channel

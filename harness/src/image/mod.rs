@@ -8,6 +8,7 @@
 pub mod colormap;
 pub mod headline;
 pub mod io;
+pub mod lag;
 pub mod metrics;
 
 /// Rec.709 / sRGB luminance weights for linear RGB.

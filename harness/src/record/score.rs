@@ -163,7 +163,7 @@ fn score(
             Ok(mut m) => {
                 nonfinite = nonfinite.max(m.nonfinite);
                 let k = AOV_NAMES.iter().position(|a| *a == name).expect("an AOV");
-                m.temporal = temporal[k];
+                temporal[k].write(&mut m);
                 rec.errors.insert(name.to_string(), m);
             }
             Err(e) => return Err(format!("cannot score {name}: {e}")),
