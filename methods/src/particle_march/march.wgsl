@@ -11,18 +11,28 @@ override PANELS: u32 = 1u;
 // Midpoint steps of the background medium's march per light; 0: no background scattering.
 override BACKGROUND_STEPS: u32 = 64u;
 
-// Gauss–Legendre nodes on [0, 1] and their weights (summing to 1), the rule of order n at
-// n − 1 … 2n − 2 (n = 1, 2, 4, 8).
-const GL_NODE = array<f32, 15>(
-    0.5,
-    0.21132487, 0.78867513,
-    0.06943184, 0.33000948, 0.66999052, 0.93056816,
-    0.01985507, 0.10166676, 0.23723380, 0.40828268, 0.59171732, 0.76276620, 0.89833324, 0.98014493);
-const GL_WEIGHT = array<f32, 15>(
-    1.0,
-    0.5, 0.5,
-    0.17392742, 0.32607258, 0.32607258, 0.17392742,
-    0.05061427, 0.11119052, 0.15685332, 0.18134189, 0.18134189, 0.15685332, 0.11119052, 0.05061427);
+// Gauss–Legendre node i on [0, 1] and its weight (the weights of a rule sum to 1); the rule of
+// order n is at i = n − 1 … 2n − 2 (n = 1, 2, 4, 8). A switch, not a const array: lavapipe
+// (Mesa 22.3) read a dynamically indexed const array wrongly (the error grew with the order).
+fn gauss_legendre(i: u32) -> vec2<f32> {
+    switch i {
+        case 0u: { return vec2<f32>(0.5, 1.0); }
+        case 1u: { return vec2<f32>(0.21132487, 0.5); }
+        case 2u: { return vec2<f32>(0.78867513, 0.5); }
+        case 3u: { return vec2<f32>(0.06943184, 0.17392742); }
+        case 4u: { return vec2<f32>(0.33000948, 0.32607258); }
+        case 5u: { return vec2<f32>(0.66999052, 0.32607258); }
+        case 6u: { return vec2<f32>(0.93056816, 0.17392742); }
+        case 7u: { return vec2<f32>(0.01985507, 0.05061427); }
+        case 8u: { return vec2<f32>(0.10166676, 0.11119052); }
+        case 9u: { return vec2<f32>(0.23723380, 0.15685332); }
+        case 10u: { return vec2<f32>(0.40828268, 0.18134189); }
+        case 11u: { return vec2<f32>(0.59171732, 0.18134189); }
+        case 12u: { return vec2<f32>(0.76276620, 0.15685332); }
+        case 13u: { return vec2<f32>(0.89833324, 0.11119052); }
+        default: { return vec2<f32>(0.98014493, 0.05061427); }
+    }
+}
 
 // Light k's radiance scattered toward the eye per unit σ_s at x on the ray along dir: p(θ),
 // I(ω) / r² (or E), shadow-map visibility, the particles' exact transmittance toward the light
@@ -77,15 +87,12 @@ fn piece_light(k: u32, dir: vec3<f32>, b: u32) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     // Panels and points in one loop (lavapipe mishandles loops nested too deep; see trace_particles).
     for (var n = 0u; n < PANELS * POINTS; n++) {
-        let q = n % POINTS;
-        let u = (f32(n / POINTS) + GL_NODE[first + q]) / f32(PANELS);
+        let gl = gauss_legendre(first + n % POINTS);
+        let u = (f32(n / POINTS) + gl.x) / f32(PANELS);
         let node = light_node(k, dir, piece.x, piece.y, u);
-        var tau = piece.z;
-        for (var i = cell_start[cell]; i < cell_start[cell + 1u]; i++) {
-            tau += piece_depth(cell_items[i], eye, dir, piece.w, node.x);
-        }
+        let tau = piece.z + cell_depth(cell, eye, dir, piece.w, node.x);
         let eye_leg = transmittance(medium, node.x) * exp(-tau);
-        sum += light_at(k, eye + dir * node.x, dir) * eye_leg * (GL_WEIGHT[first + q] * node.y);
+        sum += light_at(k, eye + dir * node.x, dir) * eye_leg * (gl.y * node.y);
     }
     return sum / f32(PANELS);
 }

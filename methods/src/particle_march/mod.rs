@@ -169,12 +169,14 @@ impl Method for ParticleMarch {
 
     fn knobs(&self) -> Vec<Knob> {
         vec![
+            // No 8 in the sweep: on lavapipe 8 nodes per piece exceed its per-invocation loop
+            // budget on dense pixels (README "Limits").
             Knob::int_of("points", 4, &[1, 2, 4, 8])
-                .sweep([1, 2, 8])
+                .sweep([1, 2])
                 .unit("nodes")
                 .meaning("Gauss–Legendre nodes per panel of each sphere piece and light"),
             Knob::int("panels", 1, 1..=64)
-                .sweep([2, 4])
+                .sweep(Vec::<i64>::new())
                 .unit("panels")
                 .meaning("equal panels per sphere piece and light (in the light's variable)"),
             Knob::int("background_steps", 64, 1..=4096)

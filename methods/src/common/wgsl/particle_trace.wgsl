@@ -121,15 +121,29 @@ fn piece_depth(j: u32, o: vec3<f32>, d: vec3<f32>, a: f32, b: f32) -> f32 {
     return spheres[j].albedo_tau.w * max(p.y - p.x, 0.0);
 }
 
+// Σ τ_j |chord_j ∩ [a, b]| over the spheres listed in `cell`, four per loop iteration:
+// lavapipe (Mesa 22.3, gallivm's LP_MAX_TGSI_LOOP_ITERATIONS) ends every loop of an invocation
+// once 65 535 loop iterations have run in it in total, so the hot loops take few iterations.
+fn cell_depth(cell: u32, o: vec3<f32>, d: vec3<f32>, a: f32, b: f32) -> f32 {
+    let end = cell_start[cell + 1u];
+    var tau = 0.0;
+    for (var i = cell_start[cell]; i < end; i += 4u) {
+        let last = end - 1u;
+        tau += piece_depth(cell_items[i], o, d, a, b)
+            + select(0.0, piece_depth(cell_items[min(i + 1u, last)], o, d, a, b), i + 1u < end)
+            + select(0.0, piece_depth(cell_items[min(i + 2u, last)], o, d, a, b), i + 2u < end)
+            + select(0.0, piece_depth(cell_items[min(i + 3u, last)], o, d, a, b), i + 3u < end);
+    }
+    return tau;
+}
+
 // The particles' optical depth along o + d t, t in [t0, t1]: Σ τ_j · chord_j, exactly.
 fn optical_depth(o: vec3<f32>, d: vec3<f32>, t0: f32, t1: f32) -> f32 {
     var w = grid_walk(o, d, t0, t1);
     var tau = 0.0;
     while (grid_walk_more(w)) {
         w = grid_walk_step(w);
-        for (var i = cell_start[w.index]; i < cell_start[w.index + 1u]; i++) {
-            tau += piece_depth(cell_items[i], o, d, w.enter, w.exit);
-        }
+        tau += cell_depth(w.index, o, d, w.enter, w.exit);
     }
     return tau;
 }
