@@ -15,7 +15,7 @@ use super::gpu_scene::Vertex;
 use super::layouts::{fragment_texture, view_entry};
 use super::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL};
 use super::pipeline::{self, ADDITIVE, Stage, target};
-use super::renderer::SceneRenderer;
+use super::renderer::{SceneRenderer, renderer_limits};
 use super::resolve::fullscreen_pipeline;
 use super::wgsl;
 
@@ -32,6 +32,28 @@ pub struct ParticleSurfaces {
     empty: wgpu::BindGroup,
     total: wgpu::RenderPipeline,
     total_layout: wgpu::BindGroupLayout,
+}
+
+/// Why a particle method tracing the grid cannot render a scene, if it cannot: a homogeneous
+/// medium, height fog, too many lights for the shared renderer, or no additive Rgba32Float
+/// blending (the surface-shadow passes).
+pub fn particle_trace_support(
+    scene: &scenes::SceneFeatures,
+    device: wgpu::Features,
+) -> Option<String> {
+    if scene.medium != "particles" {
+        return Some(
+            "homogeneous media are not supported (this method renders particle media only)".into(),
+        );
+    }
+    if scene.height_fog {
+        return Some("exponential height fog in the background medium is not supported".into());
+    }
+    if let Some(why) = renderer_limits(scene) {
+        return Some(why);
+    }
+    (!device.contains(wgpu::Features::FLOAT32_BLENDABLE))
+        .then(|| "needs FLOAT32_BLENDABLE (additive surface-shadow passes)".into())
 }
 
 /// The composed WGSL of the cloud-shadow pass.

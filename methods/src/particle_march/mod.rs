@@ -48,9 +48,9 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
-use crate::common::particle_surfaces::ParticleSurfaces;
+use crate::common::particle_surfaces::{ParticleSurfaces, particle_trace_support};
 use crate::common::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL, ParticleGrid};
-use crate::common::renderer::{SceneRenderer, renderer_limits};
+use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
 
@@ -133,25 +133,6 @@ impl Prepared for State {
         report.count("nodes_per_piece", self.nodes as f64);
         Ok(report)
     }
-}
-
-/// Why a particle method tracing the grid cannot render a scene, if it cannot: a homogeneous
-/// medium, height fog, too many lights for the shared renderer, or no additive Rgba32Float
-/// blending (the surface-shadow passes).
-pub fn particle_trace_support(scene: &SceneFeatures, device: wgpu::Features) -> Option<String> {
-    if scene.medium != "particles" {
-        return Some(
-            "homogeneous media are not supported (this method renders particle media only)".into(),
-        );
-    }
-    if scene.height_fog {
-        return Some("exponential height fog in the background medium is not supported".into());
-    }
-    if let Some(why) = renderer_limits(scene) {
-        return Some(why);
-    }
-    (!device.contains(wgpu::Features::FLOAT32_BLENDABLE))
-        .then(|| "needs FLOAT32_BLENDABLE (additive surface-shadow passes)".into())
 }
 
 impl Method for ParticleMarch {
