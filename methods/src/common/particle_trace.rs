@@ -184,7 +184,7 @@ impl GpuParticleGrid {
     /// Uploads `grid`; fails, naming the limit, where a binding exceeds the device's largest
     /// storage binding.
     pub fn new(gpu: &Gpu, grid: &ParticleGrid) -> Result<GpuParticleGrid> {
-        let limit = gpu.device.limits().max_storage_buffer_binding_size as u64;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
         if grid.largest_binding() > limit {
             bail!(
                 "{} particles: the particle grid needs a {} MiB storage binding (spheres {} MiB, \
