@@ -257,6 +257,16 @@ fn grid_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 /// The particle trace's WGSL (group 2 bindings, the DDA, `optical_depth`); needs PRELUDE.
 pub const PARTICLE_TRACE_WGSL: &str = include_str!("wgsl/particle_trace.wgsl");
 
+/// What the particle resolves share (`pixel_ray`, `surface_or_sky`); composed after
+/// [`PARTICLE_TRACE_WGSL`] in a `common::resolve` pass.
+pub const PARTICLE_RESOLVE_WGSL: &str = include_str!("wgsl/particle_resolve.wgsl");
+
+/// A particle resolve's own WGSL after the trace and [`PARTICLE_RESOLVE_WGSL`] (the resolve
+/// pass adds PRELUDE, FULLSCREEN and its I/O first).
+pub fn resolve_source(own: &str) -> String {
+    format!("{PARTICLE_TRACE_WGSL}\n{PARTICLE_RESOLVE_WGSL}\n{own}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,15 +11,15 @@ use harness::{FrameReport, Gpu, Targets};
 use scenes::FrameState;
 
 use crate::common::particle_surfaces::ParticleSurfaces;
-use crate::common::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL, ParticleGrid};
+use crate::common::particle_trace::{self, GpuParticleGrid, ParticleGrid};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::ResolvePass;
 
 pub const PARTICLES_WGSL: &str = include_str!("particles.wgsl");
 
-/// particles.wgsl after the particle trace (the resolve pass adds PRELUDE and FULLSCREEN).
+/// particles.wgsl after the particle trace and particle_resolve.wgsl (the resolve pass adds PRELUDE and FULLSCREEN).
 pub static PARTICLES_COMPOSED: std::sync::LazyLock<String> =
-    std::sync::LazyLock::new(|| format!("{PARTICLE_TRACE_WGSL}\n{PARTICLES_WGSL}"));
+    std::sync::LazyLock::new(|| particle_trace::resolve_source(PARTICLES_WGSL));
 
 /// The grid, the surfaces with their cloud shadows and the attenuating resolve.
 pub struct ParticleFloor {

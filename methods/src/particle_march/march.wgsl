@@ -2,7 +2,7 @@
 // sphere's piece in each cell integrated per light by Gauss–Legendre quadrature, exact optical
 // depth on every leg; the background medium's in-scatter marched over the whole ray. Writes the
 // in-scatter and the eye-attenuated surface (common::particle_surfaces). Needs PRELUDE,
-// FULLSCREEN and particle_trace.wgsl.
+// FULLSCREEN, particle_trace.wgsl and particle_resolve.wgsl.
 
 // Gauss–Legendre nodes per piece and light: 1, 2, 4 or 8 (the `points` knob).
 override POINTS: u32 = 4u;
@@ -179,18 +179,12 @@ fn background_inscatter(dir: vec3<f32>, d: f32) -> vec3<f32> {
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(frag.xy);
-    let dir = camera_ray_dir(camera, frag.xy);
-    let hit = textureLoad(ray_distance, px, 0).r;
-    let d = camera_ray_length(camera, dir, hit);
-    let traced = trace_particles(dir, d);
+    let ray = pixel_ray(px, frag.xy);
+    let traced = trace_particles(ray.dir, ray.d);
     var l_in = traced.inscatter;
     if (BACKGROUND_STEPS > 0u) {
-        l_in += background_inscatter(dir, d);
-    }
-    var surf = grid.sky.rgb * transmittance(medium, d);
-    if (hit >= 0.0) {
-        surf = textureLoad(surface, px, 0).rgb;
+        l_in += background_inscatter(ray.dir, ray.d);
     }
     // `total` here is the harness's surface AOV (ParticleSurfaces::resolve_targets).
-    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surf * exp(-traced.depth), 1.0));
+    return Out(vec4<f32>(l_in, 1.0), vec4<f32>(surface_or_sky(px, ray) * exp(-traced.depth), 1.0));
 }

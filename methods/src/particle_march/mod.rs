@@ -49,7 +49,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
 use crate::common::particle_surfaces::{ParticleSurfaces, particle_trace_support};
-use crate::common::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL, ParticleGrid};
+use crate::common::particle_trace::{self, GpuParticleGrid, ParticleGrid};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
@@ -110,9 +110,9 @@ impl State {
     }
 }
 
-/// march.wgsl after the particle trace (the resolve pass adds PRELUDE and FULLSCREEN first).
+/// march.wgsl after the particle trace and particle_resolve.wgsl (the resolve pass adds PRELUDE and FULLSCREEN first).
 static MARCH_WGSL_COMPOSED: std::sync::LazyLock<String> =
-    std::sync::LazyLock::new(|| format!("{PARTICLE_TRACE_WGSL}\n{MARCH_WGSL}"));
+    std::sync::LazyLock::new(|| particle_trace::resolve_source(MARCH_WGSL));
 
 impl Prepared for State {
     fn render(
