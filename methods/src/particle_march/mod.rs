@@ -42,7 +42,7 @@
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
-    ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
+    Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
     Support, Targets,
 };
 use scenes::{FrameState, SceneFeatures};
@@ -205,7 +205,9 @@ impl Method for ParticleMarch {
         .concat()
     }
 
+    /// Bound ≈ 1.5× the total's rel RMSE measured at 48² on lavapipe (0.031; 0.0029 at 64²,
+    /// where the headline is 2e-4): pixels at the aeroplane's edges dominate at 48².
     fn conformance(&self) -> Vec<ConformanceCase> {
-        Vec::new()
+        vec![ConformanceCase::new("cloud-plane", 48, Aov::Total, 0.05)]
     }
 }
