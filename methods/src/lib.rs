@@ -14,6 +14,7 @@ pub mod dobashi_virtual_planes;
 pub mod epipolar_minmax;
 pub mod froxel_fog;
 pub mod no_scatter;
+pub mod particle_march;
 pub mod polygonal_light_volumes;
 pub mod raymarch_brute;
 pub mod umenhoffer_particle_blocks;
@@ -24,6 +25,7 @@ use harness::Method;
 /// Every method, in the order `list` and `run --methods all` use. The id is `info().id`.
 pub static REGISTRY: &[&dyn Method] = &[
     &raymarch_brute::RaymarchBrute,
+    &particle_march::ParticleMarch,
     &froxel_fog::FroxelFog,
     &epipolar_minmax::EpipolarMinMax,
     &dobashi_virtual_planes::DobashiVirtualPlanes,

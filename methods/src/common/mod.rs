@@ -9,6 +9,8 @@ pub mod height_fog;
 pub mod knobs;
 pub mod layered;
 pub mod layouts;
+pub mod particle_surfaces;
+pub mod particle_trace;
 pub mod patterns;
 pub mod pipeline;
 pub mod quadrature;

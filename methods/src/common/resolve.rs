@@ -28,6 +28,8 @@ pub struct ResolvePass {
     /// width, height in texels), for targets holding one band per light
     /// ([`ResolvePass::with_light_rects`]).
     light_rects: Option<fn(usize) -> [u32; 4]>,
+    /// Whether the pipelines have a group 2 the method owns ([`ResolvePass::with_group`]).
+    group2: bool,
 }
 
 /// What a resolve pass binds beyond the ray distances and the surface (bindings 0 and 1).
@@ -71,7 +73,22 @@ impl ResolvePass {
         bindings: Bindings,
         constants: &[(&'static str, f64)],
     ) -> ResolvePass {
-        Self::build(gpu, renderer, label, own, bindings, Some(constants))
+        Self::build(gpu, renderer, label, own, bindings, Some(constants), None)
+    }
+
+    /// One pipeline (not per light) with the pass's own overrides (`constants`, beside the
+    /// scene's) and a group 2 the method owns, laid out by `group2` and bound with
+    /// [`ResolvePass::encode_with_group`] (e.g. `common::particle_trace`'s grid).
+    pub fn with_group(
+        gpu: &Gpu,
+        renderer: &SceneRenderer,
+        label: &'static str,
+        own: &str,
+        constants: &[(&'static str, f64)],
+        group2: &wgpu::BindGroupLayout,
+    ) -> ResolvePass {
+        let single = Some((constants, group2));
+        Self::build(gpu, renderer, label, own, Bindings::default(), None, single)
     }
 
     /// Like [`ResolvePass::new`], with `extra_textures` more texture bindings (3, 4, …), bound
@@ -90,7 +107,7 @@ impl ResolvePass {
             texture_arrays: 0,
             counters: 0,
         };
-        Self::build(gpu, renderer, label, own, bindings, None)
+        Self::build(gpu, renderer, label, own, bindings, None, None)
     }
 
     fn build(
@@ -100,6 +117,7 @@ impl ResolvePass {
         own: &str,
         bindings: Bindings,
         per_light_constants: Option<&[(&'static str, f64)]>,
+        single: Option<(&[(&'static str, f64)], &wgpu::BindGroupLayout)>,
     ) -> ResolvePass {
         let layout = gpu
             .device
@@ -126,8 +144,19 @@ impl ResolvePass {
             })
         });
         let module = wgsl::module(&gpu.device, label, &source(own));
-        let pl = pipeline::layout(&gpu.device, label, &[&renderer.frame_layout, &layout]);
-        let pipelines = pipelines(gpu, renderer, label, &pl, &module, per_light_constants);
+        let mut groups = vec![&renderer.frame_layout, &layout];
+        groups.extend(single.map(|(_, g)| g));
+        let pl = pipeline::layout(&gpu.device, label, &groups);
+        let own_constants = single.map_or(&[][..], |(c, _)| c);
+        let pipelines = pipelines(
+            gpu,
+            renderer,
+            label,
+            &pl,
+            &module,
+            per_light_constants,
+            own_constants,
+        );
         ResolvePass {
             label,
             pipelines,
@@ -137,6 +166,7 @@ impl ResolvePass {
             extra_textures: bindings.textures,
             counters,
             light_rects: None,
+            group2: single.is_some(),
         }
     }
 
@@ -161,6 +191,19 @@ impl ResolvePass {
         self.encode_with(gpu, enc, renderer, targets, &[]);
     }
 
+    /// Encodes a [`ResolvePass::with_group`] pass with its group 2.
+    pub fn encode_with_group(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        targets: &Targets,
+        group2: &wgpu::BindGroup,
+    ) {
+        assert!(self.group2, "{}: no group 2 declared", self.label);
+        self.encode_groups(gpu, enc, renderer, targets, &[], Some(group2));
+    }
+
     /// Encodes the pass with `extra` bound at bindings 3, 4, … (as many as declared).
     pub fn encode_with(
         &self,
@@ -169,6 +212,18 @@ impl ResolvePass {
         renderer: &SceneRenderer,
         targets: &Targets,
         extra: &[&wgpu::TextureView],
+    ) {
+        self.encode_groups(gpu, enc, renderer, targets, extra, None);
+    }
+
+    fn encode_groups(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        targets: &Targets,
+        extra: &[&wgpu::TextureView],
+        group2: Option<&wgpu::BindGroup>,
     ) {
         assert_eq!(
             extra.len() as u32,
@@ -212,6 +267,9 @@ impl ResolvePass {
         );
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
         pass.set_bind_group(1, &bind, &[]);
+        if let Some(g) = group2 {
+            pass.set_bind_group(2, g, &[]);
+        }
         let count = if self.per_light {
             renderer.scene.desc.lights.len().min(self.pipelines.len())
         } else {
@@ -261,6 +319,7 @@ fn pipelines(
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     per_light_constants: Option<&[(&'static str, f64)]>,
+    own_constants: &[(&'static str, f64)],
 ) -> Vec<wgpu::RenderPipeline> {
     let per_light = per_light_constants.is_some();
     let target = pipeline::target(AOV_FORMAT, per_light.then_some(color_only(ADD)));
@@ -274,7 +333,7 @@ fn pipelines(
         .map(|k| {
             let own = match per_light_constants {
                 Some(c) => [&[("LIGHT", k as f64)][..], c].concat(),
-                None => Vec::new(),
+                None => own_constants.to_vec(),
             };
             let constants = renderer.specialization.with(&own);
             fullscreen_pipeline(

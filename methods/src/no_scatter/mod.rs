@@ -7,6 +7,13 @@
 //!
 //! Exponential height fog: the exact optical depth of each leg attenuates the surface and
 //! ambient terms (`common/wgsl/height_fog.wgsl`).
+//!
+//! Particle media (issue 32, [`particles`]): the floor of particle scenes — the surface or sky
+//! times the exact eye-leg transmittance through the spheres and the background, each light's
+//! cloud shadow on surfaces removed with the exact optical depth toward it (as the homogeneous
+//! floor keeps e^(−σ_t r) on the light leg); no in-scatter.
+
+pub mod particles;
 
 use anyhow::Result;
 use harness::method::{PrepareContext, ShaderCheck};
@@ -17,6 +24,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
+use crate::common::particle_surfaces::particle_trace_support;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
@@ -26,10 +34,12 @@ pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
 /// The method (a description; [`State`] is the prepared instance).
 pub struct NoScatter;
 
-/// The prepared method: the shared renderer and the fog resolve.
+/// The prepared method: the shared renderer and the fog resolve, or in particle media the
+/// particle floor.
 pub struct State {
     renderer: SceneRenderer,
     resolve: ResolvePass,
+    particles: Option<particles::ParticleFloor>,
 }
 
 impl State {
@@ -37,7 +47,14 @@ impl State {
         // No spot pattern reaches the image without in-scattering: the smallest useful texture.
         let renderer = SceneRenderer::new(ctx, ShadowSettings::from_params(ctx.params)?, 256)?;
         let resolve = ResolvePass::new(ctx.gpu, &renderer, "fog resolve", RESOLVE_WGSL, None);
-        Ok(State { renderer, resolve })
+        let particles = (ctx.scene.medium().particles().is_some())
+            .then(|| particles::ParticleFloor::new(ctx, &renderer))
+            .transpose()?;
+        Ok(State {
+            renderer,
+            resolve,
+            particles,
+        })
     }
 }
 
@@ -49,6 +66,9 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
+        if let Some(floor) = &self.particles {
+            return Ok(floor.render(gpu, &mut self.renderer, frame, targets, enc));
+        }
         let mut report = self.renderer.begin_frame(gpu, frame, enc, targets);
         self.resolve.encode(gpu, enc, &self.renderer, targets);
         report.ran("fog-resolve");
@@ -63,7 +83,7 @@ impl Method for NoScatter {
             paper: "baseline (fixed-function fog: attenuation only)",
             summary: "Attenuated surfaces, no in-scattering",
             baseline: true,
-            medium: Medium::Homogeneous,
+            medium: Medium::Both,
             readme: include_str!("README.md"),
             source: include_str!("mod.rs"),
         }
@@ -76,7 +96,13 @@ impl Method for NoScatter {
         ]
     }
 
-    fn support(&self, scene: &SceneFeatures, _device: wgpu::Features) -> Support {
+    fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
+        if scene.medium == "particles" {
+            return match particle_trace_support(scene, device) {
+                Some(why) => Support::No(why),
+                None => Support::Full,
+            };
+        }
         match unsupported(scene) {
             Some(why) => Support::No(why),
             None => Support::Full,
@@ -88,7 +114,15 @@ impl Method for NoScatter {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        ShaderCheck::combinations("no-scatter/resolve", &resolve::source(RESOLVE_WGSL), &[])
+        [
+            ShaderCheck::combinations("no-scatter/resolve", &resolve::source(RESOLVE_WGSL), &[]),
+            ShaderCheck::combinations(
+                "no-scatter/particles",
+                &resolve::source(&particles::PARTICLES_COMPOSED),
+                &[],
+            ),
+        ]
+        .concat()
     }
 
     /// The surface AOV only (the in-scatter AOV is zero by construction); bound ≈ 1.5× the

@@ -1,0 +1,206 @@
+//! The surfaces of a particle scene for methods that trace the particle grid
+//! (`common::particle_trace`): the shared surface pass drawn into a target of its own, then one
+//! additive pass per light removing that light's contribution × (1 − e^(−τ)), τ the exact
+//! particle optical depth toward the light (`wgsl/particle_surfaces.wgsl`). A method's resolve
+//! then reads that target, writes the in-scatter and the eye-attenuated surface into the
+//! harness's `inscatter` and `surface` ([`ParticleSurfaces::resolve_targets`]), and
+//! [`ParticleSurfaces::encode_total`] sums them into `total` (three Rgba32Float targets exceed
+//! the 32 bytes per sample one render pass may write).
+
+use harness::gpu::{color_attachment, depth_attachment};
+use harness::method::AOV_FORMAT;
+use harness::{FrameReport, Gpu, Targets};
+
+use super::gpu_scene::Vertex;
+use super::layouts::{fragment_texture, view_entry};
+use super::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL};
+use super::pipeline::{self, ADDITIVE, Stage, target};
+use super::renderer::{SceneRenderer, renderer_limits};
+use super::resolve::fullscreen_pipeline;
+use super::wgsl;
+
+const SURFACES_WGSL: &str = include_str!("wgsl/particle_surfaces.wgsl");
+const TOTAL_WGSL: &str = include_str!("wgsl/aov_total.wgsl");
+
+pub struct ParticleSurfaces {
+    /// The surface pass's output with every light's cloud shadow removed (not yet attenuated by
+    /// the particles on the eye leg).
+    surface_view: wgpu::TextureView,
+    /// One pipeline per light (`override SURFACE_LIGHT`).
+    shadow: Vec<wgpu::RenderPipeline>,
+    /// Group 1 of the shadow passes (empty: the grid is group 2, as in every trace pass).
+    empty: wgpu::BindGroup,
+    total: wgpu::RenderPipeline,
+    total_layout: wgpu::BindGroupLayout,
+}
+
+/// Why a particle method tracing the grid cannot render a scene, if it cannot: a homogeneous
+/// medium, height fog, too many lights for the shared renderer, or no additive Rgba32Float
+/// blending (the surface-shadow passes).
+pub fn particle_trace_support(
+    scene: &scenes::SceneFeatures,
+    device: wgpu::Features,
+) -> Option<String> {
+    if scene.medium != "particles" {
+        return Some(
+            "homogeneous media are not supported (this method renders particle media only)".into(),
+        );
+    }
+    if scene.height_fog {
+        return Some("exponential height fog in the background medium is not supported".into());
+    }
+    if let Some(why) = renderer_limits(scene) {
+        return Some(why);
+    }
+    (!device.contains(wgpu::Features::FLOAT32_BLENDABLE))
+        .then(|| "needs FLOAT32_BLENDABLE (additive surface-shadow passes)".into())
+}
+
+/// The composed WGSL of the cloud-shadow pass.
+pub fn shadow_source() -> String {
+    wgsl::compose(
+        &[wgsl::PRELUDE, &[wgsl::SURFACE_PASS, PARTICLE_TRACE_WGSL]].concat(),
+        SURFACES_WGSL,
+    )
+}
+
+/// The composed WGSL of the total pass.
+pub fn total_source() -> String {
+    wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL)
+}
+
+impl ParticleSurfaces {
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, grid: &GpuParticleGrid) -> ParticleSurfaces {
+        let device = &gpu.device;
+        // The view keeps its texture alive.
+        let surface_view = gpu
+            .texture_2d(
+                "particle surfaces",
+                renderer.width,
+                renderer.height,
+                AOV_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
+            .create_view(&Default::default());
+        let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("empty"),
+            entries: &[],
+        });
+        let empty = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("empty"),
+            layout: &empty_layout,
+            entries: &[],
+        });
+        let label = "particle surface shadow";
+        let layout = pipeline::layout(
+            device,
+            label,
+            &[&renderer.frame_layout, &empty_layout, &grid.layout],
+        );
+        let module = wgsl::module(device, label, &shadow_source());
+        let depth =
+            pipeline::visible_surface_depth(wgpu::TextureFormat::Depth32Float, Default::default());
+        let targets = [target(AOV_FORMAT, Some(ADDITIVE))];
+        let shadow = (0..renderer.scene.desc.lights.len())
+            .map(|k| {
+                let constants = renderer.specialization.with(&[("SURFACE_LIGHT", k as f64)]);
+                Stage::new(label, "vs")
+                    .vertices(Vertex::LAYOUT)
+                    .fragment("fs_particle_shadow", &targets)
+                    .depth(depth.clone())
+                    .build(device, &layout, &module, &constants)
+            })
+            .collect();
+        let total_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("particle total"),
+            entries: &[fragment_texture(0), fragment_texture(1)],
+        });
+        let total = fullscreen_pipeline(
+            device,
+            "particle total",
+            &pipeline::layout(device, "particle total", &[&total_layout]),
+            &wgsl::module(device, "particle total", &total_source()),
+            "fs_total",
+            &[],
+            &[target(AOV_FORMAT, None)],
+        );
+        ParticleSurfaces {
+            surface_view,
+            shadow,
+            empty,
+            total,
+            total_layout,
+        }
+    }
+
+    /// The surface pass into this target, then each light's cloud shadow removed from it.
+    pub fn encode(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        grid: &GpuParticleGrid,
+        targets: &Targets,
+        report: &mut FrameReport,
+    ) {
+        renderer.encode_surface(enc, &self.resolve_targets(targets), report);
+        for pipeline in &self.shadow {
+            let mut pass = renderer.passes.render_pass(
+                enc,
+                &wgpu::RenderPassDescriptor {
+                    label: Some("particle surface shadow"),
+                    color_attachments: &[color_attachment(&self.surface_view, wgpu::LoadOp::Load)],
+                    depth_stencil_attachment: Some(depth_attachment(
+                        &renderer.depth_view,
+                        wgpu::LoadOp::Load,
+                    )),
+                    ..Default::default()
+                },
+            );
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &renderer.frame_bind, &[]);
+            pass.set_bind_group(1, &self.empty, &[]);
+            pass.set_bind_group(2, &grid.bind, &[]);
+            renderer.gpu_scene.draw(&mut pass);
+        }
+        report.ran("particle-surface-shadows");
+    }
+
+    /// The targets a resolve pass (`common::resolve`) gets: it reads this surface target (its
+    /// `surface`), writes the in-scatter to the harness's `inscatter` and the eye-attenuated
+    /// surface to the harness's `surface` (its `total` location).
+    pub fn resolve_targets<'a>(&'a self, targets: &Targets<'a>) -> Targets<'a> {
+        Targets {
+            inscatter: targets.inscatter,
+            surface: &self.surface_view,
+            total: targets.surface,
+            width: targets.width,
+            height: targets.height,
+        }
+    }
+
+    /// `total` = `inscatter` + `surface` of the harness's targets.
+    pub fn encode_total(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, targets: &Targets) {
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("particle total"),
+            layout: &self.total_layout,
+            entries: &[
+                view_entry(0, targets.inscatter),
+                view_entry(1, targets.surface),
+            ],
+        });
+        let mut pass = gpu.render_pass(
+            enc,
+            &wgpu::RenderPassDescriptor {
+                label: Some("particle total"),
+                color_attachments: &[color_attachment(
+                    targets.total,
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                )],
+                ..Default::default()
+            },
+        );
+        pass.set_pipeline(&self.total);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
