@@ -1,8 +1,9 @@
 //! GPU side of particle media: the buffers the volume passes read (per-froxel density, the
 //! light grids' optical depths, the particle uniform — 16-byte stubs for homogeneous media), and
 //! for particle scenes the `voxelise` and `extinction` passes, the bins they walk (rebuilt on
-//! the CPU only when the camera or a light changed), and the pass that attenuates the surface
-//! AOV by the cloud (particle_surface.wgsl).
+//! the CPU only when the camera or a light changed), the cloud's shadow on surfaces per light
+//! (`common::surface_shadow` with particle_shadow.wgsl) and the pass that attenuates the surface
+//! AOV by the cloud toward the eye (particle_surface.wgsl).
 
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
@@ -11,17 +12,18 @@ use harness::{FrameReport, Gpu, Targets};
 use scenes::{CameraPose, FrameState, LightState};
 
 use super::particles::{Bins, GpuParticle, LightGrid, camera_bins, light_grid};
-use super::shaders::{particle_surface_source, particles_source};
+use super::shaders::{particle_shadow_source, particle_surface_source, particles_source};
 use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
+use crate::common::surface_shadow::SurfaceShadow;
 use crate::common::wgsl;
 
-/// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`).
-/// Particle media render with one light (`support`); the room for four is the uniform's as it
-/// was before the shared renderer grew past four lights.
+/// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`): one
+/// per light, so particle media render with at most this many lights (`support`). Each grid
+/// holds extinction_grid³ optical depths (1 MiB at the default 64, 64 MiB at the knob's 256).
 pub const PARTICLE_GRIDS: usize = 4;
 
 /// `ParticleMedium` in extinction.wgsl.
@@ -92,6 +94,8 @@ pub struct ParticlePasses {
     extinction: wgpu::ComputePipeline,
     surface_layout: wgpu::BindGroupLayout,
     surface: wgpu::ComputePipeline,
+    /// The cloud's shadow on surfaces, one pass per light.
+    shadow: SurfaceShadow,
     /// The shared surface pass's output (shaded with the background medium only).
     pub surface_view: wgpu::TextureView,
     grid: Grid,
@@ -192,6 +196,15 @@ impl ParticlePasses {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let src = particles_source();
+        let lights = renderer.scene.desc.lights.len().min(PARTICLE_GRIDS);
+        let shadow = SurfaceShadow::new(
+            &gpu.device,
+            renderer,
+            shadow_group(gpu, shared.medium),
+            renderer.specialization.constants(),
+            lights,
+            &particle_shadow_source(),
+        );
         Ok(ParticlePasses {
             voxelise: compute_pipeline(gpu, renderer, &layout, &src, "voxelise"),
             extinction: compute_pipeline(gpu, renderer, &layout, &src, "extinction"),
@@ -210,6 +223,7 @@ impl ParticlePasses {
             layout,
             bind,
             surface_layout,
+            shadow,
             grid,
             n,
             cache: Cache::default(),
@@ -246,6 +260,27 @@ fn particle_group(
             buffer_entry(5, &shared.medium.optical_depth),
         ],
     })
+}
+
+/// Group 1 of the per-light cloud-shadow pass (particle_shadow.wgsl): the particle uniform and
+/// the light grids' optical depths.
+fn shadow_group(gpu: &Gpu, medium: &MediumBuffers) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let fs = wgpu::ShaderStages::FRAGMENT;
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("froxel particle shadow"),
+            entries: &[uniform_buffer(0, fs), storage_buffer(1, fs, true)],
+        });
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("froxel particle shadow"),
+        layout: &layout,
+        entries: &[
+            buffer_entry(0, &medium.uniform),
+            buffer_entry(1, &medium.optical_depth),
+        ],
+    });
+    (layout, bind)
 }
 
 /// Group 1 of the particle surface pass: ray distance, the background-only surface, the grid
@@ -368,7 +403,15 @@ impl ParticlePasses {
         pass.dispatch_workgroups((self.n * self.n).div_ceil(64), 1, lights);
     }
 
-    /// The surface AOV: the background-only surface attenuated by the cloud, or the sky.
+    /// Removes from the background-only surface each light's share blocked by the cloud (after
+    /// `encode_extinction`).
+    pub fn encode_shadow(&self, enc: &mut wgpu::CommandEncoder, r: &SceneRenderer) {
+        for k in 0..self.cache.grids.len() {
+            self.shadow.encode(enc, r, &self.surface_view, k);
+        }
+    }
+
+    /// The surface AOV: the shadowed surface attenuated by the cloud toward the eye, or the sky.
     pub fn encode_surface(
         &self,
         gpu: &Gpu,

@@ -229,6 +229,8 @@ impl State {
         self.timer.mark(enc, "extinction");
         parts.encode_extinction(gpu, enc, &self.renderer);
         report.ran("extinction");
+        parts.encode_shadow(enc, &self.renderer);
+        report.ran("particle-shadow");
         Ok(report)
     }
 }
