@@ -19,8 +19,8 @@
 //! exact chord along 2 × 2 sub-rays of its column over the slices it crosses (each froxel's mean
 //! σ_s and τ, and the particles' extinction-weighted mean depth, where that froxel is then
 //! sampled); `extinction` builds one light-space extinction grid per light (orthographic along
-//! the sun, a perspective cone from a local light: exact chords per column ray, prefix-summed per
-//! slab) from which `inject` takes the cloud's self-shadowing and `particle-shadow` its shadow on
+//! the sun, a perspective cone or a cube of six from a local light: exact chords per column ray,
+//! prefix-summed per slab) from which `inject` takes the cloud's self-shadowing and `particle-shadow` its shadow on
 //! surfaces (one redraw per light removing that light's blocked share, `common::surface_shadow`);
 //! `integrate` adds the froxels' τ to the background's σ_t and stores the particles'
 //! transmittance, which attenuates the surfaces and the sky behind the cloud.
@@ -48,8 +48,9 @@
 //! neighbours); a spot's cone is point-sampled per froxel (near its apex the froxel is partly
 //! lit); temporal accumulation keeps no history rejection, so it lags behind moving lights and
 //! objects (pen-orbit) and blurs the history a little on every reprojection; particle media with
-//! at most four lights (one extinction grid each), and a local light outside every particle,
-//! seeing the cloud within 80°.
+//! at most four lights (one extinction grid each: orthographic for the sun, a cone from a local
+//! light seeing the cloud within 80°, else — the light inside a particle or the cloud all around
+//! it — a cube of six 90° faces, six times the memory).
 //!
 //! Exponential height fog: integrated (each slice's mean σ_s and σ_t along its ray, the light
 //! leg's exact optical depth), homogeneous media only.

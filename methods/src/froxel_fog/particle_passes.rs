@@ -22,9 +22,23 @@ use crate::common::surface_shadow::SurfaceShadow;
 use crate::common::wgsl;
 
 /// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`): one
-/// per light, so particle media render with at most this many lights (`support`). Each grid
-/// holds extinction_grid³ optical depths (1 MiB at the default 64, 64 MiB at the knob's 256).
+/// per light, so particle media render with at most this many lights (`support`).
 pub const PARTICLE_GRIDS: usize = 4;
+
+/// Optical depths the light grids of `lights` need at most (`n` columns per side): n³ for the
+/// sun's, 6 n³ for a local light's (its grid may be a cube, particles::light_grid).
+pub fn grid_values(lights: &[scenes::desc::LightDesc], n: u32) -> u64 {
+    let faces = |l: &scenes::desc::LightDesc| match l {
+        scenes::desc::LightDesc::Directional { .. } => 1,
+        _ => 6,
+    };
+    let per_face = (n as u64).pow(3);
+    lights
+        .iter()
+        .take(PARTICLE_GRIDS)
+        .map(|l| faces(l) * per_face)
+        .sum()
+}
 
 /// `ParticleMedium` in extinction.wgsl.
 #[repr(C)]
@@ -304,15 +318,14 @@ fn surface_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
 
 impl ParticlePasses {
     /// This frame's bins and light grids — rebuilt on the CPU only when the camera or a light
-    /// changed (or with no_skip) — and the particle uniform. Fails when a local light's grid
-    /// cannot be placed (particles::light_grid).
+    /// changed (or with no_skip) — and the particle uniform.
     pub fn update(
         &mut self,
         gpu: &Gpu,
         frame: &FrameState,
         shared: &Shared,
         report: &mut FrameReport,
-    ) -> Result<()> {
+    ) {
         let c = &mut self.cache;
         let camera_changed = c.camera != Some(frame.camera);
         let lights_changed = c.lights != frame.lights || c.camera.is_none();
@@ -321,7 +334,7 @@ impl ParticlePasses {
                 "particle-bins",
                 "camera and lights unchanged since the previous frame",
             );
-            return Ok(());
+            return;
         }
         let g = self.grid;
         c.camera_bins = camera_bins(&self.parts, &frame.camera, g.image, g.pixel_size, g.columns);
@@ -331,7 +344,7 @@ impl ParticlePasses {
             .iter()
             .take(PARTICLE_GRIDS)
             .map(|l| light_grid(l, &self.parts, self.n))
-            .collect::<Result<_>>()?;
+            .collect();
         c.lights = frame.lights.clone();
         let sets: Vec<&Bins> = std::iter::once(&c.camera_bins)
             .chain(c.grids.iter().map(|(_, b)| b))
@@ -349,18 +362,19 @@ impl ParticlePasses {
             count: self.parts.len() as u32,
             ..Zeroable::zeroed()
         };
-        let per_grid = self.n * self.n * self.n;
+        let per_face = self.n * self.n * self.n;
+        let mut depth_at = 0;
         for (k, (grid, _)) in c.grids.iter().enumerate() {
             u.grids[k] = LightGrid {
-                depth_at: k as u32 * per_grid,
+                depth_at,
                 bins_at: starts[k + 1],
                 ..*grid
             };
+            depth_at += grid.faces() * per_face;
         }
         gpu.queue
             .write_buffer(&shared.medium.uniform, 0, bytemuck::bytes_of(&u));
         report.ran("particle-bins");
-        Ok(())
     }
 
     /// Particles with a froxel column to voxelise into, and (particle, column) pairs.
@@ -400,7 +414,8 @@ impl ParticlePasses {
         }
         let mut pass = self.pass(gpu, enc, r, "froxel extinction");
         pass.set_pipeline(&self.extinction);
-        pass.dispatch_workgroups((self.n * self.n).div_ceil(64), 1, lights);
+        // Room for a cube's six faces; a grid of one face ends its threads past n².
+        pass.dispatch_workgroups((6 * self.n * self.n).div_ceil(64), 1, lights);
     }
 
     /// Removes from the background-only surface each light's share blocked by the cloud (after
