@@ -155,7 +155,7 @@ fn face_case(
                     checked += 1;
                     let col = (first + j * n + i) as usize;
                     assert!(
-                        listed(&bins, col, k),
+                        listed(bins, col, k),
                         "column ({i}, {j}) misses particle {k}"
                     );
                 }

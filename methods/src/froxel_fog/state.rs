@@ -111,7 +111,7 @@ impl State {
         } else {
             0
         };
-        let max = gpu.device.limits().max_storage_buffer_binding_size as u64;
+        let max = gpu.device.limits().max_storage_buffer_binding_size;
         if 4 * grid_values > max {
             return Err(KnobError {
                 method: "froxel-fog".into(),
