@@ -48,7 +48,7 @@ struct ParticleMedium {
     grids: array<LightGrid, 4>,  // particle_passes::PARTICLE_GRIDS
 };
 
-// Axis of cube face f: +x, −x, +y, −y, +z, −z (particles.rs CUBE_AXES).
+// Axis of cube face f: +x, −x, +y, −y, +z, −z (common::shadow_maps::CUBE_FACE_AXES).
 fn cube_axis(f: u32) -> vec3<f32> {
     let s = select(1.0, -1.0, (f & 1u) == 1u);
     let a = f / 2u;

@@ -12,6 +12,7 @@ use glam::Vec3;
 use scenes::particles::Particle;
 use scenes::{CameraPose, LightState};
 
+use crate::common::shadow_maps::CUBE_FACE_AXES;
 use crate::common::sphere_cone::SphereSeen;
 
 /// `Particle` in particles.wgsl.
@@ -175,7 +176,7 @@ pub struct LightGrid {
     pub axis: [f32; 4],
     pub z1: f32,
     /// 0: none, 1: orthographic (sun), 2: perspective (local light), 3: a cube of six
-    /// perspective faces around a local light ([`CUBE_AXES`]; right, up and axis unused), its
+    /// perspective faces around a local light ([`CUBE_FACE_AXES`]; right, up and axis unused), its
     /// depths and bins face after face.
     pub kind: u32,
     pub n: u32,
@@ -192,16 +193,6 @@ impl LightGrid {
         if self.kind == 3 { 6 } else { 1 }
     }
 }
-
-/// The axes of a cube grid's faces, in order (`cube_axis` in extinction.wgsl).
-pub const CUBE_AXES: [Vec3; 6] = [
-    Vec3::X,
-    Vec3::NEG_X,
-    Vec3::Y,
-    Vec3::NEG_Y,
-    Vec3::Z,
-    Vec3::NEG_Z,
-];
 
 /// A unit basis (right, up) ⟂ `axis` (`grid_basis` in extinction.wgsl).
 pub fn basis(axis: Vec3) -> (Vec3, Vec3) {
@@ -333,7 +324,7 @@ fn cube_grid(lp: Vec3, parts: &[GpuParticle], mut g: LightGrid) -> (LightGrid, B
     g.axis = [0.0; 4];
     g.z1 = z1;
     let mut rects = Vec::new();
-    for (f, &axis) in CUBE_AXES.iter().enumerate() {
+    for (f, &axis) in CUBE_FACE_AXES.iter().enumerate() {
         let (right, up) = basis(axis);
         let spans = cone_spans(lp, (axis, right, up), 1.0, (n, z1), parts);
         let shift = f as u32 * n;

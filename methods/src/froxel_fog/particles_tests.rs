@@ -114,7 +114,7 @@ fn light_grid_case(light: LightState, centre: Vec3, kind: u32) {
     let mut checked = 0;
     for f in 0..g.faces() {
         let (right, up, axis) = if g.kind == 3 {
-            let axis = CUBE_AXES[f as usize];
+            let axis = CUBE_FACE_AXES[f as usize];
             let (right, up) = basis(axis);
             (right, up, axis)
         } else {
