@@ -346,6 +346,7 @@ fn validation_errors_and_device_loss_are_recorded_as_failed() {
         record: stress::one_frame(&out, (16, 16)),
         cases: vec![stress::find("sigma-t-1e-6").unwrap()],
         triangles: 1000,
+        particles: 1000,
         resume: false,
         run_id: "test".into(),
         isolation: Default::default(),

@@ -1,11 +1,14 @@
 //! The stress suite in CI: every stress case × every registered method at 64², judged by the
 //! suite's criteria (no panic, no wgpu error, no non-finite pixel, error within the method's
-//! declared bound, or a clean "unsupported"). `many-triangles` runs at 100k triangles here; the
-//! manual `scatterbench stress` runs it at 1M.
+//! declared bound, or a clean "unsupported"). `many-triangles` runs at 100k triangles here and
+//! `particle-million` at 20k particles; the manual `scatterbench stress` runs both at 1M.
 
 use harness::results::Status;
 use harness::stress::{self, CASES, StressConfig, Verdict, judge};
 use harness::testing::{gpu_or_skip as gpu, temp_dir as tmp};
+
+/// Particles of `particle-million` here (the manual run's 1M would cost CI minutes per method).
+const CI_PARTICLES: usize = 20_000;
 
 #[test]
 fn every_case_builds_a_valid_scene() {
@@ -15,6 +18,7 @@ fn every_case_builds_a_valid_scene() {
         height: 64,
         mesh_dir: &dir,
         triangles: 100_000,
+        particles: CI_PARTICLES,
     };
     for c in CASES {
         let s = c.scene(&ctx).unwrap_or_else(|e| panic!("{}: {e}", c.name));
@@ -23,6 +27,14 @@ fn every_case_builds_a_valid_scene() {
     // The many-triangles case has at least the triangles asked for.
     let s = stress::find("many-triangles").unwrap().scene(&ctx).unwrap();
     assert!(s.triangle_count() >= 100_000, "{}", s.triangle_count());
+    // The particle-million case has the particles asked for.
+    let s = stress::find("particle-million")
+        .unwrap()
+        .scene(&ctx)
+        .unwrap();
+    let medium = s.medium();
+    let count = medium.particles().unwrap().particles.len();
+    assert_eq!(count, CI_PARTICLES);
     // The view-through-light case puts the light on the exact ray of the centre pixel.
     let s = stress::find("view-through-light")
         .unwrap()
@@ -49,6 +61,7 @@ fn stress_suite_passes_on_every_method_at_64() {
         record: stress::one_frame(&out, (64, 64)),
         cases: Vec::new(),
         triangles: 100_000,
+        particles: CI_PARTICLES,
         resume: false,
         run_id: "test".into(),
         isolation: Default::default(),

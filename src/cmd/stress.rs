@@ -23,6 +23,9 @@ pub struct StressArgs {
     /// Triangles in the many-triangles case, 1..=100000000.
     #[arg(long, default_value = "1000000", value_parser = args::int_in(1..=100_000_000usize))]
     pub triangles: usize,
+    /// Particles in the particle-million case, 1..=1000000 (the scene format's most).
+    #[arg(long, default_value = "1000000", value_parser = args::int_in(1..=1_000_000usize))]
+    pub particles: usize,
     #[command(flatten)]
     pub resume: Resume,
     #[command(flatten)]
@@ -60,6 +63,7 @@ pub fn run(a: StressArgs, registry: Registry) -> Result<()> {
         },
         cases,
         triangles: a.triangles,
+        particles: a.particles,
         resume: a.resume.resume,
         run_id,
         isolation: a.isolate.isolation()?,

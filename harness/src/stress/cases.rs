@@ -9,6 +9,7 @@ use scenes::{Scene, parse_scene};
 use serde_json::{Value, json};
 
 use super::meshes;
+use super::particle_cases as particles;
 
 /// What a case builder may depend on.
 pub struct BuildContext<'a> {
@@ -20,6 +21,8 @@ pub struct BuildContext<'a> {
     pub mesh_dir: &'a Path,
     /// Triangle count of `many-triangles` (1M in the manual run; smaller in CI).
     pub triangles: usize,
+    /// Particle count of `particle-million` (1M in the manual run; smaller in CI).
+    pub particles: usize,
 }
 
 /// One stress case.
@@ -125,6 +128,41 @@ pub const CASES: &[Case] = &[
         name: "many-triangles",
         about: "a finely tessellated sphere (1M triangles in the full run) over a floor",
         build: many_triangles,
+    },
+    Case {
+        name: "particle-fills-view",
+        about: "one sphere particle covers every pixel: every ray's chord, the whole screen one impostor",
+        build: particles::fills_view,
+    },
+    Case {
+        name: "particle-million",
+        about: "a million small particles (the format's most; fewer in CI): memory, bins and sorting at scale",
+        build: particles::million,
+    },
+    Case {
+        name: "particles-same-centre",
+        about: "64 equal spheres at one centre: overlapping τ adds, every depth sort ties",
+        build: particles::same_centre,
+    },
+    Case {
+        name: "particles-zero-density",
+        about: "a cloud of τ = 0 spheres: nothing scatters or dims (0/0 where a method divides by τ)",
+        build: particles::zero_density,
+    },
+    Case {
+        name: "camera-in-dense-particle",
+        about: "the eye inside a sphere of τ 3 /m: every ray starts inside a particle",
+        build: particles::camera_in_dense,
+    },
+    Case {
+        name: "light-in-particle",
+        about: "a point light inside a sphere of a cloud: the 1/r² peak inside τ, every light ray starts in it",
+        build: particles::light_in_particle,
+    },
+    Case {
+        name: "particle-radii-1e-4-to-1e3",
+        about: "radii 1e-4 to 1e3 m in one cloud: sub-pixel spheres beside one that holds the whole scene and the eye",
+        build: particles::radii_span,
     },
 ];
 

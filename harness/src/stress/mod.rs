@@ -12,6 +12,7 @@
 
 mod cases;
 pub mod meshes;
+mod particle_cases;
 
 use std::panic::AssertUnwindSafe;
 use std::path::PathBuf;
@@ -36,6 +37,8 @@ pub struct StressConfig {
     pub cases: Vec<&'static Case>,
     /// Triangle count of `many-triangles`.
     pub triangles: usize,
+    /// Particle count of `particle-million`.
+    pub particles: usize,
     pub resume: bool,
     pub run_id: String,
     /// Worker processes and the watchdog for every record; `retry_failed` (with `resume`)
@@ -137,6 +140,7 @@ pub fn run(
         height: cfg.record.height,
         mesh_dir: &mesh_dir,
         triangles: cfg.triangles,
+        particles: cfg.particles,
     };
     let cases: Vec<&Case> = if cfg.cases.is_empty() {
         CASES.iter().collect()

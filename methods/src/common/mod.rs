@@ -23,6 +23,7 @@ pub mod specialize;
 pub mod sphere_cone;
 pub mod stencil;
 pub mod stencil_surfaces;
+pub mod surface_shadow;
 pub mod tables;
 pub mod uniforms;
 pub mod wgsl;

@@ -14,7 +14,8 @@ struct LightGrid {
     axis: vec4<f32>,
     // depth of the last slab's far end
     z1: f32,
-    // 0 none, 1 orthographic (sun), 2 perspective (local light)
+    // 0 none, 1 orthographic (sun), 2 perspective (local light), 3 a cube of six perspective
+    // faces around a local light (face_grid), depths and bins face after face
     kind: u32,
     // columns per side and slabs per column
     n: u32,
@@ -47,6 +48,40 @@ struct ParticleMedium {
     grids: array<LightGrid, 4>,  // particle_passes::PARTICLE_GRIDS
 };
 
+// Axis of cube face f: +x, −x, +y, −y, +z, −z (common::shadow_maps::CUBE_FACE_AXES).
+fn cube_axis(f: u32) -> vec3<f32> {
+    let s = select(1.0, -1.0, (f & 1u) == 1u);
+    let a = f / 2u;
+    return vec3<f32>(select(0.0, s, a == 0u), select(0.0, s, a == 1u), select(0.0, s, a == 2u));
+}
+
+// The cube face whose 90° cone holds direction q.
+fn cube_face(q: vec3<f32>) -> u32 {
+    let a = abs(q);
+    if (a.x >= a.y && a.x >= a.z) {
+        return select(0u, 1u, q.x < 0.0);
+    }
+    if (a.y >= a.z) {
+        return select(2u, 3u, q.y < 0.0);
+    }
+    return select(4u, 5u, q.z < 0.0);
+}
+
+// Face f of cube grid g as a perspective grid of its own (particles.rs basis and cube_grid).
+fn face_grid(g: LightGrid, f: u32) -> LightGrid {
+    let axis = cube_axis(f);
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(axis.y) < 0.9);
+    let right = normalize(cross(axis, helper));
+    var face = g;
+    face.kind = 2u;
+    face.right = vec4<f32>(right, 1.0);
+    face.up = vec4<f32>(cross(right, axis), 0.0);
+    face.axis = vec4<f32>(axis, 0.0);
+    face.depth_at = g.depth_at + f * g.n * g.n * g.n;
+    face.bins_at = g.bins_at + f * g.n * g.n;
+    return face;
+}
+
 // Grid position of world point x: (u, v) in [−1, 1]² across the columns, z the depth along the
 // column's ray; w < 0 when x lies outside the grid's cone (local light, behind it).
 fn light_grid_coord(g: LightGrid, x: vec3<f32>) -> vec4<f32> {
@@ -71,9 +106,12 @@ fn column_depth(g: LightGrid, col: u32, s: f32) -> f32 {
 
 // Particle optical depth between light k and world point x (0 without particles or outside the grid).
 fn particle_depth_to_light(k: u32, x: vec3<f32>) -> f32 {
-    let g = particle_medium.grids[k];
+    var g = particle_medium.grids[k];
     if (g.kind == 0u) {
         return 0.0;
+    }
+    if (g.kind == 3u) {
+        g = face_grid(g, cube_face(x - g.origin.xyz));
     }
     let c = light_grid_coord(g, x);
     if (c.w < 0.0 || any(abs(c.xy) > vec2<f32>(1.0))) {

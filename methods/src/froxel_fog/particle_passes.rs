@@ -1,8 +1,9 @@
 //! GPU side of particle media: the buffers the volume passes read (per-froxel density, the
 //! light grids' optical depths, the particle uniform — 16-byte stubs for homogeneous media), and
 //! for particle scenes the `voxelise` and `extinction` passes, the bins they walk (rebuilt on
-//! the CPU only when the camera or a light changed), and the pass that attenuates the surface
-//! AOV by the cloud (particle_surface.wgsl).
+//! the CPU only when the camera or a light changed), the cloud's shadow on surfaces per light
+//! (`common::surface_shadow` with particle_shadow.wgsl) and the pass that attenuates the surface
+//! AOV by the cloud toward the eye (particle_surface.wgsl).
 
 use anyhow::Result;
 use bytemuck::{Pod, Zeroable};
@@ -11,18 +12,33 @@ use harness::{FrameReport, Gpu, Targets};
 use scenes::{CameraPose, FrameState, LightState};
 
 use super::particles::{Bins, GpuParticle, LightGrid, camera_bins, light_grid};
-use super::shaders::{particle_surface_source, particles_source};
+use super::shaders::{particle_shadow_source, particle_surface_source, particles_source};
 use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
+use crate::common::surface_shadow::SurfaceShadow;
 use crate::common::wgsl;
 
-/// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`).
-/// Particle media render with one light (`support`); the room for four is the uniform's as it
-/// was before the shared renderer grew past four lights.
+/// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`): one
+/// per light, so particle media render with at most this many lights (`support`).
 pub const PARTICLE_GRIDS: usize = 4;
+
+/// Optical depths the light grids of `lights` need at most (`n` columns per side): n³ for the
+/// sun's, 6 n³ for a local light's (its grid may be a cube, particles::light_grid).
+pub fn grid_values(lights: &[scenes::desc::LightDesc], n: u32) -> u64 {
+    let faces = |l: &scenes::desc::LightDesc| match l {
+        scenes::desc::LightDesc::Directional { .. } => 1,
+        _ => 6,
+    };
+    let per_face = (n as u64).pow(3);
+    lights
+        .iter()
+        .take(PARTICLE_GRIDS)
+        .map(|l| faces(l) * per_face)
+        .sum()
+}
 
 /// `ParticleMedium` in extinction.wgsl.
 #[repr(C)]
@@ -92,6 +108,8 @@ pub struct ParticlePasses {
     extinction: wgpu::ComputePipeline,
     surface_layout: wgpu::BindGroupLayout,
     surface: wgpu::ComputePipeline,
+    /// The cloud's shadow on surfaces, one pass per light.
+    shadow: SurfaceShadow,
     /// The shared surface pass's output (shaded with the background medium only).
     pub surface_view: wgpu::TextureView,
     grid: Grid,
@@ -192,6 +210,15 @@ impl ParticlePasses {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let src = particles_source();
+        let lights = renderer.scene.desc.lights.len().min(PARTICLE_GRIDS);
+        let shadow = SurfaceShadow::new(
+            &gpu.device,
+            renderer,
+            shadow_group(gpu, shared.medium),
+            renderer.specialization.constants(),
+            lights,
+            &particle_shadow_source(),
+        );
         Ok(ParticlePasses {
             voxelise: compute_pipeline(gpu, renderer, &layout, &src, "voxelise"),
             extinction: compute_pipeline(gpu, renderer, &layout, &src, "extinction"),
@@ -210,6 +237,7 @@ impl ParticlePasses {
             layout,
             bind,
             surface_layout,
+            shadow,
             grid,
             n,
             cache: Cache::default(),
@@ -248,6 +276,27 @@ fn particle_group(
     })
 }
 
+/// Group 1 of the per-light cloud-shadow pass (particle_shadow.wgsl): the particle uniform and
+/// the light grids' optical depths.
+fn shadow_group(gpu: &Gpu, medium: &MediumBuffers) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let fs = wgpu::ShaderStages::FRAGMENT;
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("froxel particle shadow"),
+            entries: &[uniform_buffer(0, fs), storage_buffer(1, fs, true)],
+        });
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("froxel particle shadow"),
+        layout: &layout,
+        entries: &[
+            buffer_entry(0, &medium.uniform),
+            buffer_entry(1, &medium.optical_depth),
+        ],
+    });
+    (layout, bind)
+}
+
 /// Group 1 of the particle surface pass: ray distance, the background-only surface, the grid
 /// uniform, the integrated volume, the particle uniform, the optical depths, the surface AOV.
 fn surface_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
@@ -269,15 +318,14 @@ fn surface_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
 
 impl ParticlePasses {
     /// This frame's bins and light grids — rebuilt on the CPU only when the camera or a light
-    /// changed (or with no_skip) — and the particle uniform. Fails when a local light's grid
-    /// cannot be placed (particles::light_grid).
+    /// changed (or with no_skip) — and the particle uniform.
     pub fn update(
         &mut self,
         gpu: &Gpu,
         frame: &FrameState,
         shared: &Shared,
         report: &mut FrameReport,
-    ) -> Result<()> {
+    ) {
         let c = &mut self.cache;
         let camera_changed = c.camera != Some(frame.camera);
         let lights_changed = c.lights != frame.lights || c.camera.is_none();
@@ -286,7 +334,7 @@ impl ParticlePasses {
                 "particle-bins",
                 "camera and lights unchanged since the previous frame",
             );
-            return Ok(());
+            return;
         }
         let g = self.grid;
         c.camera_bins = camera_bins(&self.parts, &frame.camera, g.image, g.pixel_size, g.columns);
@@ -296,7 +344,7 @@ impl ParticlePasses {
             .iter()
             .take(PARTICLE_GRIDS)
             .map(|l| light_grid(l, &self.parts, self.n))
-            .collect::<Result<_>>()?;
+            .collect();
         c.lights = frame.lights.clone();
         let sets: Vec<&Bins> = std::iter::once(&c.camera_bins)
             .chain(c.grids.iter().map(|(_, b)| b))
@@ -314,18 +362,19 @@ impl ParticlePasses {
             count: self.parts.len() as u32,
             ..Zeroable::zeroed()
         };
-        let per_grid = self.n * self.n * self.n;
+        let per_face = self.n * self.n * self.n;
+        let mut depth_at = 0;
         for (k, (grid, _)) in c.grids.iter().enumerate() {
             u.grids[k] = LightGrid {
-                depth_at: k as u32 * per_grid,
+                depth_at,
                 bins_at: starts[k + 1],
                 ..*grid
             };
+            depth_at += grid.faces() * per_face;
         }
         gpu.queue
             .write_buffer(&shared.medium.uniform, 0, bytemuck::bytes_of(&u));
         report.ran("particle-bins");
-        Ok(())
     }
 
     /// Particles with a froxel column to voxelise into, and (particle, column) pairs.
@@ -365,10 +414,19 @@ impl ParticlePasses {
         }
         let mut pass = self.pass(gpu, enc, r, "froxel extinction");
         pass.set_pipeline(&self.extinction);
-        pass.dispatch_workgroups((self.n * self.n).div_ceil(64), 1, lights);
+        // Room for a cube's six faces; a grid of one face ends its threads past n².
+        pass.dispatch_workgroups((6 * self.n * self.n).div_ceil(64), 1, lights);
     }
 
-    /// The surface AOV: the background-only surface attenuated by the cloud, or the sky.
+    /// Removes from the background-only surface each light's share blocked by the cloud (after
+    /// `encode_extinction`).
+    pub fn encode_shadow(&self, enc: &mut wgpu::CommandEncoder, r: &SceneRenderer) {
+        for k in 0..self.cache.grids.len() {
+            self.shadow.encode(enc, r, &self.surface_view, k);
+        }
+    }
+
+    /// The surface AOV: the shadowed surface attenuated by the cloud toward the eye, or the sky.
     pub fn encode_surface(
         &self,
         gpu: &Gpu,

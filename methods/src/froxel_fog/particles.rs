@@ -3,14 +3,16 @@
 //! into froxel columns (which particles a column's rays can cross: a conservative screen
 //! rectangle per sphere) and into the columns of one light-space extinction grid per light (its
 //! placement: orthographic along the sun, a perspective cone from a local light around the
-//! cloud), as the `voxelise` and `extinction` passes consume them (particles.wgsl).
+//! cloud, or a cube of six 90° cones when the light lies inside a particle or the cloud spans
+//! more than 80° around it), as the `voxelise` and `extinction` passes consume them
+//! (particles.wgsl).
 
-use anyhow::{Result, bail};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use scenes::particles::Particle;
 use scenes::{CameraPose, LightState};
 
+use crate::common::shadow_maps::CUBE_FACE_AXES;
 use crate::common::sphere_cone::SphereSeen;
 
 /// `Particle` in particles.wgsl.
@@ -42,9 +44,9 @@ pub struct Bins {
     pub indices: Vec<u32>,
 }
 
-/// A counting sort of `spans` (per particle, the inclusive column rectangle (x0, x1, y0, y1) it
-/// covers, or None) into the columns of an `nx` × `ny` grid.
-fn bin(nx: u32, ny: u32, spans: &[Option<[u32; 4]>]) -> Bins {
+/// A counting sort of `rects` (a particle's index and an inclusive column rectangle (x0, x1, y0,
+/// y1) it covers; a particle may have several) into the columns of an `nx` × `ny` grid.
+fn bin(nx: u32, ny: u32, rects: &[(u32, [u32; 4])]) -> Bins {
     let cols = (nx * ny) as usize;
     let mut offsets = vec![0u32; cols + 1];
     let each = |s: &[u32; 4], f: &mut dyn FnMut(usize)| {
@@ -54,7 +56,7 @@ fn bin(nx: u32, ny: u32, spans: &[Option<[u32; 4]>]) -> Bins {
             }
         }
     };
-    for s in spans.iter().flatten() {
+    for (_, s) in rects {
         each(s, &mut |c| offsets[c + 1] += 1);
     }
     for c in 0..cols {
@@ -62,15 +64,19 @@ fn bin(nx: u32, ny: u32, spans: &[Option<[u32; 4]>]) -> Bins {
     }
     let mut fill = offsets.clone();
     let mut indices = vec![0u32; offsets[cols] as usize];
-    for (i, s) in spans.iter().enumerate() {
-        if let Some(s) = s {
-            each(s, &mut |c| {
-                indices[fill[c] as usize] = i as u32;
-                fill[c] += 1;
-            });
-        }
+    for &(i, ref s) in rects {
+        each(s, &mut |c| {
+            indices[fill[c] as usize] = i;
+            fill[c] += 1;
+        });
     }
     Bins { offsets, indices }
+}
+
+/// One rectangle per particle (None: it covers no column) as `bin` takes them.
+fn indexed(spans: &[Option<[u32; 4]>]) -> Vec<(u32, [u32; 4])> {
+    let each = spans.iter().enumerate();
+    each.filter_map(|(i, s)| s.map(|s| (i as u32, s))).collect()
 }
 
 /// The columns of a grid of `n` = (nx, ny) cells over [lo, hi]² covering the interval
@@ -150,7 +156,7 @@ pub fn camera_bins(
             )
         })
         .collect();
-    bin(grid.0, grid.1, &spans)
+    bin(grid.0, grid.1, &indexed(&spans))
 }
 
 /// One light's extinction grid: `n` × `n` columns of rays, each cut into `n` slabs between depths
@@ -161,43 +167,53 @@ pub struct LightGrid {
     /// xyz: the sun's grid centre (on the plane through the world origin ⟂ its direction) or the
     /// local light's position.
     pub origin: [f32; 4],
-    /// xyz: unit right; w: half-extent (m, sun) or tan of the cone's half-angle (local light).
+    /// xyz: unit right; w: half-extent (m, sun) or tan of the cone's half-angle (local light;
+    /// 1 for every face of a cube).
     pub right: [f32; 4],
     /// xyz: unit up.
     pub up: [f32; 4],
     /// xyz: unit axis (the sun's propagation direction, or the cone's axis); w: z0.
     pub axis: [f32; 4],
     pub z1: f32,
-    /// 0: none, 1: orthographic (sun), 2: perspective (local light).
+    /// 0: none, 1: orthographic (sun), 2: perspective (local light), 3: a cube of six
+    /// perspective faces around a local light ([`CUBE_FACE_AXES`]; right, up and axis unused), its
+    /// depths and bins face after face.
     pub kind: u32,
     pub n: u32,
-    /// First value of this grid in the optical-depth buffer.
+    /// First value of this grid in the optical-depth buffer (n³ per face).
     pub depth_at: u32,
     /// First column offset of this grid's bins in the bins buffer.
     pub bins_at: u32,
     pub _pad: [u32; 3],
 }
 
-/// A unit basis (right, up) ⟂ `axis`.
-fn basis(axis: Vec3) -> (Vec3, Vec3) {
+impl LightGrid {
+    /// Faces of the grid: 6 for a cube, else 1.
+    pub fn faces(&self) -> u32 {
+        if self.kind == 3 { 6 } else { 1 }
+    }
+}
+
+/// A unit basis (right, up) ⟂ `axis` (`grid_basis` in extinction.wgsl).
+pub fn basis(axis: Vec3) -> (Vec3, Vec3) {
     let helper = if axis.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
     let right = axis.cross(helper).normalize();
     (right, right.cross(axis))
 }
 
 /// The widest half-angle a local light's cone may have (a perspective grid beyond it would
-/// waste its columns at the edges; a light inside the cloud needs a different placement).
+/// waste its columns at the edges; wider, or a light inside a particle, gets a cube).
 const MAX_HALF_ANGLE_DEG: f32 = 80.0;
 
 /// The extinction grid of `light` around `parts` (`n` columns per side, `n` slabs) and its bins.
-pub fn light_grid(light: &LightState, parts: &[GpuParticle], n: u32) -> Result<(LightGrid, Bins)> {
+pub fn light_grid(light: &LightState, parts: &[GpuParticle], n: u32) -> (LightGrid, Bins) {
     let centre = |p: &GpuParticle| Vec3::from_array(p.center);
     let mut g = LightGrid {
         n,
         ..Default::default()
     };
     if parts.is_empty() {
-        return Ok((g, bin(n, n, &[])));
+        return (g, bin(n, n, &[]));
     }
     let spans: Vec<Option<[u32; 4]>> = match light {
         LightState::Directional { direction, .. } => {
@@ -230,40 +246,60 @@ pub fn light_grid(light: &LightState, parts: &[GpuParticle], n: u32) -> Result<(
         }
         _ => {
             let lp = light.position().expect("a local light has a position");
-            local_grid(lp, parts, &mut g)?
+            match local_grid(lp, parts, &mut g) {
+                Some(spans) => spans,
+                None => return cube_grid(lp, parts, g),
+            }
         }
     };
-    Ok((g, bin(n, n, &spans)))
+    (g, bin(n, n, &indexed(&spans)))
+}
+
+/// Per particle, the columns of an `n` × `n` perspective grid from `lp` (unit `axis`, `right`,
+/// `up`; `tan` of its half-angle, depths up to `z1`) its sphere can meet: None behind the grid's
+/// plane, every column when it reaches that plane.
+fn cone_spans(
+    lp: Vec3,
+    (axis, right, up): (Vec3, Vec3, Vec3),
+    tan: f32,
+    (n, z1): (u32, f32),
+    parts: &[GpuParticle],
+) -> Vec<Option<[u32; 4]>> {
+    parts
+        .iter()
+        .map(|p| {
+            let q = Vec3::from_array(p.center) - lp;
+            let (d, r) = (q.dot(axis), p.radius);
+            if d + r <= 0.0 {
+                return None;
+            }
+            if d - r <= 1e-4 * z1 {
+                return Some([0, n - 1, 0, n - 1]);
+            }
+            let (u0, u1) = projected(q.dot(right), d, r);
+            let (v0, v1) = projected(q.dot(up), d, r);
+            span((n, n), -tan, tan, (u0, u1), (v0, v1))
+        })
+        .collect()
 }
 
 /// A local light's perspective grid: a cone around the cloud from the light, depths along each
-/// column's ray from the light. Fails when the light lies inside a particle or the cloud spans
-/// more than [`MAX_HALF_ANGLE_DEG`] around it.
-fn local_grid(lp: Vec3, parts: &[GpuParticle], g: &mut LightGrid) -> Result<Vec<Option<[u32; 4]>>> {
-    let n = g.n;
+/// column's ray from the light. None when the light lies inside a particle (or at the cloud's
+/// centroid) or the cloud spans more than [`MAX_HALF_ANGLE_DEG`] around it.
+fn local_grid(lp: Vec3, parts: &[GpuParticle], g: &mut LightGrid) -> Option<Vec<Option<[u32; 4]>>> {
     let sum: Vec3 = parts.iter().map(|p| Vec3::from_array(p.center)).sum();
-    let Some(axis) = (sum / parts.len() as f32 - lp).try_normalize() else {
-        bail!("froxel-fog: the local light sits at the cloud's centroid");
-    };
+    let axis = (sum / parts.len() as f32 - lp).try_normalize()?;
     let (right, up) = basis(axis);
     let (mut half, mut z0, mut z1) = (0.0f32, f32::MAX, 0.0f32);
     for p in parts {
-        let seen = SphereSeen::from(lp, axis, Vec3::from_array(p.center), p.radius)
-            .filter(|s| s.distance > p.radius * 1.001);
-        let Some(s) = seen else {
-            bail!(
-                "froxel-fog: the local light lies inside a particle (its extinction grid is a cone from the light)"
-            );
-        };
+        let s = SphereSeen::from(lp, axis, Vec3::from_array(p.center), p.radius)
+            .filter(|s| s.distance > p.radius * 1.001)?;
         half = half.max(s.farthest());
         z0 = z0.min(s.distance - p.radius);
         z1 = z1.max(s.distance + p.radius);
     }
     if half > MAX_HALF_ANGLE_DEG.to_radians() {
-        bail!(
-            "froxel-fog: the cloud spans {:.0}° around the local light (at most {MAX_HALF_ANGLE_DEG}° for one extinction grid)",
-            half.to_degrees()
-        );
+        return None;
     }
     let tan = half.tan() * 1.01;
     g.kind = 2;
@@ -272,19 +308,30 @@ fn local_grid(lp: Vec3, parts: &[GpuParticle], g: &mut LightGrid) -> Result<Vec<
     g.up = up.extend(0.0).to_array();
     g.axis = axis.extend(z0.max(0.0)).to_array();
     g.z1 = z1;
-    Ok(parts
-        .iter()
-        .map(|p| {
-            let q = Vec3::from_array(p.center) - lp;
-            let (d, r) = (q.dot(axis), p.radius);
-            if d - r <= 1e-4 * z1 {
-                return Some([0, n - 1, 0, n - 1]);
-            }
-            let (u0, u1) = projected(q.dot(right), d, r);
-            let (v0, v1) = projected(q.dot(up), d, r);
-            span((n, n), -tan, tan, (u0, u1), (v0, v1))
-        })
-        .collect())
+    Some(cone_spans(lp, (axis, right, up), tan, (g.n, z1), parts))
+}
+
+/// A local light's cube grid: six 90° perspective faces around the light (any cloud, the light
+/// inside a particle included), depths from the light out to the farthest sphere; its bins are
+/// one `n` × 6n grid, face f's columns in rows f·n .. (f + 1)·n.
+fn cube_grid(lp: Vec3, parts: &[GpuParticle], mut g: LightGrid) -> (LightGrid, Bins) {
+    let n = g.n;
+    let far = |p: &GpuParticle| (Vec3::from_array(p.center) - lp).length() + p.radius;
+    let z1 = parts.iter().map(far).fold(0.0f32, f32::max);
+    g.kind = 3;
+    g.origin = lp.extend(0.0).to_array();
+    g.right = [1.0, 0.0, 0.0, 1.0];
+    g.axis = [0.0; 4];
+    g.z1 = z1;
+    let mut rects = Vec::new();
+    for (f, &axis) in CUBE_FACE_AXES.iter().enumerate() {
+        let (right, up) = basis(axis);
+        let spans = cone_spans(lp, (axis, right, up), 1.0, (n, z1), parts);
+        let shift = f as u32 * n;
+        let face = indexed(&spans).into_iter();
+        rects.extend(face.map(|(i, s)| (i, [s[0], s[1], s[2] + shift, s[3] + shift])));
+    }
+    (g, bin(n, 6 * n, &rects))
 }
 
 #[cfg(test)]

@@ -112,22 +112,29 @@ fn grid_ray_of(g: LightGrid, i: u32, j: u32) -> array<vec3<f32>, 2> {
     return array<vec3<f32>, 2>(g.origin.xyz, d);
 }
 
-// One thread per column (x) of light grid z.
+// One thread per column (x) of light grid z (of a cube's faces one after another).
 @compute @workgroup_size(64, 1, 1)
 fn extinction(@builtin(global_invocation_id) id: vec3<u32>) {
-    let g = particle_medium.grids[id.z];
-    if (g.kind == 0u || id.x >= g.n * g.n) {
+    let whole = particle_medium.grids[id.z];
+    let per_face = whole.n * whole.n;
+    let faces = select(1u, 6u, whole.kind == 3u);
+    if (whole.kind == 0u || id.x >= faces * per_face) {
         return;
     }
-    let base = g.depth_at + id.x * g.n;
+    var g = whole;
+    if (whole.kind == 3u) {
+        g = face_grid(whole, id.x / per_face);
+    }
+    let column = id.x % per_face;
+    let base = g.depth_at + column * g.n;
     for (var k = 0u; k < g.n; k++) {
         optical_depth[base + k] = 0.0;
     }
-    let ray = grid_ray_of(g, id.x % g.n, id.x / g.n);
+    let ray = grid_ray_of(g, column % g.n, column / g.n);
     let z0 = g.axis.w;
     let dz = (g.z1 - z0) / f32(g.n);
-    let first = bins[g.bins_at + id.x];
-    let last = bins[g.bins_at + id.x + 1u];
+    let first = bins[g.bins_at + column];
+    let last = bins[g.bins_at + column + 1u];
     for (var j = first; j < last; j++) {
         let p = particles[bins[j]];
         let c = chord(p, ray[0], ray[1]);

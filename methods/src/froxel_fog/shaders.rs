@@ -1,6 +1,6 @@
 //! The method's WGSL and its composition: the volume passes (inject, temporal, integrate), the
-//! apply pass, and for particle media the voxelise / extinction passes and the particle surface
-//! pass. A leaf, so the passes and the method description can both use it.
+//! apply pass, and for particle media the voxelise / extinction passes, the per-light cloud
+//! shadow on surfaces and the particle surface pass. A leaf, so the passes and the method description can both use it.
 
 use crate::common::{resolve, wgsl};
 
@@ -12,6 +12,7 @@ pub const LOOKUP_WGSL: &str = include_str!("lookup.wgsl");
 pub const EXTINCTION_WGSL: &str = include_str!("extinction.wgsl");
 pub const PARTICLES_WGSL: &str = include_str!("particles.wgsl");
 pub const PARTICLE_SURFACE_WGSL: &str = include_str!("particle_surface.wgsl");
+pub const PARTICLE_SHADOW_WGSL: &str = include_str!("particle_shadow.wgsl");
 
 /// The volume passes' composed WGSL (inject, temporal and integrate entry points).
 pub fn volume_source() -> String {
@@ -39,4 +40,11 @@ pub fn particles_source() -> String {
 pub fn particle_surface_source() -> String {
     let shared = [GRID_WGSL, LOOKUP_WGSL, EXTINCTION_WGSL];
     resolve::source(&wgsl::compose(&shared, PARTICLE_SURFACE_WGSL))
+}
+
+/// The per-light cloud-shadow pass over the surfaces (`common::surface_shadow`).
+pub fn particle_shadow_source() -> String {
+    let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
+    shared.extend([EXTINCTION_WGSL, wgsl::SURFACE_PASS]);
+    wgsl::compose(&shared, PARTICLE_SHADOW_WGSL)
 }

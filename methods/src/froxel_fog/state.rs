@@ -4,12 +4,13 @@
 
 use anyhow::Result;
 use harness::gpu::{PhaseTimer, phases};
+use harness::knobs::{KnobError, KnobProblem};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, KnobRead, Prepared, Targets};
 use scenes::FrameState;
 
 use super::grid::{FroxelUniform, Temporal};
-use super::particle_passes::{Grid, MediumBuffers, PARTICLE_GRIDS, ParticlePasses, Shared};
+use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared, grid_values};
 use super::passes::{Buffers, Dims, Modes, VolumePasses};
 use super::reach;
 use super::shaders::apply_wgsl;
@@ -106,10 +107,25 @@ impl State {
         let is_particles = renderer.scene.medium().particles().is_some();
         let n: u32 = p.knob("extinction_grid")?;
         let grid_values = if is_particles {
-            PARTICLE_GRIDS.min(renderer.scene.desc.lights.len()) as u64 * (n as u64).pow(3)
+            grid_values(&renderer.scene.desc.lights, n)
         } else {
             0
         };
+        let max = gpu.device.limits().max_storage_buffer_binding_size;
+        if 4 * grid_values > max {
+            return Err(KnobError {
+                method: "froxel-fog".into(),
+                knob: "extinction_grid".into(),
+                value: n.to_string(),
+                problem: KnobProblem::Conflict,
+                allowed: format!(
+                    "the lights' extinction grids (n³ optical depths per sun, 6 n³ per local light) within the adapter's {} MiB storage binding, not {} MiB",
+                    max >> 20,
+                    (4 * grid_values) >> 20
+                ),
+            }
+            .into());
+        }
         let medium = MediumBuffers::new(
             gpu,
             if is_particles { grid.froxels() } else { 0 },
@@ -219,7 +235,7 @@ impl State {
             froxel: &self.uniform,
             medium: &self.medium,
         };
-        parts.update(gpu, frame, &shared, &mut report)?;
+        parts.update(gpu, frame, &shared, &mut report);
         let (voxelised, pairs) = parts.counts();
         report.count("voxelised_particles", voxelised);
         report.count("particle_column_pairs", pairs);
@@ -229,6 +245,8 @@ impl State {
         self.timer.mark(enc, "extinction");
         parts.encode_extinction(gpu, enc, &self.renderer);
         report.ran("extinction");
+        parts.encode_shadow(enc, &self.renderer);
+        report.ran("particle-shadow");
         Ok(report)
     }
 }

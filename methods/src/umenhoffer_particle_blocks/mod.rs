@@ -105,6 +105,7 @@ pub mod passes;
 pub mod primitives;
 mod shaders;
 mod state;
+mod stress_bounds;
 pub mod surface_shadow;
 
 use anyhow::Result;
@@ -278,6 +279,10 @@ impl Method for UmenhofferParticleBlocks {
         shader_checks(self.id())
     }
 
+    fn stress_bound(&self, case: &str) -> Option<f64> {
+        stress_bounds::bound(self.id(), case)
+    }
+
     /// Bounds ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe: 0.075 at the
     /// defaults, 0.037 with per-cluster impostors and 8 slices.
     fn conformance(&self) -> Vec<ConformanceCase> {
@@ -317,6 +322,10 @@ impl Method for ParticleSplat {
 
     fn shaders(&self) -> Vec<ShaderCheck> {
         shader_checks(self.id())
+    }
+
+    fn stress_bound(&self, case: &str) -> Option<f64> {
+        stress_bounds::bound(self.id(), case)
     }
 
     /// Bound ≈ 1.5× the total AOV's rel RMSE measured at 48² on lavapipe (0.035).

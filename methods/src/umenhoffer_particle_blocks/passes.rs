@@ -379,9 +379,10 @@ impl Passes {
         let surface_shadow = SurfaceShadow::new(
             &gpu.device,
             renderer,
-            b.group("particle surface shadow", &SurfaceShadow::BINDINGS),
+            b.group("particle surface shadow", &super::surface_shadow::BINDINGS),
             &b.constants,
             sizes.lights,
+            &super::shaders::surface_shadow_source(),
         );
         let (total, total_layout) = total_pipeline(&gpu.device);
         Passes {
