@@ -15,11 +15,8 @@ struct View {
     // xyz: map centre (orthographic) or light position (perspective);
     // w: half extent (m, orthographic) or tan of the half angle (perspective)
     p: vec4<f32>,
-    // depths of slices 0..3 and 4..7 along the light (m)
-    slices_a: vec4<f32>,
-    slices_b: vec4<f32>,
-    // x: depth where the cloud starts along the light; y: where it ends; z: slice count S (4 or 8);
-    // w: unused
+    // x: depth where the cloud starts along the light; y: where it ends (m); z: slice count S;
+    // w: unused. Slice s (0 ≤ s < S) lies at depth x + (y − x)(s + 1)/S (`slice_depth`).
     range: vec4<f32>,
 };
 
@@ -75,8 +72,9 @@ struct ImpParticle {
 @group(1) @binding(3) var<storage, read> imp: array<ImpParticle>;
 // Impostor atlas: r = min front depth, g = min(−back depth), a = Σ τ·chord (prototype units).
 @group(1) @binding(4) var atlas: texture_2d<f32>;
-// Light slices, one layer per view: accumulated particle optical depth up to slice depths 0..3
-// and 4..7.
+// Light slices: accumulated particle optical depth up to each slice depth, four slices (one
+// group) per RGBA texel. Group g of view vi is layer vi·SLICE_PASSES + g/2 of slices0 (g even)
+// or slices1 (g odd): one light pass writes one layer of each (`slice_at`).
 @group(1) @binding(5) var slices0: texture_2d_array<f32>;
 @group(1) @binding(6) var slices1: texture_2d_array<f32>;
 @group(1) @binding(7) var ray_distance: texture_2d<f32>;
@@ -132,12 +130,29 @@ fn basis_of(dir: vec3<f32>) -> Basis {
 // uniform value under a mask, so a uniform knob tested in a hot loop costs its untaken side too
 // (the forward-scattering taps made smoke-point's resolve 3.4× slower with the knob off).
 override FORWARD_SCATTERING: bool = false;
-override EIGHT_SLICES: bool = false;
+// Slice groups G = S/4 (1, 2, 4, 8: S = 4 … 32 slices). One light pass renders two groups (two
+// RGBA targets), so a view takes SLICE_PASSES = max(G/2, 1) passes (passes.rs).
+override SLICE_GROUPS: u32 = 1u;
+
+fn slice_passes() -> u32 {
+    return max(SLICE_GROUPS / 2u, 1u);
+}
+
+// Depth of slice s of view vi along the light (m).
+fn slice_depth(vi: u32, s: f32) -> f32 {
+    let r = pb.views[vi].range;
+    return r.x + (r.y - r.x) * (s + 1.0) / r.z;
+}
 // Primitives are impostor blocks (false: analytic spheres, the splat).
 override BLOCKS: bool = true;
 // A block pixel's interval is the uniform one with its optical depth's mean and variance in
 // depth (knob `interval = moments`); false: [front, back] (the paper).
 override MOMENTS: bool = true;
+// Nodes of gather.wgsl's quadrature along a primitive's interval (knob `chord_steps`; 0: the
+// closed form). It converges the closed form's three approximations: the light's optical depth
+// linear along the interval, the phase and I at the midpoint only, and the mean 1/r² multiplied
+// with the mean transmittance rather than integrated with it.
+override CHORD_STEPS: u32 = 0u;
 
 fn is_perspective(vi: u32) -> bool {
     return pb.views[vi].u.w > 0.5;
@@ -292,43 +307,40 @@ fn tile_depths(s: TileSample) -> vec2<f32> {
     return vec2<f32>(max(s.front, mean - half), max(min(s.back, mean + half), mean));
 }
 
-// The light-map texel values of both slice textures around uv (bilinear, by hand: Rgba32Float
-// is not filterable everywhere).
-struct Slices {
-    a: vec4<f32>,
-    b: vec4<f32>,
-};
+// Slice s's accumulated optical depth at texel ij of view vi (s < 0: the cloud's start, 0).
+fn slice_at(vi: u32, ij: vec2<i32>, s: i32) -> f32 {
+    if (s < 0) { return 0.0; }
+    let g = u32(s) / 4u;
+    let layer = vi * slice_passes() + g / 2u;
+    var t: vec4<f32>;
+    if ((g & 1u) == 0u) {
+        t = textureLoad(slices0, ij, layer, 0);
+    } else {
+        t = textureLoad(slices1, ij, layer, 0);
+    }
+    return t[u32(s) % 4u];
+}
 
-fn load_slices(vi: u32, uv: vec2<f32>) -> Slices {
+// Optical depth at light depth d in map vi around uv: linear between the two enclosing slices
+// (§2.3), bilinear across texels (by hand: Rgba32Float is not filterable everywhere).
+fn depth_from_slices(vi: u32, uv: vec2<f32>, d: f32) -> f32 {
+    let r = pb.views[vi].range;
+    let f = clamp((d - r.x) / max(r.y - r.x, 1e-6) * r.z, 0.0, r.z);
+    let j0 = min(floor(f), r.z - 1.0);
+    let t = f - j0;
+    let s0 = i32(j0) - 1;
     let res = pb.counts.z;
-    let f = uv * res - 0.5;
-    let i0 = floor(f);
-    let w = f - i0;
-    var s = Slices(vec4<f32>(0.0), vec4<f32>(0.0));
+    let q = uv * res - 0.5;
+    let i0 = floor(q);
+    let w = q - i0;
+    var tau = 0.0;
     for (var k = 0u; k < 4u; k++) {
         let hx = (k & 1u) == 1u;
         let hy = (k >> 1u) == 1u;
         let o = vec2<f32>(select(0.0, 1.0, hx), select(0.0, 1.0, hy));
         let ij = vec2<i32>(clamp(i0 + o, vec2<f32>(0.0), vec2<f32>(res - 1.0)));
         let wk = select(1.0 - w.x, w.x, hx) * select(1.0 - w.y, w.y, hy);
-        s.a += wk * textureLoad(slices0, ij, vi, 0);
-        if (EIGHT_SLICES) { s.b += wk * textureLoad(slices1, ij, vi, 0); }
-    }
-    return s;
-}
-
-// Optical depth at light depth d in map vi, linear between the enclosing slices (§2.3): a sum of
-// ramps, one per slice interval, so no component is indexed dynamically.
-fn depth_from_slices(vi: u32, v: Slices, d: f32) -> f32 {
-    let a = pb.views[vi].slices_a;
-    let lo = vec4<f32>(pb.views[vi].range.x, a.x, a.y, a.z);
-    let r0 = clamp((vec4<f32>(d) - lo) / max(a - lo, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
-    var tau = dot(r0, v.a - vec4<f32>(0.0, v.a.x, v.a.y, v.a.z));
-    if (EIGHT_SLICES) {
-        let b = pb.views[vi].slices_b;
-        let lo2 = vec4<f32>(a.w, b.x, b.y, b.z);
-        let r1 = clamp((vec4<f32>(d) - lo2) / max(b - lo2, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
-        tau += dot(r1, v.b - vec4<f32>(v.a.w, v.b.x, v.b.y, v.b.z));
+        tau += wk * mix(slice_at(vi, ij, s0), slice_at(vi, ij, s0 + 1), t);
     }
     return tau;
 }
@@ -342,14 +354,14 @@ fn light_optical_depth(k: u32, x: vec3<f32>) -> f32 {
     let c = light_coord(vi, x);
     if (!c.ok) { return 0.0; }
     if (!FORWARD_SCATTERING) {
-        return depth_from_slices(vi, load_slices(vi, c.uv), c.depth);
+        return depth_from_slices(vi, c.uv, c.depth);
     }
     let radius = 0.2 * max(c.depth - pb.views[vi].range.x, 0.0) / c.span;
-    var t = exp(-depth_from_slices(vi, load_slices(vi, c.uv), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv + vec2<f32>(radius, 0.0)), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv - vec2<f32>(radius, 0.0)), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv + vec2<f32>(0.0, radius)), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv - vec2<f32>(0.0, radius)), c.depth));
+    var t = exp(-depth_from_slices(vi, c.uv, c.depth));
+    t += exp(-depth_from_slices(vi, c.uv + vec2<f32>(radius, 0.0), c.depth));
+    t += exp(-depth_from_slices(vi, c.uv - vec2<f32>(radius, 0.0), c.depth));
+    t += exp(-depth_from_slices(vi, c.uv + vec2<f32>(0.0, radius), c.depth));
+    t += exp(-depth_from_slices(vi, c.uv - vec2<f32>(0.0, radius), c.depth));
     return -log(max(t / 5.0, 1e-30));
 }
 

@@ -89,16 +89,10 @@ fn reaches(light: &LightState, prims: &[Prim]) -> bool {
         .any(|p| cone_reaches_sphere(*position, axis, outer, centre(p), p.center[3] * BOUNDS))
 }
 
-/// Slice depths spread evenly over [dmin, dmax] (slices beyond S repeat the last depth).
+/// S slices spread evenly over [dmin, dmax]: slice s at dmin + (dmax − dmin)(s + 1)/S
+/// (common.wgsl `slice_depth`).
 fn with_slices(mut v: ViewUniform, dmin: f32, dmax: f32, slices: u32) -> ViewUniform {
-    let s = slices.max(1) as usize;
-    let mut d = [0.0f32; 8];
-    for (i, x) in d.iter_mut().enumerate() {
-        *x = dmin + (dmax - dmin) * ((i.min(s - 1) + 1) as f32 / s as f32);
-    }
-    v.slices_a = [d[0], d[1], d[2], d[3]];
-    v.slices_b = [d[4], d[5], d[6], d[7]];
-    v.range = [dmin, dmax, s as f32, 0.0];
+    v.range = [dmin, dmax, slices.max(1) as f32, 0.0];
     v
 }
 

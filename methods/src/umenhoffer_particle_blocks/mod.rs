@@ -128,11 +128,12 @@ pub struct ParticleSplat;
 /// Knobs shared by both ids.
 fn shared_knobs() -> Vec<Knob> {
     vec![
-        // The slices are the RGBA channels of one or two render targets.
-        Knob::int_of("slices", 4, &[4, 8])
-            .sweep([8])
+        // The slices are the RGBA channels of one or two render targets (4, 8: the paper), or of
+        // layers of two texture arrays filled in S/8 light passes per light map (16, 32).
+        Knob::int_of("slices", 4, &[4, 8, 16, 32])
+            .sweep([8, 16, 32])
             .unit("slices")
-            .meaning("light-pass depth slices stored in RGBA channels"),
+            .meaning("light-pass depth slices: RGBA channels of one or two targets (4, 8; the paper), or of texture-array layers filled eight per light pass (16, 32)"),
         Knob::boolean("clip_fix", true)
             .meaning("objects in the cloud: depth-interval opacity scaling (§2.4); false = plain billboard clipping"),
         Knob::boolean("forward_scattering", false)
@@ -141,6 +142,10 @@ fn shared_knobs() -> Vec<Knob> {
         Knob::boolean("background_dimming", true)
             .sweep(Vec::<bool>::new())
             .meaning("the background medium's in-scatter dimmed by the cloud on the eye leg; false = not dimmed (as before issue 18)"),
+        Knob::int("chord_steps", 0, 0..=64)
+            .sweep([8])
+            .unit("nodes")
+            .meaning("in-scatter over a primitive's depth interval: 0 = closed form (light optical depth linear along it, phase and I at its midpoint, mean 1/r²); n = n-node quadrature per light (in Biri's angle variable for a local light), the converged variant for the error budget"),
         Knob::int("light_res", 256, 8..=4096)
             .unit("texels")
             .meaning("light-map (slice texture) resolution per side"),
@@ -156,8 +161,9 @@ fn shader_checks(id: &str) -> Vec<ShaderCheck> {
     let axes = [
         ("BLOCKS", flags),
         ("FORWARD_SCATTERING", flags),
-        ("EIGHT_SLICES", flags),
+        ("SLICE_GROUPS", &[1.0, 2.0, 4.0, 8.0]),
         ("MOMENTS", flags),
+        ("CHORD_STEPS", &[0.0, 8.0]),
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [

@@ -34,8 +34,6 @@ pub struct ViewUniform {
     pub v: [f32; 4],
     pub w: [f32; 4],
     pub p: [f32; 4],
-    pub slices_a: [f32; 4],
-    pub slices_b: [f32; 4],
     pub range: [f32; 4],
 }
 
@@ -72,6 +70,7 @@ pub struct Sizes {
     pub cols: u32,
     pub tile_res: u32,
     pub light_res: u32,
+    /// Light-pass slices S (4, 8, 16 or 32; knob `slices`).
     pub slices: u32,
     /// The scene's lights (each has FACES slice layers).
     pub lights: usize,
@@ -86,6 +85,9 @@ pub struct Modes {
     pub forward_scattering: bool,
     /// Block pixels' intervals from the impostors' depth moments (knob `interval = moments`).
     pub moments: bool,
+    /// Quadrature nodes along a primitive's interval in the gathering (knob `chord_steps`; 0:
+    /// the closed form).
+    pub chord_steps: u32,
 }
 
 /// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
@@ -96,7 +98,8 @@ pub struct Resources {
     pub imp: wgpu::Buffer,
     atlas_view: wgpu::TextureView,
     moments_view: wgpu::TextureView,
-    /// Both slice textures as arrays (sampled) and one layer of each per view (rendered).
+    /// Both slice textures as arrays (sampled) and one layer of each per view and light pass
+    /// (rendered; index `view · slice_passes + pass`).
     slice_views: [wgpu::TextureView; 2],
     slice_layers: Vec<[wgpu::TextureView; 2]>,
     gather_view: wgpu::TextureView,
@@ -129,6 +132,16 @@ fn storage(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
     })
 }
 
+/// Render passes per light map: each writes two groups of four slices (two RGBA targets).
+pub fn slice_passes(slices: u32) -> u32 {
+    (slices / 8).max(1)
+}
+
+/// Layers of each slice texture: one per light pass of every light's FACES views.
+pub fn slice_layers(sizes: &Sizes) -> u32 {
+    (FACES * sizes.lights.max(1)) as u32 * slice_passes(sizes.slices)
+}
+
 /// Binding `b` of common.wgsl's group 1, as a layout entry: the uniform, the primitive, tile
 /// and impostor-particle lists, the slice arrays (5, 6) and 2-D textures.
 fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
@@ -153,7 +166,7 @@ impl Resources {
             )
             .create_view(&Default::default())
         };
-        let layers = (FACES * sizes.lights.max(1)) as u32;
+        let layers = slice_layers(sizes);
         let slices = |label| {
             gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -171,7 +184,10 @@ impl Resources {
                 view_formats: &[],
             })
         };
-        let slice_tex = [slices("light slices 0-3"), slices("light slices 4-7")];
+        let slice_tex = [
+            slices("light slices, even groups of four"),
+            slices("light slices, odd groups of four"),
+        ];
         let array = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -326,7 +342,8 @@ impl Passes {
                 ("BLOCKS", flag(modes.blocks)),
                 ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
                 ("MOMENTS", flag(modes.moments)),
-                ("EIGHT_SLICES", flag(sizes.slices > 4)),
+                ("CHORD_STEPS", modes.chord_steps as f64),
+                ("SLICE_GROUPS", (sizes.slices / 4) as f64),
                 ("COVERS", super::held::COVERS as f64),
             ]),
         };
@@ -466,11 +483,14 @@ impl Passes {
         lists: &[usize],
     ) {
         let n = if self.sizes.slices > 4 { 2 } else { 1 };
+        let passes = slice_passes(self.sizes.slices);
         let stride = self.sizes.prims as u32;
         for (k, &count) in views.iter().enumerate() {
             let len = lists[k] as u32;
-            for vi in (FACES * k) as u32..(FACES * k) as u32 + count {
-                let layer = &self.res.slice_layers[vi as usize];
+            let first = (FACES * k) as u32 * passes;
+            // Light k's views, each in `passes` passes (light.wgsl decodes the instance index).
+            for slot in first..first + count * passes {
+                let layer = &self.res.slice_layers[slot as usize];
                 let targets: Vec<&wgpu::TextureView> = layer.iter().collect();
                 let mut p = Self::pass(
                     renderer,
@@ -482,7 +502,7 @@ impl Passes {
                 p.set_pipeline(&self.light);
                 p.set_bind_group(0, &renderer.frame_bind, &[]);
                 p.set_bind_group(1, &self.bind_light, &[]);
-                p.draw(0..6, vi * stride..vi * stride + len);
+                p.draw(0..6, slot * stride..slot * stride + len);
             }
             if count > 0 {
                 self.surface_shadow

@@ -8,6 +8,14 @@
 // (uniform density across the cloud's span on that ray). Needs PRELUDE, FULLSCREEN and
 // common.wgsl.
 
+// The index of the first light that is not directional (light_count() if none).
+fn first_local_light() -> u32 {
+    for (var k = 0u; k < light_count(); k++) {
+        if (light_kind(k) != LIGHT_DIRECTIONAL) { return k; }
+    }
+    return light_count();
+}
+
 // `total` is their sum, written by a second pass from these two targets (total.wgsl).
 struct Resolved {
     inscatter: vec3<f32>,
@@ -33,9 +41,12 @@ fn resolve(frag: vec4<f32>) -> Resolved {
         // (t = t0 + h tan φ, dt = h dφ / cos² φ), which flattens the 1/r² peak near the light.
         var t0 = 0.0;
         var h = 0.0;
-        // The angle variable follows the first local light (a sun alone: equal steps in t).
-        if (light_kind(0u) != LIGHT_DIRECTIONAL) {
-            let w0 = eye - lights.lights[0].position.xyz;
+        // The angle variable follows the first local light, whichever its index (a sun alone:
+        // equal steps in t). Formerly only light 0 was looked at, so a point light after a sun
+        // had its 1/r² peak sampled at 32 equal steps in t.
+        let local = first_local_light();
+        if (local < light_count()) {
+            let w0 = eye - lights.lights[local].position.xyz;
             t0 = -dot(w0, dir);
             h = length(w0 + dir * t0);
         }

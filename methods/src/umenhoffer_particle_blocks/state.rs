@@ -11,7 +11,7 @@ use scenes::Particles;
 use scenes::{FrameState, LightState};
 
 use super::blocks::{self, Instancing};
-use super::passes::{Modes, Passes, PbUniform, Sizes};
+use super::passes::{self, Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
 use super::{camera_bins, held, light_maps};
 use crate::common::renderer::SceneRenderer;
@@ -90,9 +90,21 @@ impl State {
             lights,
             camera_tiles: (camera_grid * camera_grid) as u32,
         };
+        let (layers, most) = (
+            passes::slice_layers(&sizes),
+            ctx.gpu.device.limits().max_texture_array_layers,
+        );
+        if layers > most {
+            bail!(
+                "scene '{}': knob `slices` = {slices} with {lights} lights needs {layers} slice-texture layers (6 light maps per light, {} passes of eight slices each); this adapter allows {most}: use fewer slices (4 … 32)",
+                ctx.scene.name,
+                passes::slice_passes(slices)
+            );
+        }
         let modes = Modes {
             blocks: blocked_mode.is_some(),
             forward_scattering: p.knob("forward_scattering")?,
+            chord_steps: p.knob("chord_steps")?,
             moments: match blocked_mode {
                 Some(_) => p.knob::<String>("interval")? == "moments",
                 None => false,
