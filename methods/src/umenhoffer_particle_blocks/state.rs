@@ -138,7 +138,7 @@ impl State {
 
     /// The gathering's list (back to front from the eye) and each light's list, every block
     /// holding that viewer replaced by its particles (held.rs), and in both kinds of list
-    /// every block within `near_light` radii of a local light.
+    /// every block within `near_light` radii of a local light and the block holding the eye.
     fn lists(&self, frame: &FrameState) -> (Vec<Prim>, Vec<Vec<Prim>>) {
         let members = &self.members;
         let eye = frame.camera.position;
@@ -157,16 +157,21 @@ impl State {
         let gather = held::expand(&sorted, members, eye, true, |p| {
             members.holds(p, eye) || local.iter().any(|&lp| members.near(p, lp, near))
         });
+        // The block holding the eye is drawn as its particles in every light's pass too: what
+        // the eye sees around it is lit through its real particles, not the block's uniform
+        // interval (a dense particle holding the eye, lit through the prototype's average, was
+        // 18× too bright).
         let lights = frame
             .lights
             .iter()
-            .map(|l| match l.position() {
-                Some(lp) if !matches!(l, LightState::Directional { .. }) => {
-                    held::expand(&self.set.prims, members, lp, false, |p| {
-                        members.near(p, lp, near.max(held::COVERS))
-                    })
-                }
-                _ => self.set.prims.clone(),
+            .map(|l| {
+                let lp = l
+                    .position()
+                    .filter(|_| !matches!(l, LightState::Directional { .. }));
+                held::expand(&self.set.prims, members, lp.unwrap_or(eye), false, |p| {
+                    members.holds(p, eye)
+                        || lp.is_some_and(|lp| members.near(p, lp, near.max(held::COVERS)))
+                })
             })
             .collect();
         (gather, lights)
