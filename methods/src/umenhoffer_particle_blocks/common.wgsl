@@ -23,9 +23,10 @@ struct View {
 // Views per light: light k's maps are views 6k .. 6k + 5 (slice-array layers likewise).
 const FACES: u32 = 6u;
 
-// passes::MAX_LIGHTS lights' views (FACES each) and map counts.
+// passes::MAX_LIGHTS lights' views (FACES each), the eye's view (EYE_SLICES: view FACES·L of L
+// lights, `camera_view`) and map counts.
 struct Pb {
-    views: array<View, 96>,
+    views: array<View, 97>,
     // per light, x: its views this frame (0: no light map, 1: one map, 6: a cube); y, z, w: unused
     maps: array<vec4<f32>, 16>,
     // x: tile columns; y: tile resolution (texels); z: impostor particles per direction; w: atlas size
@@ -153,6 +154,24 @@ override MOMENTS: bool = true;
 // linear along the interval, the phase and I at the midpoint only, and the mean 1/r² multiplied
 // with the mean transmittance rather than integrated with it.
 override CHORD_STEPS: u32 = 0u;
+// The eye's own slices (knob `eye_slices`): the light pass run once more from the eye, so the
+// particles' optical depth along each pixel's ray is known at any depth; the gathering then
+// attenuates every primitive by everything in front of it, overlaps included, and adds instead
+// of compositing "over" in centre order (gather.wgsl, resolve.wgsl).
+override EYE_SLICES: bool = false;
+
+// The eye's slice view: after every light's FACES views.
+fn camera_view() -> u32 {
+    return FACES * light_count();
+}
+
+// The particles' optical depth from the eye to x (EYE_SLICES only), from the eye's slices.
+fn eye_optical_depth(x: vec3<f32>) -> f32 {
+    let vi = camera_view();
+    let c = light_coord(vi, x);
+    if (c.depth <= 0.0) { return 0.0; }
+    return depth_from_slices(vi, c.uv, c.depth);
+}
 
 fn is_perspective(vi: u32) -> bool {
     return pb.views[vi].u.w > 0.5;

@@ -74,9 +74,12 @@ fn fs_gather(in: GatherOut) -> Gathered {
     }
     if (tau <= 0.0) { discard; }
     let alpha = 1.0 - exp(-tau);
+    // EYE_SLICES: added (alpha 0; the resolve takes the opacity from the eye's slices), each
+    // primitive attenuated by the eye's slices; else "over" with its own opacity.
+    let out_alpha = select(alpha, 0.0, EYE_SLICES);
     if (CHORD_STEPS > 0u) {
         let l = p.albedo.rgb * chord_inscatter(eye, dir, near, far, tau);
-        return Gathered(vec4<f32>(l, alpha), vec4<f32>(near, -far, 0.0, 0.0));
+        return Gathered(vec4<f32>(l, out_alpha), vec4<f32>(near, -far, 0.0, 0.0));
     }
     let t_mid = 0.5 * (near + far);
     let x = eye + dir * t_mid;
@@ -84,17 +87,27 @@ fn fs_gather(in: GatherOut) -> Gathered {
     // between: with uniform extinction τ over the interval, ∫ σ e^(−σ s) e^(−(τa + Δ s/L)) ds
     // = e^(−τa) · τ/(τ+Δ) · (1 − e^(−(τ+Δ))). light_radiance() supplies phase, I
     // and visibility at the midpoint.
+    // EYE_SLICES: the eye leg's optical depth at both ends from the eye's slices (everything in
+    // front, this primitive and its overlaps included), taken as linear in between like the
+    // light's; else this primitive's own τ over the interval, what lies in front applied by
+    // the "over" compositing.
+    var ea = 0.0;
+    var grow = tau;
+    if (EYE_SLICES) {
+        ea = eye_optical_depth(eye + dir * near);
+        grow = max(eye_optical_depth(eye + dir * far) - ea, 0.0);
+    }
     var lit = vec3<f32>(0.0);
     for (var k = 0u; k < light_count(); k++) {
-        let ta = light_optical_depth(k, eye + dir * near);
+        let ta = light_optical_depth(k, eye + dir * near) + ea;
         let tb = light_optical_depth(k, eye + dir * far);
-        let kk = tau + (tb - ta);
-        var shadowed = exp(-ta) * alpha;
+        let kk = grow + (tb - (ta - ea));
+        var shadowed = exp(-ta) * tau;
         if (abs(kk) > 1e-4) { shadowed = exp(-ta) * tau / kk * (1.0 - exp(-kk)); }
         lit += light_radiance_with(k, x, -dir, mean_inv_r2(k, eye, dir, near, far)) * shadowed;
     }
     let l = p.albedo.rgb * lit * transmittance(medium, t_mid);
-    return Gathered(vec4<f32>(l, alpha), vec4<f32>(near, -far, 0.0, 0.0));
+    return Gathered(vec4<f32>(l, out_alpha), vec4<f32>(near, -far, 0.0, 0.0));
 }
 
 // ∫ σ e^(−σ (t − near)) Σ_k L_k(x(t)) e^(−τ_k(x(t))) T_bg(t) dt over [near, far] (σ = τ over
@@ -126,7 +139,9 @@ fn chord_inscatter(eye: vec3<f32>, dir: vec3<f32>, near: f32, far: f32, tau: f32
                 jac = h / (c * c);
             }
             let x = eye + dir * t;
-            let eye_leg = sigma * exp(-sigma * (t - near)) * transmittance(medium, t);
+            var own = sigma * (t - near);
+            if (EYE_SLICES) { own = eye_optical_depth(x); }
+            let eye_leg = sigma * exp(-own) * transmittance(medium, t);
             let lit = light_radiance(k, x, -dir) * exp(-light_optical_depth(k, x));
             sum += lit * (eye_leg * jac * step);
         }

@@ -33,7 +33,9 @@ fn vs_light(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> L
     let slot = i / stride;
     let vi = slot / slice_passes();
     let pair = slot % slice_passes();
-    let pi = (vi / FACES + 1u) * stride + i % stride;
+    // Light k's list is k + 1; the eye's view draws the gathering's list (0).
+    let list = select(vi / FACES + 1u, 0u, vi == camera_view());
+    let pi = list * stride + i % stride;
     let p = prims[pi];
     let c = p.center.xyz;
     let view = pb.views[vi];
@@ -80,8 +82,9 @@ struct SliceOut {
 fn slice_contribution(in: LightOut) -> SliceOut {
     let p = prims[in.prim];
     let vi = in.view;
-    // Light k's impostor tiles follow the first light's, k·T further on.
-    let tile = p.extra.y + f32(vi / FACES) * pb.counts.y;
+    // Light k's impostor tiles follow the first light's, k·T further on; the eye's view reads
+    // the camera tile.
+    let tile = select(p.extra.y + f32(vi / FACES) * pb.counts.y, p.extra.z, vi == camera_view());
     let iv = prim_interval(p, tile, light_ray(vi, in.world));
     if (!iv.ok || iv.tau <= 0.0) { discard; }
     var near = iv.near;

@@ -158,6 +158,26 @@ fn single_perspective(
     Some(with_slices(v, dmin.max(0.0), dmax, slices))
 }
 
+/// The eye's slice view (knob `eye_slices`): a perspective map at `eye` along `axis` whose
+/// square field (half-angle tangent `tan`) covers the screen, its slices spanning the depth
+/// range of the primitives in front of the eye.
+pub fn eye_view(eye: Vec3, axis: Vec3, tan: f32, prims: &[Prim], slices: u32) -> ViewUniform {
+    let v = perspective(eye, axis, tan);
+    let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
+    for p in prims {
+        let q = centre(p) - eye;
+        let h = p.center[3] * BOUNDS;
+        if q.dot(axis) + h > 0.0 {
+            dmin = dmin.min(q.length() - h);
+            dmax = dmax.max(q.length() + h);
+        }
+    }
+    if dmin > dmax {
+        (dmin, dmax) = (0.0, 1e-3);
+    }
+    with_slices(v, dmin.max(0.0), dmax, slices)
+}
+
 /// Six 90° perspective maps around `lp`; each face's depth range covers the primitives whose
 /// bounding spheres reach into its frustum (a plane test against its four sides).
 // Faces in `CUBE_FACE_AXES` order, the order common.wgsl's `view_of` indexes them.

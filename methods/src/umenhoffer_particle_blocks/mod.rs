@@ -148,6 +148,8 @@ fn shared_knobs(slices: i64) -> Vec<Knob> {
         Knob::boolean("background_dimming", true)
             .sweep(Vec::<bool>::new())
             .meaning("the background medium's in-scatter dimmed by the cloud on the eye leg; false = not dimmed (as before issue 18)"),
+        Knob::boolean("eye_slices", false)
+            .meaning("the light pass also run from the eye: the gathering attenuates each primitive by the eye's slices (overlaps included) and adds, instead of compositing \"over\" in centre order; the background medium is dimmed by them (a modernisation)"),
         Knob::int("chord_steps", 0, 0..=64)
             .sweep([8])
             .unit("nodes")
@@ -170,6 +172,7 @@ fn shader_checks(id: &str) -> Vec<ShaderCheck> {
         ("SLICE_GROUPS", &[1.0, 2.0, 4.0, 8.0]),
         ("MOMENTS", flags),
         ("CHORD_STEPS", &[0.0, 8.0]),
+        ("EYE_SLICES", flags),
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [

@@ -41,7 +41,8 @@ pub struct ViewUniform {
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct PbUniform {
-    pub views: [ViewUniform; FACES * MAX_LIGHTS],
+    /// Every light's FACES views, then the eye's (`eye_slices`; index FACES · lights).
+    pub views: [ViewUniform; FACES * MAX_LIGHTS + 1],
     pub maps: [[f32; 4]; MAX_LIGHTS],
     pub atlas: [f32; 4],
     pub flags: [f32; 4],
@@ -88,6 +89,8 @@ pub struct Modes {
     /// Quadrature nodes along a primitive's interval in the gathering (knob `chord_steps`; 0:
     /// the closed form).
     pub chord_steps: u32,
+    /// The eye's own slices attenuate the gathering, which then adds (knob `eye_slices`).
+    pub eye_slices: bool,
 }
 
 /// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
@@ -137,9 +140,10 @@ pub fn slice_passes(slices: u32) -> u32 {
     (slices / 8).max(1)
 }
 
-/// Layers of each slice texture: one per light pass of every light's FACES views.
+/// Layers of each slice texture: one per light pass of every light's FACES views and of the
+/// eye's view (`eye_slices`; allocated always, a few layers).
 pub fn slice_layers(sizes: &Sizes) -> u32 {
-    (FACES * sizes.lights.max(1)) as u32 * slice_passes(sizes.slices)
+    (FACES * sizes.lights.max(1) + 1) as u32 * slice_passes(sizes.slices)
 }
 
 /// Binding `b` of common.wgsl's group 1, as a layout entry: the uniform, the primitive, tile
@@ -343,6 +347,7 @@ impl Passes {
                 ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
                 ("MOMENTS", flag(modes.moments)),
                 ("CHORD_STEPS", modes.chord_steps as f64),
+                ("EYE_SLICES", flag(modes.eye_slices)),
                 ("SLICE_GROUPS", (sizes.slices / 4) as f64),
                 ("COVERS", super::held::COVERS as f64),
             ]),
@@ -375,14 +380,20 @@ impl Passes {
             ("vs_light", if eight { "fs_light8" } else { "fs_light4" }),
             &light_targets[..if eight { 2 } else { 1 }],
         );
-        // Premultiplied "over", back to front; alpha accumulates the opacity.
+        // Premultiplied "over", back to front; alpha accumulates the opacity. With the eye's
+        // slices each primitive is already attenuated by what lies in front: added.
+        let composite = if modes.eye_slices {
+            ADDITIVE
+        } else {
+            both(OVER)
+        };
         let (gather, bind_gather) = b.stage(
             "particle gather",
             &[0, 1, 2, 4, 5, 6, 7, 11],
             GATHER_WGSL,
             ("vs_gather", "fs_gather"),
             &[
-                target(ACCUM_FORMAT, Some(both(OVER))),
+                target(ACCUM_FORMAT, Some(composite)),
                 target(EXTENT_FORMAT, Some(both(MIN))),
             ],
         );
@@ -473,7 +484,8 @@ impl Passes {
     }
 
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
-    /// depth), then each light's shadow on the surfaces. `views[k]`: light k's maps this frame;
+    /// depth), then each light's shadow on the surfaces; then, if `eye` (the gathering list's
+    /// length) is not 0, the eye's view (`eye_slices`). `views[k]`: light k's maps this frame;
     /// `lists[k]`: the length of light k's primitive list.
     pub fn encode_light(
         &self,
@@ -481,34 +493,53 @@ impl Passes {
         renderer: &SceneRenderer,
         views: &[u32],
         lists: &[usize],
+        eye: usize,
     ) {
-        let n = if self.sizes.slices > 4 { 2 } else { 1 };
         let passes = slice_passes(self.sizes.slices);
-        let stride = self.sizes.prims as u32;
         for (k, &count) in views.iter().enumerate() {
             let len = lists[k] as u32;
             let first = (FACES * k) as u32 * passes;
             // Light k's views, each in `passes` passes (light.wgsl decodes the instance index).
             for slot in first..first + count * passes {
-                let layer = &self.res.slice_layers[slot as usize];
-                let targets: Vec<&wgpu::TextureView> = layer.iter().collect();
-                let mut p = Self::pass(
-                    renderer,
-                    enc,
-                    "particle light pass",
-                    &targets[..n],
-                    wgpu::Color::TRANSPARENT,
-                );
-                p.set_pipeline(&self.light);
-                p.set_bind_group(0, &renderer.frame_bind, &[]);
-                p.set_bind_group(1, &self.bind_light, &[]);
-                p.draw(0..6, slot * stride..slot * stride + len);
+                self.encode_slices(enc, renderer, slot, len);
             }
             if count > 0 {
                 self.surface_shadow
                     .encode(enc, renderer, &self.res.surface_view, k);
             }
         }
+        if eye > 0 {
+            let first = (FACES * views.len()) as u32 * passes;
+            for slot in first..first + passes {
+                self.encode_slices(enc, renderer, slot, eye as u32);
+            }
+        }
+    }
+
+    /// One light pass: slot `slot` (view · passes + pass) from the first `len` primitives of the
+    /// view's list, into that slot's layer of both slice arrays.
+    fn encode_slices(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        slot: u32,
+        len: u32,
+    ) {
+        let n = if self.sizes.slices > 4 { 2 } else { 1 };
+        let stride = self.sizes.prims as u32;
+        let layer = &self.res.slice_layers[slot as usize];
+        let targets: Vec<&wgpu::TextureView> = layer.iter().collect();
+        let mut p = Self::pass(
+            renderer,
+            enc,
+            "particle light pass",
+            &targets[..n],
+            wgpu::Color::TRANSPARENT,
+        );
+        p.set_pipeline(&self.light);
+        p.set_bind_group(0, &renderer.frame_bind, &[]);
+        p.set_bind_group(1, &self.bind_light, &[]);
+        p.draw(0..6, slot * stride..slot * stride + len);
     }
 
     /// Back-to-front gathering of the first `count` primitives (the buffer holds them in that

@@ -28,7 +28,11 @@ fn resolve(frag: vec4<f32>) -> Resolved {
     let dir = camera_ray_dir(camera, frag.xy);
     let hit = textureLoad(ray_distance, px, 0).r;
     let d = camera_ray_length(camera, dir, hit);
-    let g = textureLoad(gathered, px, 0);
+    var g = textureLoad(gathered, px, 0);
+    if (EYE_SLICES) {
+        // The cloud's opacity on this ray: the eye's slices at the surface (or beyond the cloud).
+        g.a = 1.0 - exp(-eye_optical_depth(eye + dir * d));
+    }
     var surf = pb.sky.rgb * transmittance(medium, d);
     if (hit >= 0.0) {
         surf = textureLoad(surface_in, px, 0).rgb;
@@ -67,7 +71,8 @@ fn resolve(frag: vec4<f32>) -> Resolved {
                 t = t0 + h * tan(u);
                 jac = h / (c * c);
             }
-            let cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
+            var cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
+            if (EYE_SLICES && pb.flags.z > 0.5) { cloud = exp(-eye_optical_depth(eye + dir * t)); }
             acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * jac);
         }
         l_in += medium.sigma_s.rgb * acc * step;
