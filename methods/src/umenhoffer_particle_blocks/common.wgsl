@@ -416,6 +416,39 @@ fn mean_inv_r2(k: u32, o: vec3<f32>, dir: vec3<f32>, a: f32, b: f32) -> f32 {
     return (atan((b - t0) / h) - atan((a - t0) / h)) / (h * (b - a));
 }
 
+// A midpoint rule of n nodes over the ray segment eye + dir·[near, far]: equal steps in t, or —
+// about a local light at lp — equal steps in Biri's angle φ (t = t0 + h tan φ, dt = h dφ/cos² φ,
+// h: the light's distance from the ray's line), which flattens the light's 1/r² peak.
+struct AngleMarch {
+    t0: f32,
+    h: f32,
+    a: f32,
+    step: f32,
+    angular: bool,
+};
+
+fn angle_march(eye: vec3<f32>, dir: vec3<f32>, near: f32, far: f32, n: u32, local: bool, lp: vec3<f32>) -> AngleMarch {
+    var t0 = 0.0;
+    var h = 0.0;
+    if (local) {
+        let w0 = eye - lp;
+        t0 = -dot(w0, dir);
+        h = length(w0 + dir * t0);
+    }
+    let angular = h > 1e-4 * max(far - near, 1e-6);
+    let a = select(near, atan((near - t0) / h), angular);
+    let b = select(far, atan((far - t0) / h), angular);
+    return AngleMarch(t0, h, a, (b - a) / f32(n), angular);
+}
+
+// Node i of march m: x = its ray parameter t (m), y = its weight (dt/du times the step).
+fn march_node(m: AngleMarch, i: u32) -> vec2<f32> {
+    let u = m.a + (f32(i) + 0.5) * m.step;
+    if (!m.angular) { return vec2<f32>(u, m.step); }
+    let c = cos(u);
+    return vec2<f32>(m.t0 + m.h * tan(u), m.h / (c * c) * m.step);
+}
+
 // What σ_s multiplies in ARCHITECTURE §1's L_in at x: every light's radiance times the particles'
 // transmittance toward it (from its slices), summed.
 fn incident(x: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {

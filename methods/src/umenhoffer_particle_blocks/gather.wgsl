@@ -74,9 +74,10 @@ fn fs_gather(in: GatherOut) -> Gathered {
     }
     if (tau <= 0.0) { discard; }
     let alpha = 1.0 - exp(-tau);
-    // EYE_SLICES: added (alpha 0; the resolve takes the opacity from the eye's slices), each
-    // primitive attenuated by the eye's slices; else "over" with its own opacity.
-    let out_alpha = select(alpha, 0.0, EYE_SLICES);
+    // EYE_SLICES: the in-scatter added, each primitive attenuated by the eye's slices; the
+    // opacity composited "over" either way (Π(1 − α) needs no order, and the exact chords
+    // keep the silhouettes the slices' texels would blur).
+    let out_alpha = alpha;
     if (CHORD_STEPS > 0u) {
         let l = p.albedo.rgb * chord_inscatter(eye, dir, near, far, tau);
         return Gathered(vec4<f32>(l, out_alpha), vec4<f32>(near, -far, 0.0, 0.0));
@@ -89,13 +90,14 @@ fn fs_gather(in: GatherOut) -> Gathered {
     // and visibility at the midpoint.
     // EYE_SLICES: the eye leg's optical depth at both ends from the eye's slices (everything in
     // front, this primitive and its overlaps included), taken as linear in between like the
-    // light's; else this primitive's own τ over the interval, what lies in front applied by
-    // the "over" compositing.
+    // light's, and growing across the interval by at least the primitive's own exact τ (the
+    // slices' texels blur it near its silhouette); else this primitive's own τ over the
+    // interval, what lies in front applied by the "over" compositing.
     var ea = 0.0;
     var grow = tau;
     if (EYE_SLICES) {
         ea = eye_optical_depth(eye + dir * near);
-        grow = max(eye_optical_depth(eye + dir * far) - ea, 0.0);
+        grow = max(eye_optical_depth(eye + dir * far) - ea, tau);
     }
     var lit = vec3<f32>(0.0);
     for (var k = 0u; k < light_count(); k++) {
@@ -116,34 +118,23 @@ fn fs_gather(in: GatherOut) -> Gathered {
 // one, which flattens its 1/r² peak. L_k: light_radiance (phase, I, 1/r², visibility).
 fn chord_inscatter(eye: vec3<f32>, dir: vec3<f32>, near: f32, far: f32, tau: f32) -> vec3<f32> {
     let sigma = tau / max(far - near, 1e-6);
+    // EYE_SLICES: the eye's slices in front of the interval, and across it at least the own τ
+    // (as in the closed form above).
+    var front = 0.0;
+    if (EYE_SLICES) { front = eye_optical_depth(eye + dir * near); }
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < light_count(); k++) {
-        var t0 = 0.0;
-        var h = 0.0;
-        if (light_kind(k) != LIGHT_DIRECTIONAL) {
-            let w0 = eye - lights.lights[k].position.xyz;
-            t0 = -dot(w0, dir);
-            h = length(w0 + dir * t0);
-        }
-        let angular = h > 1e-4 * max(far - near, 1e-6);
-        let a = select(near, atan((near - t0) / h), angular);
-        let b = select(far, atan((far - t0) / h), angular);
-        let step = (b - a) / f32(CHORD_STEPS);
+        let local = light_kind(k) != LIGHT_DIRECTIONAL;
+        let m = angle_march(eye, dir, near, far, CHORD_STEPS, local, lights.lights[k].position.xyz);
         for (var i = 0u; i < CHORD_STEPS; i++) {
-            let u = a + (f32(i) + 0.5) * step;
-            var t = u;
-            var jac = 1.0;
-            if (angular) {
-                let c = cos(u);
-                t = t0 + h * tan(u);
-                jac = h / (c * c);
-            }
+            let node = march_node(m, i);
+            let t = node.x;
             let x = eye + dir * t;
             var own = sigma * (t - near);
-            if (EYE_SLICES) { own = eye_optical_depth(x); }
+            if (EYE_SLICES) { own = front + max(eye_optical_depth(x) - front, own); }
             let eye_leg = sigma * exp(-own) * transmittance(medium, t);
             let lit = light_radiance(k, x, -dir) * exp(-light_optical_depth(k, x));
-            sum += lit * (eye_leg * jac * step);
+            sum += lit * (eye_leg * node.y);
         }
     }
     return sum;

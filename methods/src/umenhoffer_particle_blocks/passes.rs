@@ -381,9 +381,13 @@ impl Passes {
             &light_targets[..if eight { 2 } else { 1 }],
         );
         // Premultiplied "over", back to front; alpha accumulates the opacity. With the eye's
-        // slices each primitive is already attenuated by what lies in front: added.
+        // slices each primitive's in-scatter is already attenuated by what lies in front: added
+        // (the opacity still "over", which needs no order).
         let composite = if modes.eye_slices {
-            ADDITIVE
+            wgpu::BlendState {
+                color: ADD,
+                alpha: OVER,
+            }
         } else {
             both(OVER)
         };

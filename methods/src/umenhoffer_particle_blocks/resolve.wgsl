@@ -28,11 +28,7 @@ fn resolve(frag: vec4<f32>) -> Resolved {
     let dir = camera_ray_dir(camera, frag.xy);
     let hit = textureLoad(ray_distance, px, 0).r;
     let d = camera_ray_length(camera, dir, hit);
-    var g = textureLoad(gathered, px, 0);
-    if (EYE_SLICES) {
-        // The cloud's opacity on this ray: the eye's slices at the surface (or beyond the cloud).
-        g.a = 1.0 - exp(-eye_optical_depth(eye + dir * d));
-    }
+    let g = textureLoad(gathered, px, 0);
     var surf = pb.sky.rgb * transmittance(medium, d);
     if (hit >= 0.0) {
         surf = textureLoad(surface_in, px, 0).rgb;
@@ -41,41 +37,27 @@ fn resolve(frag: vec4<f32>) -> Resolved {
     var l_in = g.rgb;
     let n = u32(pb.flags.y);
     if (n > 0u) {
-        // Equal steps in t for the sun; for a local light equal steps in Biri's angle φ
-        // (t = t0 + h tan φ, dt = h dφ / cos² φ), which flattens the 1/r² peak near the light.
-        var t0 = 0.0;
-        var h = 0.0;
-        // The angle variable follows the first local light, whichever its index (a sun alone:
-        // equal steps in t). Formerly only light 0 was looked at, so a point light after a sun
-        // had its 1/r² peak sampled at 32 equal steps in t.
+        // Equal steps in t for the sun; for a local light equal steps in Biri's angle φ, which
+        // flattens the 1/r² peak near the light (angle_march). The angle variable follows the
+        // first local light, whichever its index (a sun alone: equal steps in t). Formerly only
+        // light 0 was looked at, so a point light after a sun had its 1/r² peak sampled at 32
+        // equal steps in t.
         let local = first_local_light();
-        if (local < light_count()) {
-            let w0 = eye - lights.lights[local].position.xyz;
-            t0 = -dot(w0, dir);
-            h = length(w0 + dir * t0);
-        }
-        let angular = h > 1e-4 * d;
-        let a = select(0.0, atan(-t0 / h), angular);
-        let b = select(d, atan((d - t0) / h), angular);
-        let step = (b - a) / f32(n);
+        var lp = vec3<f32>(0.0);
+        if (local < light_count()) { lp = lights.lights[local].position.xyz; }
+        let m = angle_march(eye, dir, 0.0, d, n, local < light_count(), lp);
         let e = textureLoad(extents, px, 0);
         let cloud_tau = -log(max(1.0 - g.a, 1e-30)) * pb.flags.z;
         let cloud_span = max(-e.y - e.x, 1e-6);
         var acc = vec3<f32>(0.0);
         for (var k = 0u; k < n; k++) {
-            let u = a + (f32(k) + 0.5) * step;
-            var t = u;
-            var jac = 1.0;
-            if (angular) {
-                let c = cos(u);
-                t = t0 + h * tan(u);
-                jac = h / (c * c);
-            }
+            let node = march_node(m, k);
+            let t = node.x;
             var cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
             if (EYE_SLICES && pb.flags.z > 0.5) { cloud = exp(-eye_optical_depth(eye + dir * t)); }
-            acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * jac);
+            acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * node.y);
         }
-        l_in += medium.sigma_s.rgb * acc * step;
+        l_in += medium.sigma_s.rgb * acc;
     }
     return Resolved(l_in, surf);
 }
