@@ -659,6 +659,7 @@ fn viewers_inside_particles_against_the_reference() {
         for name in [
             "particles-inside-201.json",
             "particles-inside-dense-eye.json",
+            "particles-inside-deep-light.json",
         ] {
             let s = fixture(name);
             let r = reference(&s, res);
