@@ -10,7 +10,10 @@
 // whose bounds hold the eye is drawn as a quad over the whole view (no billboard covers the
 // viewer), its interval cut at the eye. The second target keeps the nearest and farthest ray
 // parameter where the cloud contributes (min blending), for the background medium's dimming in
-// the resolve. Needs PRELUDE and common.wgsl.
+// the resolve. With EYE_SLICES (knob `eye_slices`) each primitive's in-scatter is attenuated by
+// the eye's slices instead — everything in front, overlapping particles included — and added;
+// the opacity is still composited "over". With CHORD_STEPS > 0 the in-scatter over the interval
+// is a quadrature (`chord_inscatter`) instead of the closed form. Needs PRELUDE and common.wgsl.
 
 struct GatherOut {
     @builtin(position) clip: vec4<f32>,

@@ -3,11 +3,13 @@
 // fraction of its depth interval in front of the slice, assuming uniform density in the
 // interval — so slice s holds the optical depth accumulated up to depth d_s. Four slices per
 // RGBA target, two targets (eight slices) per render pass; additive blending, no sorting.
-// SLICE_PASSES render passes per light map ("view": one map, or each face of a cube around a
-// local light); instance i draws entry i mod C of light k's primitive list into pass
-// (i / C) mod SLICE_PASSES of view i / C / SLICE_PASSES (k = view / 6; blocks holding the light
-// are replaced there by their particles, held.rs). Each pass skips (a degenerate
-// quad) every primitive whose bounds begin beyond its last slice: it adds nothing there. A primitive still holding the light (a sphere) is drawn over the
+// slice_passes() = max(S/8, 1) render passes per light map ("view": one map, or each face of a
+// cube around a local light, or — with EYE_SLICES — the eye's view, drawing the gathering's
+// list); instance i draws entry i mod C of light k's primitive list into pass
+// (i / C) mod slice_passes() of view i / C / slice_passes() (k = view / 6; blocks holding the
+// light are replaced there by their particles, held.rs). Each pass skips (a degenerate quad)
+// every primitive whose bounds begin beyond its last slice: it adds nothing there. A primitive
+// still holding the light (a sphere) is drawn over the
 // whole face instead of as a billboard (no billboard can pass through the light), each fragment
 // finding its interval along its own light ray, the part behind the light cut off. Needs
 // PRELUDE and common.wgsl.
