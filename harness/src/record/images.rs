@@ -22,8 +22,22 @@ pub fn params_slug(params: &Params) -> String {
             }
         })
         .collect();
-    if s.is_empty() { "default".into() } else { s }
+    if s.is_empty() {
+        return "default".into();
+    }
+    if s.len() <= MAX_SLUG {
+        return s;
+    }
+    // A file name is at most 255 bytes: a long slug keeps its head and ends with a digest of
+    // the whole, so distinct parameter sets stay distinct.
+    use sha2::Digest;
+    let digest = sha2::Sha256::digest(s.as_bytes());
+    let hex: String = digest[..8].iter().map(|b| format!("{b:02x}")).collect();
+    format!("{}-{hex}", &s[..MAX_SLUG - 17])
 }
+
+/// The longest slug kept whole (bytes; ASCII by construction).
+const MAX_SLUG: usize = 200;
 
 /// The error that maps to the top of an error map's colour bar: a tenth of the reference's
 /// 99th-percentile luminance, so 10% errors saturate.
@@ -64,4 +78,28 @@ pub fn write_aovs(
         paths.insert(format!("{name}_png"), png);
     }
     Ok(paths)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::ParamValue;
+
+    /// A parameter set whose slug would pass the 255-byte file-name limit gets a shorter one,
+    /// and two such sets differing only past the cut still get different slugs.
+    #[test]
+    fn long_slugs_are_cut_and_stay_distinct() {
+        let set = |last: i64| -> Params {
+            let mut p: Params = (0..20)
+                .map(|i| (format!("a_rather_long_knob_{i}"), ParamValue::Int(i)))
+                .collect();
+            p.insert("zz_last".into(), ParamValue::Int(last));
+            p
+        };
+        let (a, b) = (params_slug(&set(1)), params_slug(&set(2)));
+        assert!(a.len() <= MAX_SLUG && b.len() <= MAX_SLUG, "{a}");
+        assert_ne!(a, b);
+        let short: Params = [("steps".to_string(), ParamValue::Int(128))].into();
+        assert_eq!(params_slug(&short), "steps-128");
+    }
 }

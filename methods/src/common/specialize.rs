@@ -12,7 +12,7 @@
 //! loop's divergent `continue` removed as well, raymarch-brute's 512² frame on sphere-point went
 //! from 2.9 s to 0.46 s (methods/src/raymarch_brute/README.md). Method knobs tested in hot loops
 //! are baked the same way by their methods (dobashi's `XI_PER_FRAGMENT`, the particle methods'
-//! `FORWARD_SCATTERING`, `EIGHT_SLICES`, `BLOCKS`).
+//! `FORWARD_SCATTERING`, `SLICE_GROUPS`, `BLOCKS`).
 
 use scenes::Scene;
 use scenes::desc::LightDesc;

@@ -15,20 +15,18 @@ struct View {
     // xyz: map centre (orthographic) or light position (perspective);
     // w: half extent (m, orthographic) or tan of the half angle (perspective)
     p: vec4<f32>,
-    // depths of slices 0..3 and 4..7 along the light (m)
-    slices_a: vec4<f32>,
-    slices_b: vec4<f32>,
-    // x: depth where the cloud starts along the light; y: where it ends; z: slice count S (4 or 8);
-    // w: unused
+    // x: depth where the cloud starts along the light; y: where it ends (m); z: slice count S;
+    // w: unused. Slice s (0 ≤ s < S) lies at depth x + (y − x)(s + 1)/S (`slice_depth`).
     range: vec4<f32>,
 };
 
 // Views per light: light k's maps are views 6k .. 6k + 5 (slice-array layers likewise).
 const FACES: u32 = 6u;
 
-// passes::MAX_LIGHTS lights' views (FACES each) and map counts.
+// passes::MAX_LIGHTS lights' views (FACES each), the eye's view (EYE_SLICES: view FACES·L of L
+// lights, `camera_view`) and map counts.
 struct Pb {
-    views: array<View, 96>,
+    views: array<View, 97>,
     // per light, x: its views this frame (0: no light map, 1: one map, 6: a cube); y, z, w: unused
     maps: array<vec4<f32>, 16>,
     // x: tile columns; y: tile resolution (texels); z: impostor particles per direction; w: atlas size
@@ -75,8 +73,9 @@ struct ImpParticle {
 @group(1) @binding(3) var<storage, read> imp: array<ImpParticle>;
 // Impostor atlas: r = min front depth, g = min(−back depth), a = Σ τ·chord (prototype units).
 @group(1) @binding(4) var atlas: texture_2d<f32>;
-// Light slices, one layer per view: accumulated particle optical depth up to slice depths 0..3
-// and 4..7.
+// Light slices: accumulated particle optical depth up to each slice depth, four slices (one
+// group) per RGBA texel. Group g of view vi is layer vi·SLICE_PASSES + g/2 of slices0 (g even)
+// or slices1 (g odd): one light pass writes one layer of each (`slice_at`).
 @group(1) @binding(5) var slices0: texture_2d_array<f32>;
 @group(1) @binding(6) var slices1: texture_2d_array<f32>;
 @group(1) @binding(7) var ray_distance: texture_2d<f32>;
@@ -132,12 +131,47 @@ fn basis_of(dir: vec3<f32>) -> Basis {
 // uniform value under a mask, so a uniform knob tested in a hot loop costs its untaken side too
 // (the forward-scattering taps made smoke-point's resolve 3.4× slower with the knob off).
 override FORWARD_SCATTERING: bool = false;
-override EIGHT_SLICES: bool = false;
+// Slice groups G = S/4 (1, 2, 4, 8: S = 4 … 32 slices). One light pass renders two groups (two
+// RGBA targets), so a view takes SLICE_PASSES = max(G/2, 1) passes (passes.rs).
+override SLICE_GROUPS: u32 = 1u;
+
+fn slice_passes() -> u32 {
+    return max(SLICE_GROUPS / 2u, 1u);
+}
+
+// Depth of slice s of view vi along the light (m).
+fn slice_depth(vi: u32, s: f32) -> f32 {
+    let r = pb.views[vi].range;
+    return r.x + (r.y - r.x) * (s + 1.0) / r.z;
+}
 // Primitives are impostor blocks (false: analytic spheres, the splat).
 override BLOCKS: bool = true;
 // A block pixel's interval is the uniform one with its optical depth's mean and variance in
 // depth (knob `interval = moments`); false: [front, back] (the paper).
 override MOMENTS: bool = true;
+// Nodes of gather.wgsl's quadrature along a primitive's interval (knob `chord_steps`; 0: the
+// closed form). It converges the closed form's three approximations: the light's optical depth
+// linear along the interval, the phase and I at the midpoint only, and the mean 1/r² multiplied
+// with the mean transmittance rather than integrated with it.
+override CHORD_STEPS: u32 = 0u;
+// The eye's own slices (knob `eye_slices`): the light pass run once more from the eye, so the
+// particles' optical depth along each pixel's ray is known at any depth; the gathering then
+// attenuates every primitive by everything in front of it, overlaps included, and adds instead
+// of compositing "over" in centre order (gather.wgsl, resolve.wgsl).
+override EYE_SLICES: bool = false;
+
+// The eye's slice view: after every light's FACES views.
+fn camera_view() -> u32 {
+    return FACES * light_count();
+}
+
+// The particles' optical depth from the eye to x (EYE_SLICES only), from the eye's slices.
+fn eye_optical_depth(x: vec3<f32>) -> f32 {
+    let vi = camera_view();
+    let c = light_coord(vi, x);
+    if (c.depth <= 0.0) { return 0.0; }
+    return depth_from_slices(vi, c.uv, c.depth);
+}
 
 fn is_perspective(vi: u32) -> bool {
     return pb.views[vi].u.w > 0.5;
@@ -292,43 +326,40 @@ fn tile_depths(s: TileSample) -> vec2<f32> {
     return vec2<f32>(max(s.front, mean - half), max(min(s.back, mean + half), mean));
 }
 
-// The light-map texel values of both slice textures around uv (bilinear, by hand: Rgba32Float
-// is not filterable everywhere).
-struct Slices {
-    a: vec4<f32>,
-    b: vec4<f32>,
-};
+// Slice s's accumulated optical depth at texel ij of view vi (s < 0: the cloud's start, 0).
+fn slice_at(vi: u32, ij: vec2<i32>, s: i32) -> f32 {
+    if (s < 0) { return 0.0; }
+    let g = u32(s) / 4u;
+    let layer = vi * slice_passes() + g / 2u;
+    var t: vec4<f32>;
+    if ((g & 1u) == 0u) {
+        t = textureLoad(slices0, ij, layer, 0);
+    } else {
+        t = textureLoad(slices1, ij, layer, 0);
+    }
+    return t[u32(s) % 4u];
+}
 
-fn load_slices(vi: u32, uv: vec2<f32>) -> Slices {
+// Optical depth at light depth d in map vi around uv: linear between the two enclosing slices
+// (§2.3), bilinear across texels (by hand: Rgba32Float is not filterable everywhere).
+fn depth_from_slices(vi: u32, uv: vec2<f32>, d: f32) -> f32 {
+    let r = pb.views[vi].range;
+    let f = clamp((d - r.x) / max(r.y - r.x, 1e-6) * r.z, 0.0, r.z);
+    let j0 = min(floor(f), r.z - 1.0);
+    let t = f - j0;
+    let s0 = i32(j0) - 1;
     let res = pb.counts.z;
-    let f = uv * res - 0.5;
-    let i0 = floor(f);
-    let w = f - i0;
-    var s = Slices(vec4<f32>(0.0), vec4<f32>(0.0));
+    let q = uv * res - 0.5;
+    let i0 = floor(q);
+    let w = q - i0;
+    var tau = 0.0;
     for (var k = 0u; k < 4u; k++) {
         let hx = (k & 1u) == 1u;
         let hy = (k >> 1u) == 1u;
         let o = vec2<f32>(select(0.0, 1.0, hx), select(0.0, 1.0, hy));
         let ij = vec2<i32>(clamp(i0 + o, vec2<f32>(0.0), vec2<f32>(res - 1.0)));
         let wk = select(1.0 - w.x, w.x, hx) * select(1.0 - w.y, w.y, hy);
-        s.a += wk * textureLoad(slices0, ij, vi, 0);
-        if (EIGHT_SLICES) { s.b += wk * textureLoad(slices1, ij, vi, 0); }
-    }
-    return s;
-}
-
-// Optical depth at light depth d in map vi, linear between the enclosing slices (§2.3): a sum of
-// ramps, one per slice interval, so no component is indexed dynamically.
-fn depth_from_slices(vi: u32, v: Slices, d: f32) -> f32 {
-    let a = pb.views[vi].slices_a;
-    let lo = vec4<f32>(pb.views[vi].range.x, a.x, a.y, a.z);
-    let r0 = clamp((vec4<f32>(d) - lo) / max(a - lo, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
-    var tau = dot(r0, v.a - vec4<f32>(0.0, v.a.x, v.a.y, v.a.z));
-    if (EIGHT_SLICES) {
-        let b = pb.views[vi].slices_b;
-        let lo2 = vec4<f32>(a.w, b.x, b.y, b.z);
-        let r1 = clamp((vec4<f32>(d) - lo2) / max(b - lo2, vec4<f32>(1e-6)), vec4<f32>(0.0), vec4<f32>(1.0));
-        tau += dot(r1, v.b - vec4<f32>(v.a.w, v.b.x, v.b.y, v.b.z));
+        tau += wk * mix(slice_at(vi, ij, s0), slice_at(vi, ij, s0 + 1), t);
     }
     return tau;
 }
@@ -342,14 +373,14 @@ fn light_optical_depth(k: u32, x: vec3<f32>) -> f32 {
     let c = light_coord(vi, x);
     if (!c.ok) { return 0.0; }
     if (!FORWARD_SCATTERING) {
-        return depth_from_slices(vi, load_slices(vi, c.uv), c.depth);
+        return depth_from_slices(vi, c.uv, c.depth);
     }
     let radius = 0.2 * max(c.depth - pb.views[vi].range.x, 0.0) / c.span;
-    var t = exp(-depth_from_slices(vi, load_slices(vi, c.uv), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv + vec2<f32>(radius, 0.0)), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv - vec2<f32>(radius, 0.0)), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv + vec2<f32>(0.0, radius)), c.depth));
-    t += exp(-depth_from_slices(vi, load_slices(vi, c.uv - vec2<f32>(0.0, radius)), c.depth));
+    var t = exp(-depth_from_slices(vi, c.uv, c.depth));
+    t += exp(-depth_from_slices(vi, c.uv + vec2<f32>(radius, 0.0), c.depth));
+    t += exp(-depth_from_slices(vi, c.uv - vec2<f32>(radius, 0.0), c.depth));
+    t += exp(-depth_from_slices(vi, c.uv + vec2<f32>(0.0, radius), c.depth));
+    t += exp(-depth_from_slices(vi, c.uv - vec2<f32>(0.0, radius), c.depth));
     return -log(max(t / 5.0, 1e-30));
 }
 
@@ -383,6 +414,39 @@ fn mean_inv_r2(k: u32, o: vec3<f32>, dir: vec3<f32>, a: f32, b: f32) -> f32 {
     let point = 1.0 / max(dot(mid, mid), 1e-12);
     if (b - a < 1e-4 * max(h, 1e-3) || h < 1e-6) { return point; }
     return (atan((b - t0) / h) - atan((a - t0) / h)) / (h * (b - a));
+}
+
+// A midpoint rule of n nodes over the ray segment eye + dir·[near, far]: equal steps in t, or —
+// about a local light at lp — equal steps in Biri's angle φ (t = t0 + h tan φ, dt = h dφ/cos² φ,
+// h: the light's distance from the ray's line), which flattens the light's 1/r² peak.
+struct AngleMarch {
+    t0: f32,
+    h: f32,
+    a: f32,
+    step: f32,
+    angular: bool,
+};
+
+fn angle_march(eye: vec3<f32>, dir: vec3<f32>, near: f32, far: f32, n: u32, local: bool, lp: vec3<f32>) -> AngleMarch {
+    var t0 = 0.0;
+    var h = 0.0;
+    if (local) {
+        let w0 = eye - lp;
+        t0 = -dot(w0, dir);
+        h = length(w0 + dir * t0);
+    }
+    let angular = h > 1e-4 * max(far - near, 1e-6);
+    let a = select(near, atan((near - t0) / h), angular);
+    let b = select(far, atan((far - t0) / h), angular);
+    return AngleMarch(t0, h, a, (b - a) / f32(n), angular);
+}
+
+// Node i of march m: x = its ray parameter t (m), y = its weight (dt/du times the step).
+fn march_node(m: AngleMarch, i: u32) -> vec2<f32> {
+    let u = m.a + (f32(i) + 0.5) * m.step;
+    if (!m.angular) { return vec2<f32>(u, m.step); }
+    let c = cos(u);
+    return vec2<f32>(m.t0 + m.h * tan(u), m.h / (c * c) * m.step);
 }
 
 // What σ_s multiplies in ARCHITECTURE §1's L_in at x: every light's radiance times the particles'

@@ -10,7 +10,10 @@
 // whose bounds hold the eye is drawn as a quad over the whole view (no billboard covers the
 // viewer), its interval cut at the eye. The second target keeps the nearest and farthest ray
 // parameter where the cloud contributes (min blending), for the background medium's dimming in
-// the resolve. Needs PRELUDE and common.wgsl.
+// the resolve. With EYE_SLICES (knob `eye_slices`) each primitive's in-scatter is attenuated by
+// the eye's slices instead — everything in front, overlapping particles included — and added;
+// the opacity is still composited "over". With CHORD_STEPS > 0 the in-scatter over the interval
+// is a quadrature (`chord_inscatter`) instead of the closed form. Needs PRELUDE and common.wgsl.
 
 struct GatherOut {
     @builtin(position) clip: vec4<f32>,
@@ -74,21 +77,68 @@ fn fs_gather(in: GatherOut) -> Gathered {
     }
     if (tau <= 0.0) { discard; }
     let alpha = 1.0 - exp(-tau);
+    // EYE_SLICES: the in-scatter added, each primitive attenuated by the eye's slices; the
+    // opacity composited "over" either way (Π(1 − α) needs no order, and the exact chords
+    // keep the silhouettes the slices' texels would blur).
+    let out_alpha = alpha;
+    if (CHORD_STEPS > 0u) {
+        let l = p.albedo.rgb * chord_inscatter(eye, dir, near, far, tau);
+        return Gathered(vec4<f32>(l, out_alpha), vec4<f32>(near, -far, 0.0, 0.0));
+    }
     let t_mid = 0.5 * (near + far);
     let x = eye + dir * t_mid;
     // Each light's optical depth at both ends of the interval (slices), taken as linear in
     // between: with uniform extinction τ over the interval, ∫ σ e^(−σ s) e^(−(τa + Δ s/L)) ds
     // = e^(−τa) · τ/(τ+Δ) · (1 − e^(−(τ+Δ))). light_radiance() supplies phase, I
     // and visibility at the midpoint.
+    // EYE_SLICES: the eye leg's optical depth at both ends from the eye's slices (everything in
+    // front, this primitive and its overlaps included), taken as linear in between like the
+    // light's, and growing across the interval by at least the primitive's own exact τ (the
+    // slices' texels blur it near its silhouette); else this primitive's own τ over the
+    // interval, what lies in front applied by the "over" compositing.
+    var ea = 0.0;
+    var grow = tau;
+    if (EYE_SLICES) {
+        ea = eye_optical_depth(eye + dir * near);
+        grow = max(eye_optical_depth(eye + dir * far) - ea, tau);
+    }
     var lit = vec3<f32>(0.0);
     for (var k = 0u; k < light_count(); k++) {
-        let ta = light_optical_depth(k, eye + dir * near);
+        let ta = light_optical_depth(k, eye + dir * near) + ea;
         let tb = light_optical_depth(k, eye + dir * far);
-        let kk = tau + (tb - ta);
-        var shadowed = exp(-ta) * alpha;
+        let kk = grow + (tb - (ta - ea));
+        var shadowed = exp(-ta) * tau;
         if (abs(kk) > 1e-4) { shadowed = exp(-ta) * tau / kk * (1.0 - exp(-kk)); }
         lit += light_radiance_with(k, x, -dir, mean_inv_r2(k, eye, dir, near, far)) * shadowed;
     }
     let l = p.albedo.rgb * lit * transmittance(medium, t_mid);
-    return Gathered(vec4<f32>(l, alpha), vec4<f32>(near, -far, 0.0, 0.0));
+    return Gathered(vec4<f32>(l, out_alpha), vec4<f32>(near, -far, 0.0, 0.0));
+}
+
+// ∫ σ e^(−σ (t − near)) Σ_k L_k(x(t)) e^(−τ_k(x(t))) T_bg(t) dt over [near, far] (σ = τ over
+// the interval, uniform), by the midpoint rule with CHORD_STEPS nodes per light: in t for a
+// directional light, in Biri's angle variable φ (t = t0 + h tan φ, dt/r² = dφ/h) for a local
+// one, which flattens its 1/r² peak. L_k: light_radiance (phase, I, 1/r², visibility).
+fn chord_inscatter(eye: vec3<f32>, dir: vec3<f32>, near: f32, far: f32, tau: f32) -> vec3<f32> {
+    let sigma = tau / max(far - near, 1e-6);
+    // EYE_SLICES: the eye's slices in front of the interval, and across it at least the own τ
+    // (as in the closed form above).
+    var front = 0.0;
+    if (EYE_SLICES) { front = eye_optical_depth(eye + dir * near); }
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < light_count(); k++) {
+        let local = light_kind(k) != LIGHT_DIRECTIONAL;
+        let m = angle_march(eye, dir, near, far, CHORD_STEPS, local, lights.lights[k].position.xyz);
+        for (var i = 0u; i < CHORD_STEPS; i++) {
+            let node = march_node(m, i);
+            let t = node.x;
+            let x = eye + dir * t;
+            var own = sigma * (t - near);
+            if (EYE_SLICES) { own = front + max(eye_optical_depth(x) - front, own); }
+            let eye_leg = sigma * exp(-own) * transmittance(medium, t);
+            let lit = light_radiance(k, x, -dir) * exp(-light_optical_depth(k, x));
+            sum += lit * (eye_leg * node.y);
+        }
+    }
+    return sum;
 }

@@ -2,10 +2,14 @@
 // billboard facing the light, adding its optical depth to each slice it lies before — the
 // fraction of its depth interval in front of the slice, assuming uniform density in the
 // interval — so slice s holds the optical depth accumulated up to depth d_s. Four slices per
-// RGBA target; additive blending, no sorting. One render pass per light map ("view": one map,
-// or each face of a cube around a local light); instance i draws entry i mod C of light k's
-// primitive list into view i / C (k = view / 6; blocks holding the light are replaced there by
-// their particles, held.rs). A primitive still holding the light (a sphere) is drawn over the
+// RGBA target, two targets (eight slices) per render pass; additive blending, no sorting.
+// slice_passes() = max(S/8, 1) render passes per light map ("view": one map, or each face of a
+// cube around a local light, or — with EYE_SLICES — the eye's view, drawing the gathering's
+// list); instance i draws entry i mod C of light k's primitive list into pass
+// (i / C) mod slice_passes() of view i / C / slice_passes() (k = view / 6; blocks holding the
+// light are replaced there by their particles, held.rs). Each pass skips (a degenerate quad)
+// every primitive whose bounds begin beyond its last slice: it adds nothing there. A primitive
+// still holding the light (a sphere) is drawn over the
 // whole face instead of as a billboard (no billboard can pass through the light), each fragment
 // finding its interval along its own light ray, the part behind the light cut off. Needs
 // PRELUDE and common.wgsl.
@@ -15,6 +19,8 @@ struct LightOut {
     @location(0) world: vec3<f32>,
     @location(1) @interpolate(flat) prim: u32,
     @location(2) @interpolate(flat) view: u32,
+    // which eight slices (8·pair … 8·pair + 7) this render pass writes
+    @location(3) @interpolate(flat) pair: u32,
 };
 
 // The billboard facing the light at c.
@@ -26,11 +32,28 @@ fn light_basis(vi: u32, c: vec3<f32>) -> Basis {
 @vertex
 fn vs_light(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> LightOut {
     let stride = u32(pb.counts.x);
-    let vi = i / stride;
-    let pi = (vi / FACES + 1u) * stride + i % stride;
+    let slot = i / stride;
+    let vi = slot / slice_passes();
+    let pair = slot % slice_passes();
+    // Light k's list is k + 1; the eye's view draws the gathering's list (0).
+    let list = select(vi / FACES + 1u, 0u, vi == camera_view());
+    let pi = list * stride + i % stride;
     let p = prims[pi];
     let c = p.center.xyz;
     let view = pb.views[vi];
+    var out: LightOut;
+    out.prim = pi;
+    out.view = vi;
+    out.pair = pair;
+    var nearest = dot(c, view.w.xyz);
+    if (is_perspective(vi)) { nearest = length(c - view.p.xyz); }
+    let last = min(8.0 * f32(pair) + 7.0, view.range.z - 1.0);
+    if (nearest - BOUNDS_MARGIN * p.center.w > slice_depth(vi, last)) {
+        // Entirely behind this pass's slices: a degenerate quad outside the view.
+        out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+        out.world = c;
+        return out;
+    }
     var world: vec3<f32>;
     if (is_perspective(vi) && covers_viewer(p.center.w, length(c - view.p.xyz))) {
         // The whole face: the point at unit depth along the axis under each corner.
@@ -43,13 +66,14 @@ fn vs_light(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> L
         let corner = quad_corner(v) * grow;
         world = c + (b.right * corner.x + b.up * corner.y) * p.center.w;
     }
-    var out: LightOut;
     out.clip = light_clip(vi, world);
     out.world = world;
-    out.prim = pi;
-    out.view = vi;
     return out;
 }
+
+// A primitive's extent about its centre, in billboard half-sizes, for the pass culling above
+// (the light maps' bounds, light_maps.rs `BOUNDS`).
+const BOUNDS_MARGIN: f32 = 1.2;
 
 // The primitive's optical depth before each slice depth.
 struct SliceOut {
@@ -60,8 +84,9 @@ struct SliceOut {
 fn slice_contribution(in: LightOut) -> SliceOut {
     let p = prims[in.prim];
     let vi = in.view;
-    // Light k's impostor tiles follow the first light's, k·T further on.
-    let tile = p.extra.y + f32(vi / FACES) * pb.counts.y;
+    // Light k's impostor tiles follow the first light's, k·T further on; the eye's view reads
+    // the camera tile.
+    let tile = select(p.extra.y + f32(vi / FACES) * pb.counts.y, p.extra.z, vi == camera_view());
     let iv = prim_interval(p, tile, light_ray(vi, in.world));
     if (!iv.ok || iv.tau <= 0.0) { discard; }
     var near = iv.near;
@@ -75,8 +100,15 @@ fn slice_contribution(in: LightOut) -> SliceOut {
     }
     let rest = max(iv.far - near, 1e-6);
     let n = vec4<f32>(near);
-    let fa = clamp((pb.views[vi].slices_a - n) / rest, vec4<f32>(0.0), vec4<f32>(1.0));
-    let fb = clamp((pb.views[vi].slices_b - n) / rest, vec4<f32>(0.0), vec4<f32>(1.0));
+    let s0 = 8.0 * f32(in.pair);
+    let da = vec4<f32>(
+        slice_depth(vi, s0), slice_depth(vi, s0 + 1.0), slice_depth(vi, s0 + 2.0), slice_depth(vi, s0 + 3.0)
+    );
+    let db = vec4<f32>(
+        slice_depth(vi, s0 + 4.0), slice_depth(vi, s0 + 5.0), slice_depth(vi, s0 + 6.0), slice_depth(vi, s0 + 7.0)
+    );
+    let fa = clamp((da - n) / rest, vec4<f32>(0.0), vec4<f32>(1.0));
+    let fb = clamp((db - n) / rest, vec4<f32>(0.0), vec4<f32>(1.0));
     return SliceOut(tau * fa, tau * fb);
 }
 

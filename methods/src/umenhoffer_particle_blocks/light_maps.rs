@@ -89,16 +89,10 @@ fn reaches(light: &LightState, prims: &[Prim]) -> bool {
         .any(|p| cone_reaches_sphere(*position, axis, outer, centre(p), p.center[3] * BOUNDS))
 }
 
-/// Slice depths spread evenly over [dmin, dmax] (slices beyond S repeat the last depth).
+/// S slices spread evenly over [dmin, dmax]: slice s at dmin + (dmax − dmin)(s + 1)/S
+/// (common.wgsl `slice_depth`).
 fn with_slices(mut v: ViewUniform, dmin: f32, dmax: f32, slices: u32) -> ViewUniform {
-    let s = slices.max(1) as usize;
-    let mut d = [0.0f32; 8];
-    for (i, x) in d.iter_mut().enumerate() {
-        *x = dmin + (dmax - dmin) * ((i.min(s - 1) + 1) as f32 / s as f32);
-    }
-    v.slices_a = [d[0], d[1], d[2], d[3]];
-    v.slices_b = [d[4], d[5], d[6], d[7]];
-    v.range = [dmin, dmax, s as f32, 0.0];
+    v.range = [dmin, dmax, slices.max(1) as f32, 0.0];
     v
 }
 
@@ -162,6 +156,26 @@ fn single_perspective(
     }
     let v = perspective(lp, axis, half.tan() * 1.01);
     Some(with_slices(v, dmin.max(0.0), dmax, slices))
+}
+
+/// The eye's slice view (knob `eye_slices`): a perspective map at `eye` along `axis` whose
+/// square field (half-angle tangent `tan`) covers the screen, its slices spanning the depth
+/// range of the primitives in front of the eye.
+pub fn eye_view(eye: Vec3, axis: Vec3, tan: f32, prims: &[Prim], slices: u32) -> ViewUniform {
+    let v = perspective(eye, axis, tan);
+    let (mut dmin, mut dmax) = (f32::INFINITY, f32::NEG_INFINITY);
+    for p in prims {
+        let q = centre(p) - eye;
+        let h = p.center[3] * BOUNDS;
+        if q.dot(axis) + h > 0.0 {
+            dmin = dmin.min(q.length() - h);
+            dmax = dmax.max(q.length() + h);
+        }
+    }
+    if dmin > dmax {
+        (dmin, dmax) = (0.0, 1e-3);
+    }
+    with_slices(v, dmin.max(0.0), dmax, slices)
 }
 
 /// Six 90° perspective maps around `lp`; each face's depth range covers the primitives whose

@@ -34,8 +34,6 @@ pub struct ViewUniform {
     pub v: [f32; 4],
     pub w: [f32; 4],
     pub p: [f32; 4],
-    pub slices_a: [f32; 4],
-    pub slices_b: [f32; 4],
     pub range: [f32; 4],
 }
 
@@ -43,7 +41,8 @@ pub struct ViewUniform {
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct PbUniform {
-    pub views: [ViewUniform; FACES * MAX_LIGHTS],
+    /// Every light's FACES views, then the eye's (`eye_slices`; index FACES · lights).
+    pub views: [ViewUniform; FACES * MAX_LIGHTS + 1],
     pub maps: [[f32; 4]; MAX_LIGHTS],
     pub atlas: [f32; 4],
     pub flags: [f32; 4],
@@ -72,6 +71,7 @@ pub struct Sizes {
     pub cols: u32,
     pub tile_res: u32,
     pub light_res: u32,
+    /// Light-pass slices S (4, 8, 16 or 32; knob `slices`).
     pub slices: u32,
     /// The scene's lights (each has FACES slice layers).
     pub lights: usize,
@@ -86,6 +86,11 @@ pub struct Modes {
     pub forward_scattering: bool,
     /// Block pixels' intervals from the impostors' depth moments (knob `interval = moments`).
     pub moments: bool,
+    /// Quadrature nodes along a primitive's interval in the gathering (knob `chord_steps`; 0:
+    /// the closed form).
+    pub chord_steps: u32,
+    /// The eye's own slices attenuate the gathering, which then adds (knob `eye_slices`).
+    pub eye_slices: bool,
 }
 
 /// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
@@ -96,7 +101,8 @@ pub struct Resources {
     pub imp: wgpu::Buffer,
     atlas_view: wgpu::TextureView,
     moments_view: wgpu::TextureView,
-    /// Both slice textures as arrays (sampled) and one layer of each per view (rendered).
+    /// Both slice textures as arrays (sampled) and one layer of each per view and light pass
+    /// (rendered; index `view · slice_passes + pass`).
     slice_views: [wgpu::TextureView; 2],
     slice_layers: Vec<[wgpu::TextureView; 2]>,
     gather_view: wgpu::TextureView,
@@ -129,6 +135,17 @@ fn storage(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
     })
 }
 
+/// Render passes per light map: each writes two groups of four slices (two RGBA targets).
+pub fn slice_passes(slices: u32) -> u32 {
+    (slices / 8).max(1)
+}
+
+/// Layers of each slice texture: one per light pass of every light's FACES views and of the
+/// eye's view (`eye_slices`; allocated always, a few layers).
+pub fn slice_layers(sizes: &Sizes) -> u32 {
+    (FACES * sizes.lights.max(1) + 1) as u32 * slice_passes(sizes.slices)
+}
+
 /// Binding `b` of common.wgsl's group 1, as a layout entry: the uniform, the primitive, tile
 /// and impostor-particle lists, the slice arrays (5, 6) and 2-D textures.
 fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
@@ -153,7 +170,7 @@ impl Resources {
             )
             .create_view(&Default::default())
         };
-        let layers = (FACES * sizes.lights.max(1)) as u32;
+        let layers = slice_layers(sizes);
         let slices = |label| {
             gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -171,7 +188,10 @@ impl Resources {
                 view_formats: &[],
             })
         };
-        let slice_tex = [slices("light slices 0-3"), slices("light slices 4-7")];
+        let slice_tex = [
+            slices("light slices, even groups of four"),
+            slices("light slices, odd groups of four"),
+        ];
         let array = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -326,7 +346,9 @@ impl Passes {
                 ("BLOCKS", flag(modes.blocks)),
                 ("FORWARD_SCATTERING", flag(modes.forward_scattering)),
                 ("MOMENTS", flag(modes.moments)),
-                ("EIGHT_SLICES", flag(sizes.slices > 4)),
+                ("CHORD_STEPS", modes.chord_steps as f64),
+                ("EYE_SLICES", flag(modes.eye_slices)),
+                ("SLICE_GROUPS", (sizes.slices / 4) as f64),
                 ("COVERS", super::held::COVERS as f64),
             ]),
         };
@@ -358,14 +380,24 @@ impl Passes {
             ("vs_light", if eight { "fs_light8" } else { "fs_light4" }),
             &light_targets[..if eight { 2 } else { 1 }],
         );
-        // Premultiplied "over", back to front; alpha accumulates the opacity.
+        // Premultiplied "over", back to front; alpha accumulates the opacity. With the eye's
+        // slices each primitive's in-scatter is already attenuated by what lies in front: added
+        // (the opacity still "over", which needs no order).
+        let composite = if modes.eye_slices {
+            wgpu::BlendState {
+                color: ADD,
+                alpha: OVER,
+            }
+        } else {
+            both(OVER)
+        };
         let (gather, bind_gather) = b.stage(
             "particle gather",
             &[0, 1, 2, 4, 5, 6, 7, 11],
             GATHER_WGSL,
             ("vs_gather", "fs_gather"),
             &[
-                target(ACCUM_FORMAT, Some(both(OVER))),
+                target(ACCUM_FORMAT, Some(composite)),
                 target(EXTENT_FORMAT, Some(both(MIN))),
             ],
         );
@@ -457,7 +489,8 @@ impl Passes {
     }
 
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
-    /// depth), then each light's shadow on the surfaces. `views[k]`: light k's maps this frame;
+    /// depth), then each light's shadow on the surfaces; then, if `eye` (the gathering list's
+    /// length) is not 0, the eye's view (`eye_slices`). `views[k]`: light k's maps this frame;
     /// `lists[k]`: the length of light k's primitive list.
     pub fn encode_light(
         &self,
@@ -465,31 +498,53 @@ impl Passes {
         renderer: &SceneRenderer,
         views: &[u32],
         lists: &[usize],
+        eye: usize,
     ) {
-        let n = if self.sizes.slices > 4 { 2 } else { 1 };
-        let stride = self.sizes.prims as u32;
+        let passes = slice_passes(self.sizes.slices);
         for (k, &count) in views.iter().enumerate() {
             let len = lists[k] as u32;
-            for vi in (FACES * k) as u32..(FACES * k) as u32 + count {
-                let layer = &self.res.slice_layers[vi as usize];
-                let targets: Vec<&wgpu::TextureView> = layer.iter().collect();
-                let mut p = Self::pass(
-                    renderer,
-                    enc,
-                    "particle light pass",
-                    &targets[..n],
-                    wgpu::Color::TRANSPARENT,
-                );
-                p.set_pipeline(&self.light);
-                p.set_bind_group(0, &renderer.frame_bind, &[]);
-                p.set_bind_group(1, &self.bind_light, &[]);
-                p.draw(0..6, vi * stride..vi * stride + len);
+            let first = (FACES * k) as u32 * passes;
+            // Light k's views, each in `passes` passes (light.wgsl decodes the instance index).
+            for slot in first..first + count * passes {
+                self.encode_slices(enc, renderer, slot, len);
             }
             if count > 0 {
                 self.surface_shadow
                     .encode(enc, renderer, &self.res.surface_view, k);
             }
         }
+        if eye > 0 {
+            let first = (FACES * views.len()) as u32 * passes;
+            for slot in first..first + passes {
+                self.encode_slices(enc, renderer, slot, eye as u32);
+            }
+        }
+    }
+
+    /// One light pass: slot `slot` (view · passes + pass) from the first `len` primitives of the
+    /// view's list, into that slot's layer of both slice arrays.
+    fn encode_slices(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        renderer: &SceneRenderer,
+        slot: u32,
+        len: u32,
+    ) {
+        let n = if self.sizes.slices > 4 { 2 } else { 1 };
+        let stride = self.sizes.prims as u32;
+        let layer = &self.res.slice_layers[slot as usize];
+        let targets: Vec<&wgpu::TextureView> = layer.iter().collect();
+        let mut p = Self::pass(
+            renderer,
+            enc,
+            "particle light pass",
+            &targets[..n],
+            wgpu::Color::TRANSPARENT,
+        );
+        p.set_pipeline(&self.light);
+        p.set_bind_group(0, &renderer.frame_bind, &[]);
+        p.set_bind_group(1, &self.bind_light, &[]);
+        p.draw(0..6, slot * stride..slot * stride + len);
     }
 
     /// Back-to-front gathering of the first `count` primitives (the buffer holds them in that

@@ -5,8 +5,16 @@
 // maps and slices for visibility toward every light), dimmed by the cloud on the eye leg:
 // transmittance 1 before the nearest depth where the cloud contributes, the gathered 1 − α
 // beyond the farthest, and in between the optical depth −ln(1 − α) growing linearly with depth
-// (uniform density across the cloud's span on that ray). Needs PRELUDE, FULLSCREEN and
-// common.wgsl.
+// (uniform density across the cloud's span on that ray) — or, with EYE_SLICES, the eye's slices
+// at each step. Needs PRELUDE, FULLSCREEN and common.wgsl.
+
+// The index of the first light that is not directional (light_count() if none).
+fn first_local_light() -> u32 {
+    for (var k = 0u; k < light_count(); k++) {
+        if (light_kind(k) != LIGHT_DIRECTIONAL) { return k; }
+    }
+    return light_count();
+}
 
 // `total` is their sum, written by a second pass from these two targets (total.wgsl).
 struct Resolved {
@@ -29,37 +37,27 @@ fn resolve(frag: vec4<f32>) -> Resolved {
     var l_in = g.rgb;
     let n = u32(pb.flags.y);
     if (n > 0u) {
-        // Equal steps in t for the sun; for a local light equal steps in Biri's angle φ
-        // (t = t0 + h tan φ, dt = h dφ / cos² φ), which flattens the 1/r² peak near the light.
-        var t0 = 0.0;
-        var h = 0.0;
-        // The angle variable follows the first local light (a sun alone: equal steps in t).
-        if (light_kind(0u) != LIGHT_DIRECTIONAL) {
-            let w0 = eye - lights.lights[0].position.xyz;
-            t0 = -dot(w0, dir);
-            h = length(w0 + dir * t0);
-        }
-        let angular = h > 1e-4 * d;
-        let a = select(0.0, atan(-t0 / h), angular);
-        let b = select(d, atan((d - t0) / h), angular);
-        let step = (b - a) / f32(n);
+        // Equal steps in t for the sun; for a local light equal steps in Biri's angle φ, which
+        // flattens the 1/r² peak near the light (angle_march). The angle variable follows the
+        // first local light, whichever its index (a sun alone: equal steps in t). Formerly only
+        // light 0 was looked at, so a point light after a sun had its 1/r² peak sampled at 32
+        // equal steps in t.
+        let local = first_local_light();
+        var lp = vec3<f32>(0.0);
+        if (local < light_count()) { lp = lights.lights[local].position.xyz; }
+        let m = angle_march(eye, dir, 0.0, d, n, local < light_count(), lp);
         let e = textureLoad(extents, px, 0);
         let cloud_tau = -log(max(1.0 - g.a, 1e-30)) * pb.flags.z;
         let cloud_span = max(-e.y - e.x, 1e-6);
         var acc = vec3<f32>(0.0);
         for (var k = 0u; k < n; k++) {
-            let u = a + (f32(k) + 0.5) * step;
-            var t = u;
-            var jac = 1.0;
-            if (angular) {
-                let c = cos(u);
-                t = t0 + h * tan(u);
-                jac = h / (c * c);
-            }
-            let cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
-            acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * jac);
+            let node = march_node(m, k);
+            let t = node.x;
+            var cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
+            if (EYE_SLICES && pb.flags.z > 0.5) { cloud = exp(-eye_optical_depth(eye + dir * t)); }
+            acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * node.y);
         }
-        l_in += medium.sigma_s.rgb * acc * step;
+        l_in += medium.sigma_s.rgb * acc;
     }
     return Resolved(l_in, surf);
 }

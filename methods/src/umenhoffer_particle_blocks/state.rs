@@ -11,7 +11,7 @@ use scenes::Particles;
 use scenes::{FrameState, LightState};
 
 use super::blocks::{self, Instancing};
-use super::passes::{Modes, Passes, PbUniform, Sizes};
+use super::passes::{self, Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
 use super::{camera_bins, held, light_maps};
 use crate::common::renderer::SceneRenderer;
@@ -35,6 +35,8 @@ pub struct State {
     /// Each block's own particles (None: the splat, or clusters that did not match).
     members: held::Members,
     slices: u32,
+    /// The eye's own slices attenuate the gathering (knob `eye_slices`).
+    eye_slices: bool,
     /// Camera impostor bins per side (knob `camera_bins`; 1: one camera tile, the paper, and
     /// always for clusters and the splat): the prototype's camera tiles are 1 .. 1 + g².
     camera_grid: usize,
@@ -90,9 +92,22 @@ impl State {
             lights,
             camera_tiles: (camera_grid * camera_grid) as u32,
         };
+        let (layers, most) = (
+            passes::slice_layers(&sizes),
+            ctx.gpu.device.limits().max_texture_array_layers,
+        );
+        if layers > most {
+            bail!(
+                "scene '{}': knob `slices` = {slices} with {lights} lights needs {layers} slice-texture layers (6 light maps per light, {} passes of eight slices each); this adapter allows {most}: use fewer slices (4 … 32)",
+                ctx.scene.name,
+                passes::slice_passes(slices)
+            );
+        }
         let modes = Modes {
             blocks: blocked_mode.is_some(),
             forward_scattering: p.knob("forward_scattering")?,
+            chord_steps: p.knob("chord_steps")?,
+            eye_slices: p.knob("eye_slices")?,
             moments: match blocked_mode {
                 Some(_) => p.knob::<String>("interval")? == "moments",
                 None => false,
@@ -117,6 +132,7 @@ impl State {
                 None => 0.0,
             },
             slices,
+            eye_slices: p.knob("eye_slices")?,
             camera_grid,
             sky: particles.sky,
             background_scatters: particles.background.sigma_s.max_element() > 0.0,
@@ -126,7 +142,7 @@ impl State {
 
     /// The gathering's list (back to front from the eye) and each light's list, every block
     /// holding that viewer replaced by its particles (held.rs), and in both kinds of list
-    /// every block within `near_light` radii of a local light.
+    /// every block within `near_light` radii of a local light and the block holding the eye.
     fn lists(&self, frame: &FrameState) -> (Vec<Prim>, Vec<Vec<Prim>>) {
         let members = &self.members;
         let eye = frame.camera.position;
@@ -145,19 +161,35 @@ impl State {
         let gather = held::expand(&sorted, members, eye, true, |p| {
             members.holds(p, eye) || local.iter().any(|&lp| members.near(p, lp, near))
         });
+        // The block holding the eye is drawn as its particles in every light's pass too: what
+        // the eye sees around it is lit through its real particles, not the block's uniform
+        // interval (a dense particle holding the eye, lit through the prototype's average, was
+        // 18× too bright).
         let lights = frame
             .lights
             .iter()
-            .map(|l| match l.position() {
-                Some(lp) if !matches!(l, LightState::Directional { .. }) => {
-                    held::expand(&self.set.prims, members, lp, false, |p| {
-                        members.near(p, lp, near.max(held::COVERS))
-                    })
-                }
-                _ => self.set.prims.clone(),
+            .map(|l| {
+                let lp = l
+                    .position()
+                    .filter(|_| !matches!(l, LightState::Directional { .. }));
+                held::expand(&self.set.prims, members, lp.unwrap_or(eye), false, |p| {
+                    members.holds(p, eye)
+                        || lp.is_some_and(|lp| members.near(p, lp, near.max(held::COVERS)))
+                })
             })
             .collect();
         (gather, lights)
+    }
+
+    /// The eye's slice view over the gathering's list: along the camera's axis, its square
+    /// field covering the screen's diagonal (the map's axes are not the screen's).
+    fn eye_view(&self, frame: &FrameState, gather: &[Prim]) -> passes::ViewUniform {
+        let cam = &frame.camera;
+        let aspect = self.renderer.width as f32 / self.renderer.height.max(1) as f32;
+        let tan_y = (cam.fov_y_deg.to_radians() * 0.5).tan();
+        let tan = tan_y * (1.0 + aspect * aspect).sqrt() * 1.02;
+        let axis = cam.forward().as_vec3();
+        light_maps::eye_view(cam.position, axis, tan, gather, self.slices)
     }
 
     /// With camera bins: each gathered block's camera tile (its bin's) and the set's tiles with
@@ -292,8 +324,9 @@ impl State {
             report.count("impostor_splats", (groups * self.set.imp.len()) as f64);
         }
         phases::mark(&mut self.timer, enc, "light");
+        let eye = if self.eye_slices { gathered } else { 0 };
         self.passes
-            .encode_light(enc, &self.renderer, views, lengths);
+            .encode_light(enc, &self.renderer, views, lengths, eye);
         if views.iter().any(|&n| n > 0) {
             report.ran("light-slices");
             report.ran("surface-shadows");
@@ -332,13 +365,17 @@ impl Prepared for State {
                 light_maps::light_views(light, prims, self.set.centroid, self.slices, k, &mut u)
             })
             .collect();
-        let u = self.frame_uniform(u, views.iter().any(|&n| n > 0));
+        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0));
         let (mut gather, light_lists) = self.lists(frame);
+        if self.eye_slices {
+            u.views[passes::FACES * views.len()] = self.eye_view(frame, &gather);
+        }
         let binned = self.bin_camera_tiles(frame.camera.position, &mut gather);
         let tiles = self.tile_frames(frame, &binned);
         self.upload(gpu, &u, &gather, &light_lists, &tiles);
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
         let lists = (&views[..], &lengths[..], gather.len());
+        report.count("eye_slices", self.eye_slices as u32 as f64);
         self.encode_passes(gpu, enc, targets, lists, &mut report);
         report.count("blocks", self.set.prims.len() as f64);
         // Spheres standing in for blocks that hold the eye or a light, over every list.
