@@ -7,16 +7,16 @@
 //! [`ParticleSurfaces::encode_total`] sums them into `total` (three Rgba32Float targets exceed
 //! the 32 bytes per sample one render pass may write).
 
-use harness::gpu::{color_attachment, depth_attachment};
+use harness::gpu::color_attachment;
 use harness::method::AOV_FORMAT;
 use harness::{FrameReport, Gpu, Targets};
 
-use super::gpu_scene::Vertex;
 use super::layouts::{fragment_texture, view_entry};
 use super::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL};
-use super::pipeline::{self, ADDITIVE, Stage, target};
+use super::pipeline::{self, target};
 use super::renderer::{SceneRenderer, renderer_limits};
 use super::resolve::fullscreen_pipeline;
+use super::surface_shadow::SurfaceShadow;
 use super::wgsl;
 
 const SURFACES_WGSL: &str = include_str!("wgsl/particle_surfaces.wgsl");
@@ -26,10 +26,8 @@ pub struct ParticleSurfaces {
     /// The surface pass's output with every light's cloud shadow removed (not yet attenuated by
     /// the particles on the eye leg).
     surface_view: wgpu::TextureView,
-    /// One pipeline per light (`override SURFACE_LIGHT`).
-    shadow: Vec<wgpu::RenderPipeline>,
-    /// Group 1 of the shadow passes (empty: the grid is group 2, as in every trace pass).
-    empty: wgpu::BindGroup,
+    /// Each light's cloud shadow removed (groups: 1 empty, 2 the grid, as in every trace pass).
+    shadow: SurfaceShadow,
     total: wgpu::RenderPipeline,
     total_layout: wgpu::BindGroupLayout,
 }
@@ -91,26 +89,14 @@ impl ParticleSurfaces {
             layout: &empty_layout,
             entries: &[],
         });
-        let label = "particle surface shadow";
-        let layout = pipeline::layout(
+        let shadow = SurfaceShadow::new(
             device,
-            label,
-            &[&renderer.frame_layout, &empty_layout, &grid.layout],
+            renderer,
+            &[(&empty_layout, &empty), (&grid.layout, &grid.bind)],
+            renderer.specialization.constants(),
+            renderer.scene.desc.lights.len(),
+            &shadow_source(),
         );
-        let module = wgsl::module(device, label, &shadow_source());
-        let depth =
-            pipeline::visible_surface_depth(wgpu::TextureFormat::Depth32Float, Default::default());
-        let targets = [target(AOV_FORMAT, Some(ADDITIVE))];
-        let shadow = (0..renderer.scene.desc.lights.len())
-            .map(|k| {
-                let constants = renderer.specialization.with(&[("SURFACE_LIGHT", k as f64)]);
-                Stage::new(label, "vs")
-                    .vertices(Vertex::LAYOUT)
-                    .fragment("fs_particle_shadow", &targets)
-                    .depth(depth.clone())
-                    .build(device, &layout, &module, &constants)
-            })
-            .collect();
         let total_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("particle total"),
             entries: &[fragment_texture(0), fragment_texture(1)],
@@ -127,7 +113,6 @@ impl ParticleSurfaces {
         ParticleSurfaces {
             surface_view,
             shadow,
-            empty,
             total,
             total_layout,
         }
@@ -138,29 +123,12 @@ impl ParticleSurfaces {
         &self,
         enc: &mut wgpu::CommandEncoder,
         renderer: &SceneRenderer,
-        grid: &GpuParticleGrid,
         targets: &Targets,
         report: &mut FrameReport,
     ) {
         renderer.encode_surface(enc, &self.resolve_targets(targets), report);
-        for pipeline in &self.shadow {
-            let mut pass = renderer.passes.render_pass(
-                enc,
-                &wgpu::RenderPassDescriptor {
-                    label: Some("particle surface shadow"),
-                    color_attachments: &[color_attachment(&self.surface_view, wgpu::LoadOp::Load)],
-                    depth_stencil_attachment: Some(depth_attachment(
-                        &renderer.depth_view,
-                        wgpu::LoadOp::Load,
-                    )),
-                    ..Default::default()
-                },
-            );
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &renderer.frame_bind, &[]);
-            pass.set_bind_group(1, &self.empty, &[]);
-            pass.set_bind_group(2, &grid.bind, &[]);
-            renderer.gpu_scene.draw(&mut pass);
+        for k in 0..renderer.scene.desc.lights.len() {
+            self.shadow.encode(enc, renderer, &self.surface_view, k);
         }
         report.ran("particle-surface-shadows");
     }

@@ -3,9 +3,10 @@
 //! 1 − e^(−τ), τ the particle optical depth toward the light as the method stores it. With one
 //! light this equals multiplying the surface by the light's particle transmittance; with several,
 //! each light's term gets its own. The method supplies the fragment `fs_cloud_shadow` (composed
-//! after the shared surface pass, reading `SURFACE_LIGHT`) and its group 1; used by
-//! umenhoffer-particle-blocks / particle-splat (τ from their light slices) and froxel-fog (τ from
-//! its light-space extinction grids).
+//! after the shared surface pass, reading `SURFACE_LIGHT`) and its groups from 1 on; used by
+//! umenhoffer-particle-blocks / particle-splat (τ from their light slices), froxel-fog (τ from
+//! its light-space extinction grids) and the particle tracers (`common::particle_surfaces`: τ
+//! exact through the particle grid).
 
 use harness::method::AOV_FORMAT;
 
@@ -17,23 +18,27 @@ use crate::common::wgsl;
 pub struct SurfaceShadow {
     /// One pipeline per light (`override SURFACE_LIGHT`).
     pipelines: Vec<wgpu::RenderPipeline>,
-    bind: wgpu::BindGroup,
+    /// Groups 1, 2, … of the fragment.
+    binds: Vec<wgpu::BindGroup>,
 }
 
 impl SurfaceShadow {
-    /// `group`: the layout and bind group (group 1) the fragment reads; `constants`: the
-    /// method's pipeline constants (the pass adds `SURFACE_LIGHT`); `source`: the composed WGSL
-    /// (PRELUDE, the method's group 1, `wgsl::SURFACE_PASS`, then `fs_cloud_shadow`).
+    /// `groups`: the layouts and bind groups (groups 1, 2, …) the fragment reads; `constants`:
+    /// the method's pipeline constants (the pass adds `SURFACE_LIGHT`); `source`: the composed
+    /// WGSL (PRELUDE, the method's groups, `wgsl::SURFACE_PASS`, then `fs_cloud_shadow`).
     pub fn new(
         device: &wgpu::Device,
         renderer: &SceneRenderer,
-        (bgl, bind): (wgpu::BindGroupLayout, wgpu::BindGroup),
+        groups: &[(&wgpu::BindGroupLayout, &wgpu::BindGroup)],
         constants: &[(&'static str, f64)],
         lights: usize,
         source: &str,
     ) -> SurfaceShadow {
         let label = "particle surface shadow";
-        let layout = pipeline::layout(device, label, &[&renderer.frame_layout, &bgl]);
+        let layouts: Vec<&wgpu::BindGroupLayout> = std::iter::once(&renderer.frame_layout)
+            .chain(groups.iter().map(|(l, _)| *l))
+            .collect();
+        let layout = pipeline::layout(device, label, &layouts);
         let module = wgsl::module(device, label, source);
         let depth =
             pipeline::visible_surface_depth(wgpu::TextureFormat::Depth32Float, Default::default());
@@ -48,7 +53,8 @@ impl SurfaceShadow {
                     .build(device, &layout, &module, &constants)
             })
             .collect();
-        SurfaceShadow { pipelines, bind }
+        let binds = groups.iter().map(|(_, b)| (*b).clone()).collect();
+        SurfaceShadow { pipelines, binds }
     }
 
     /// Removes light `k`'s cloud-shadowed part from `surface` (the surface pass's output).
@@ -76,7 +82,9 @@ impl SurfaceShadow {
         );
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &renderer.frame_bind, &[]);
-        pass.set_bind_group(1, &self.bind, &[]);
+        for (g, bind) in self.binds.iter().enumerate() {
+            pass.set_bind_group(1 + g as u32, bind, &[]);
+        }
         renderer.gpu_scene.draw(&mut pass);
     }
 }

@@ -211,10 +211,11 @@ impl ParticlePasses {
         );
         let src = particles_source();
         let lights = renderer.scene.desc.lights.len().min(PARTICLE_GRIDS);
+        let (shadow_layout, shadow_bind) = shadow_group(gpu, shared.medium);
         let shadow = SurfaceShadow::new(
             &gpu.device,
             renderer,
-            shadow_group(gpu, shared.medium),
+            &[(&shadow_layout, &shadow_bind)],
             renderer.specialization.constants(),
             lights,
             &particle_shadow_source(),

@@ -61,7 +61,7 @@ impl ParticleFloor {
     ) -> FrameReport {
         let mut report = renderer.start_frame(gpu, frame);
         renderer.encode_shadows(enc, &mut report);
-        (self.surfaces).encode(enc, renderer, &self.grid, targets, &mut report);
+        self.surfaces.encode(enc, renderer, targets, &mut report);
         let resolve_targets = self.surfaces.resolve_targets(targets);
         (self.resolve).encode_with_group(gpu, enc, renderer, &resolve_targets, &self.grid.bind);
         report.ran("fog-resolve");

@@ -124,7 +124,8 @@ impl Prepared for State {
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
         self.renderer.encode_shadows(enc, &mut report);
-        (self.surfaces).encode(enc, &self.renderer, &self.grid, targets, &mut report);
+        self.surfaces
+            .encode(enc, &self.renderer, targets, &mut report);
         let resolve_targets = self.surfaces.resolve_targets(targets);
         (self.march).encode_with_group(gpu, enc, &self.renderer, &resolve_targets, &self.grid.bind);
         report.ran("particle-march");

@@ -408,10 +408,12 @@ impl Passes {
             ("vs_fullscreen", "fs_resolve"),
             &[target(AOV_FORMAT, None), target(AOV_FORMAT, None)],
         );
+        let (shadow_layout, shadow_bind) =
+            b.group("particle surface shadow", &super::surface_shadow::BINDINGS);
         let surface_shadow = SurfaceShadow::new(
             &gpu.device,
             renderer,
-            b.group("particle surface shadow", &super::surface_shadow::BINDINGS),
+            &[(&shadow_layout, &shadow_bind)],
             &b.constants,
             sizes.lights,
             &super::shaders::surface_shadow_source(),

@@ -6,7 +6,7 @@
 // particle_trace.wgsl.
 
 @fragment
-fn fs_particle_shadow(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+fn fs_cloud_shadow(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let s = seen(i, front);
     let lit = shade_light_shadowed(SURFACE_LIGHT, s.x, s.n, s.v, s.o) * eye_transmittance(s.x, s.d);
     let blocked = 1.0 - exp(-light_leg_depth(SURFACE_LIGHT, s.x));
