@@ -132,37 +132,37 @@ pub const CASES: &[Case] = &[
     Case {
         name: "particle-fills-view",
         about: "one sphere particle covers every pixel: every ray's chord, the whole screen one impostor",
-        build: particles::fills_view,
+        build: |_| particles::fills_view(),
     },
     Case {
         name: "particle-million",
         about: "a million small particles (the format's most; fewer in CI): memory, bins and sorting at scale",
-        build: particles::million,
+        build: |ctx| particles::million(ctx.particles),
     },
     Case {
         name: "particles-same-centre",
         about: "64 equal spheres at one centre: overlapping τ adds, every depth sort ties",
-        build: particles::same_centre,
+        build: |_| particles::same_centre(),
     },
     Case {
         name: "particles-zero-density",
         about: "a cloud of τ = 0 spheres: nothing scatters or dims (0/0 where a method divides by τ)",
-        build: particles::zero_density,
+        build: |_| particles::zero_density(),
     },
     Case {
         name: "camera-in-dense-particle",
         about: "the eye inside a sphere of τ 3 /m: every ray starts inside a particle",
-        build: particles::camera_in_dense,
+        build: |_| particles::camera_in_dense(),
     },
     Case {
         name: "light-in-particle",
         about: "a point light inside a sphere of a cloud: the 1/r² peak inside τ, every light ray starts in it",
-        build: particles::light_in_particle,
+        build: |_| particles::light_in_particle(),
     },
     Case {
         name: "particle-radii-1e-4-to-1e3",
         about: "radii 1e-4 to 1e3 m in one cloud: sub-pixel spheres beside one that holds the whole scene and the eye",
-        build: particles::radii_span,
+        build: |_| particles::radii_span(),
     },
 ];
 

@@ -6,8 +6,6 @@
 
 use serde_json::{Value, json};
 
-use super::BuildContext;
-
 fn sun() -> Value {
     json!({"kind": "directional", "direction": [-0.4, -1.0, -0.5], "irradiance": [3.0, 2.9, 2.7]})
 }
@@ -43,7 +41,7 @@ fn scene(eye: [f64; 3], at: [f64; 3], particles: Vec<Value>, generators: Vec<Val
 
 /// One sphere of radius 3 m, 4.5 m from the eye: its silhouette (41.8° angular radius) covers
 /// the whole 45° view, corners included.
-pub fn fills_view(_: &BuildContext) -> Result<Value, String> {
+pub fn fills_view() -> Result<Value, String> {
     let at = [0.0, 3.5, 0.0];
     Ok(scene(
         [0.0, 3.5, 4.5],
@@ -53,10 +51,9 @@ pub fn fills_view(_: &BuildContext) -> Result<Value, String> {
     ))
 }
 
-/// `ctx.particles` small spheres (1 000 000 in the manual run, the most the scene format
+/// `n` small spheres (1 000 000 in the manual run, the most the scene format
 /// allows; fewer in CI) in a 8 × 4 × 6 m ellipsoid: about one sphere's volume per sphere.
-pub fn million(ctx: &BuildContext) -> Result<Value, String> {
-    let n = ctx.particles;
+pub fn million(n: usize) -> Result<Value, String> {
     // Radii scaled so that the cloud's mean optical depth stays near 1.5 whatever the count.
     let r = 0.02 * (1e6 / n.max(1) as f64).cbrt();
     let c = cloud(n, [0.0, 2.2, 0.0], [4.0, 2.0, 3.0], [0.5 * r, 1.5 * r], 0.8);
@@ -65,7 +62,7 @@ pub fn million(ctx: &BuildContext) -> Result<Value, String> {
 
 /// 64 spheres of one radius at one centre: overlaps add (τ 64 × 0.03 /m), and every depth sort
 /// ties.
-pub fn same_centre(_: &BuildContext) -> Result<Value, String> {
+pub fn same_centre() -> Result<Value, String> {
     let at = [0.0, 2.0, 0.0];
     let parts = vec![particle(at, 1.2, 0.03); 64];
     Ok(scene([0.0, 2.4, 8.0], at, parts, vec![]))
@@ -73,14 +70,14 @@ pub fn same_centre(_: &BuildContext) -> Result<Value, String> {
 
 /// A cloud of zero-density spheres: no in-scatter, no shadow, nothing dimmed (0/0 where a
 /// method divides by τ).
-pub fn zero_density(_: &BuildContext) -> Result<Value, String> {
+pub fn zero_density() -> Result<Value, String> {
     let c = cloud(2000, [0.0, 2.2, 0.0], [3.0, 1.4, 2.0], [0.08, 0.3], 0.0);
     Ok(scene([0.0, 2.4, 10.0], [0.0, 2.0, 0.0], vec![], vec![c]))
 }
 
 /// The eye at the centre of a sphere of radius 1 m and τ 3 /m (e^(−3) to its edge), in front of
 /// a sunlit cloud.
-pub fn camera_in_dense(_: &BuildContext) -> Result<Value, String> {
+pub fn camera_in_dense() -> Result<Value, String> {
     let eye = [0.0, 2.4, 8.0];
     let c = cloud(2000, [0.0, 2.2, 0.0], [3.0, 1.4, 2.0], [0.08, 0.3], 0.4);
     Ok(scene(
@@ -95,7 +92,7 @@ pub fn camera_in_dense(_: &BuildContext) -> Result<Value, String> {
 /// no sun; the light just above the view (the exact in-scatter of a ray through a point light
 /// diverges, view-through-light's business), the cloud and the floor below it lit through its
 /// particle: the light's rays all start inside τ.
-pub fn light_in_particle(_: &BuildContext) -> Result<Value, String> {
+pub fn light_in_particle() -> Result<Value, String> {
     let light = [0.0, 4.6, -1.0];
     let c = cloud(400, [0.0, 3.0, -1.0], [2.5, 1.8, 1.8], [0.1, 0.3], 0.5);
     let parts = vec![particle(light, 0.5, 2.0)];
@@ -107,7 +104,7 @@ pub fn light_in_particle(_: &BuildContext) -> Result<Value, String> {
 /// Radii 1e-4, 1e-3, …, 1e3 m in one cloud (densities such that each is visible or, below a
 /// pixel, harmless), plus a generated puff of radii 1e-4 to 0.3 m: the 1e3 m sphere holds the
 /// whole scene, the eye included (a thin haze).
-pub fn radii_span(_: &BuildContext) -> Result<Value, String> {
+pub fn radii_span() -> Result<Value, String> {
     let parts = vec![
         particle([0.0, 0.0, 0.0], 1e3, 2e-3),
         particle([0.0, 8.0, -60.0], 1e2, 1e-3),
