@@ -130,4 +130,11 @@ impl Method for NoScatter {
     fn conformance(&self) -> Vec<ConformanceCase> {
         vec![ConformanceCase::new("sphere-point", 48, Aov::Surface, 0.08)]
     }
+
+    /// The floor misses all in-scatter by design, so the total's error is the scene's in-scatter
+    /// and declares nothing — except where nothing scatters: zero-density particles, where it
+    /// must be exact (measured 3.9e-8 at 64²).
+    fn stress_bound(&self, case: &str) -> Option<f64> {
+        (case == "particles-zero-density").then_some(1e-3)
+    }
 }
