@@ -10,7 +10,6 @@ pub const IMPOSTOR_WGSL: &str = include_str!("impostor.wgsl");
 pub const LIGHT_WGSL: &str = include_str!("light.wgsl");
 pub const GATHER_WGSL: &str = include_str!("gather.wgsl");
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
-pub const TOTAL_WGSL: &str = include_str!("total.wgsl");
 pub const SURFACE_SHADOW_WGSL: &str = include_str!("surface_shadow.wgsl");
 
 /// A pass's composed source: PRELUDE, FULLSCREEN, common.wgsl, then its own.
@@ -28,7 +27,5 @@ pub fn surface_shadow_source() -> String {
     wgsl::compose(&shared, SURFACE_SHADOW_WGSL)
 }
 
-/// The total AOV's full-screen pass (in-scatter + surface).
-pub fn total_source() -> String {
-    wgsl::compose(&[wgsl::FULLSCREEN], TOTAL_WGSL)
-}
+/// The total AOV's full-screen pass (in-scatter + surface), shared with the particle tracers.
+pub use crate::common::particle_surfaces::total_source;
