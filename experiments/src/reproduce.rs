@@ -132,13 +132,13 @@ pub fn plan(papers: &[&str], registry: &[&'static dyn Method]) -> Result<Plan> {
         params: &[],
     };
     if find(registry, floor.method).is_some() {
+        let (entry, params) = resolve(registry, &floor)?;
         for (si, s) in scene_names.iter().enumerate() {
-            let (entry, params) = resolve(registry, &floor)?;
             if keys.insert(record_key(s, entry.id(), &params)) {
                 work.push(WorkItem {
                     scene: si,
                     entry,
-                    params,
+                    params: params.clone(),
                 });
             }
         }

@@ -63,7 +63,8 @@ pub struct FrameScorer<'a> {
     /// Animated scenes: every frame's reference ([`frame_references`]); empty when static.
     references: Vec<Arc<ReferenceImages>>,
     temporal: [Temporal; 3],
-    /// Lag and flicker per AOV, fed the same frames in the order they were shown.
+    /// Lag and flicker per AOV, fed the same frames in the order they were shown (animated
+    /// scenes only).
     lag: [LagFlicker; 3],
     frames: Vec<FrameErrors>,
     /// Time spent scoring, s (the harness's work, reported in `timing.score_ms`).
@@ -116,9 +117,14 @@ impl<'a> FrameScorer<'a> {
         let r: &ReferenceImages = r.as_deref().unwrap_or(self.frame0);
         let refs = [&r.inscatter, &r.surface, &r.total];
         let clean: Vec<Image> = images.iter().map(finite).collect();
+        let animated = self.animated();
         for (k, (img, refimg)) in clean.iter().zip(refs).enumerate() {
             self.temporal[k].push(img, refimg);
-            self.lag[k].push(img, refimg);
+            // A static scene's references are all one image: every lag matches alike, so lag is
+            // 0 and flicker the temporal figure by definition (`finish`), without the lag grid.
+            if animated {
+                self.lag[k].push(img, refimg);
+            }
         }
         if !self.animated() {
             return Ok(());
@@ -145,9 +151,18 @@ impl<'a> FrameScorer<'a> {
 
     /// The per-frame errors (animated scenes only) and the temporal figures per AOV.
     pub fn finish(self) -> (Option<ErrorsPerFrame>, [TemporalFigures; 3]) {
-        let figures = [0, 1, 2].map(|k| TemporalFigures {
-            temporal: self.temporal[k].value(),
-            lag: self.lag[k].value(),
+        let animated = self.animated();
+        let figures = [0, 1, 2].map(|k| {
+            let temporal = self.temporal[k].value();
+            let lag = if animated {
+                self.lag[k].value()
+            } else {
+                temporal.map(|t| LagFigures {
+                    lag_frames: 0.0,
+                    flicker: Some(t),
+                })
+            };
+            TemporalFigures { temporal, lag }
         });
         let per_frame = (!self.frames.is_empty()).then(|| ErrorsPerFrame::new(self.frames));
         (per_frame, figures)

@@ -19,6 +19,7 @@
 //! reads lag ≈ 0 and flicker > 0 (its error matches no earlier frame better). On a static scene
 //! every λ matches alike, so lag is 0 and flicker is the plain temporal figure.
 
+use std::borrow::Cow;
 use std::collections::VecDeque;
 
 use super::Image;
@@ -92,24 +93,26 @@ impl LagFlicker {
         self.frames.push(sums);
     }
 
-    /// r(k − λ) for the newest frame k, linear between the two shown frames around it.
-    fn reference_at(&self, lag: f64) -> Image {
+    /// r(k − λ) for the newest frame k, linear between the two shown frames around it (a shown
+    /// frame's reference itself, not a copy, at whole lags).
+    fn reference_at(&self, lag: f64) -> Cow<'_, Image> {
         let newest = self.references.len() - 1;
         let (whole, frac) = (lag.floor() as usize, (lag - lag.floor()) as f32);
         let later = &self.references[newest - whole];
         if frac == 0.0 {
-            return later.clone();
+            return Cow::Borrowed(later);
         }
         let earlier = &self.references[newest - whole - 1];
-        Image {
+        Cow::Owned(Image {
+            width: later.width,
+            height: later.height,
             pixels: later
                 .pixels
                 .iter()
                 .zip(&earlier.pixels)
                 .map(|(a, b)| [0, 1, 2].map(|c| (1.0 - frac) * a[c] + frac * b[c]))
                 .collect(),
-            ..later.clone()
-        }
+        })
     }
 
     /// The figures, or None with fewer than two shown frames.
