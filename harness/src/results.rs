@@ -123,6 +123,12 @@ pub struct ErrorsPerFrame {
 pub struct FrameErrors {
     pub frame: u32,
     pub errors: BTreeMap<String, ErrorMetrics>,
+    /// This frame's encode + submit + wait, ms (absent in results written before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_ms: Option<f64>,
+    /// This frame's GPU time from timestamp queries, ms; absent where the adapter has none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_ms: Option<f64>,
 }
 
 /// The figures summarised over a sequence's frames.

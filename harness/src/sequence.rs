@@ -111,6 +111,14 @@ impl<'a> FrameScorer<'a> {
         result
     }
 
+    /// Records the time of the frame [`Self::timed_frame`] scored last (its per-frame plot in
+    /// the report); nothing on a static scene, whose frames are not kept one by one.
+    pub fn time_last_frame(&mut self, wall_ms: f64, gpu_ms: Option<f64>) {
+        if let Some(last) = self.frames.last_mut() {
+            (last.wall_ms, last.gpu_ms) = (Some(wall_ms), gpu_ms);
+        }
+    }
+
     fn score(&mut self, index: u32, images: &[Image; 3]) -> Result<(), String> {
         let f = index as usize % self.references.len().max(1);
         let r = self.references.get(f).cloned();
@@ -145,6 +153,8 @@ impl<'a> FrameScorer<'a> {
         self.frames.push(FrameErrors {
             frame: f as u32,
             errors,
+            wall_ms: None,
+            gpu_ms: None,
         });
         Ok(())
     }

@@ -30,6 +30,7 @@ pub mod compare;
 pub mod fit;
 pub mod fixture;
 pub mod format;
+pub mod frames;
 pub mod knobs;
 pub mod matrix;
 pub mod methods;
@@ -103,6 +104,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
                 )
             })
             .collect();
+        v.frames = frames::view(&data.records, &name, &v.anchor, device, &plots);
         scenes.push(v);
     }
 

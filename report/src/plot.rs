@@ -16,9 +16,9 @@ use plotters::style::FontStyle;
 use crate::analysis::{Point, pareto_front};
 
 static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
-const FAMILY: &str = "sans-serif";
+pub(crate) const FAMILY: &str = "sans-serif";
 
-fn register_font() {
+pub(crate) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The bundled file is a valid TTF; failing here would be a packaging bug, and the
@@ -51,7 +51,7 @@ pub const SIZE: (u32, u32) = (720, 480);
 
 /// A log axis range covering `values` (all > 0), padded by a factor on each side so markers
 /// are not clipped; a single value gets a decade around it.
-fn log_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+pub(crate) fn log_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && *v > 0.0)
         .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
@@ -100,7 +100,7 @@ pub fn pareto(labels: &ParetoLabels, series: &[Series], png: &Path, svg: &Path) 
 }
 
 /// Width (px) of the legend column right of the data area.
-const LEGEND_W: u32 = 190;
+pub(crate) const LEGEND_W: u32 = 190;
 
 /// Binds `$e` to a hollow marker of shape `$i` (circle, square, triangle, diamond, plus, x,
 /// repeating) at `$c` and evaluates `$body`: hollow so coincident points of different methods
@@ -356,6 +356,24 @@ where
         .y_label_formatter(&|v| fmt_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
+    draw_lines(&mut chart, &legend_area, lines)?;
+    root.present()?;
+    Ok(())
+}
+
+/// Draws each line (markers joined in x order, the fit dashed) in its palette colour, with its
+/// legend entry; shared by every plot of lines whatever its axes' scales.
+pub(crate) fn draw_lines<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    legend_area: &DrawingArea<DB, plotters::coord::Shift>,
+    lines: &[Line],
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
     for (i, l) in lines
         .iter()
         .enumerate()
@@ -382,7 +400,6 @@ where
             chart.draw_series(DashedLineSeries::new(fit, 5, 4, color.stroke_width(1)))?;
         }
     }
-    root.present()?;
     Ok(())
 }
 
@@ -413,7 +430,7 @@ pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// Minor grid lines: 1..9 × every power of ten inside `[lo, hi]`.
-fn log_minor(lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn log_minor(lo: f64, hi: f64) -> Vec<f64> {
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return Vec::new();
     }
@@ -425,7 +442,7 @@ fn log_minor(lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// Tick labels: plain decimals in the usual range, scientific notation outside it.
-fn fmt_tick(v: f64) -> String {
+pub(crate) fn fmt_tick(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".into()

@@ -43,6 +43,8 @@ pub struct SceneView {
     pub plots: Vec<PlotView>,
     /// Per metric: the cheapest configuration under each budget, overall and per method.
     pub budgets: Vec<MetricBudgets>,
+    /// Animated scenes: headline error and frame time over the frames ([`crate::frames`]).
+    pub frames: Option<crate::frames::FramesView>,
 }
 
 #[derive(Serialize)]
@@ -372,6 +374,7 @@ pub fn scene_data<'a>(
         rows,
         plots: Vec::new(),
         budgets,
+        frames: None,
     };
     SceneData {
         view,

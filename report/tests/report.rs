@@ -882,3 +882,88 @@ fn scaling_section_fits_the_slopes_of_the_records() {
     assert_eq!(rb_slopes[1..], [format!("{expect:.2}")], "{rb_slopes:?}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// An animated scene's per-frame section: one line per method, its record of lowest mean
+/// headline over the frames (a sweep's worse configuration is not drawn), the plots written and
+/// linked; a static scene has none.
+#[test]
+fn animated_scenes_get_per_frame_error_and_time_plots_of_each_methods_best_record() {
+    use harness::results::{ErrorsPerFrame, FrameErrors};
+    use report::fixture::synthetic::{Measured, every_pair, params, record};
+    let measured = |_, _| {
+        Some(Measured {
+            time_ms: 5.0,
+            headline: 0.02,
+        })
+    };
+    let mut results = every_pair(
+        "Synthetic",
+        &["walk", "still"],
+        &["lag-fog", "exact-fog"],
+        &measured,
+    );
+    let mut worse = params();
+    worse.insert("steps".into(), harness::method::ParamValue::Int(8));
+    results
+        .records
+        .push(record("walk", "lag-fog", &worse, measured(0, 0)));
+    let last = results.records.len() - 1;
+    for (i, r) in results.records.iter_mut().enumerate() {
+        if r.scene != "walk" {
+            continue;
+        }
+        // The second lag-fog record (8 steps) is 10× worse on every frame.
+        let scale = if i == last { 10.0 } else { 1.0 };
+        let frames = (0..6u32)
+            .map(|k| {
+                let mut errors = r.errors.clone();
+                let h = scale * 0.01 * f64::from(k + 1);
+                errors.get_mut("inscatter").unwrap().headline = Some(h);
+                FrameErrors {
+                    frame: k,
+                    errors,
+                    wall_ms: Some(6.0 + f64::from(k)),
+                    gpu_ms: Some(5.0 + f64::from(k)),
+                }
+            })
+            .collect();
+        r.errors_per_frame = Some(ErrorsPerFrame::new(frames));
+    }
+    let dir = tmp("frames");
+    report::fixture::write_results(&dir, &results).expect("fixture");
+    let index = report::generate(&dir).expect("report");
+    let html = std::fs::read_to_string(&index).unwrap();
+    let doc = parse(&html);
+    let section = |scene: &str| {
+        doc.descendants()
+            .find(|n| n.attribute("id") == Some(format!("scene-{scene}").as_str()))
+            .map(|n| text(n))
+            .unwrap_or_default()
+    };
+    let walk = section("walk");
+    assert!(walk.contains("Per frame"), "{walk}");
+    assert!(
+        walk.contains("steps=128") && !walk.contains("lag-fog steps=8"),
+        "{walk}"
+    );
+    assert!(!section("still").contains("Per frame"));
+    for kind in ["error", "time"] {
+        let svg = dir.join(format!("report/plots/scene-walk.frames.{kind}.svg"));
+        let svg =
+            std::fs::read_to_string(&svg).unwrap_or_else(|e| panic!("{}: {e}", svg.display()));
+        roxmltree::Document::parse(&svg).expect("well-formed SVG");
+        assert!(
+            svg.contains("lag-fog") && svg.contains("exact-fog"),
+            "{kind}: legend"
+        );
+        let src = format!("plots/scene-walk.frames.{kind}.svg");
+        assert!(
+            doc.descendants()
+                .any(|n| n.attribute("src") == Some(src.as_str())),
+            "{src} is shown"
+        );
+        if kind == "time" {
+            assert!(svg.contains("GPU time"), "every frame has GPU time");
+        }
+    }
+}

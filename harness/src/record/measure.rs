@@ -170,6 +170,7 @@ fn timed_frames(
         // Read back and score outside the timed region (the next frame's clock starts after
         // its own clear and wait).
         scorer.timed_frame(f, &aovs.read(gpu)?)?;
+        scorer.time_last_frame(t.wall_ms, t.gpu_ms);
         f += 1;
     }
     // Work counts are per frame, median over the timed frames (an animated scene's frames differ).
