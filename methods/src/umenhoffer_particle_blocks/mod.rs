@@ -113,6 +113,7 @@
 pub mod blocks;
 pub mod camera_bins;
 pub mod clusters;
+pub mod dominant;
 pub mod held;
 pub mod light_maps;
 pub mod passes;
@@ -169,6 +170,10 @@ fn shared_knobs(slices: i64) -> Vec<Knob> {
             .sweep([8])
             .unit("nodes")
             .meaning("in-scatter over a primitive's depth interval: 0 = closed form (light optical depth linear along it, phase and I at its midpoint, mean 1/r²); n = n-node quadrature per light (in Biri's angle variable for a local light), the converged variant for the error budget"),
+        Knob::int("dominant", 4, 0..=dominant::MAX_DOMINANT as i64)
+            .sweep([0])
+            .unit("spheres")
+            .meaning("at most this many dominant spheres (holding the eye or a local light, or optically thick or huge; dominant.rs) handled exactly: out of the slices (exact chords toward the lights), exact eye leg for what overlaps them, their own in-scatter by quadrature (a modernisation); 0 = none, the paper"),
         Knob::int("light_res", 256, 8..=4096)
             .unit("texels")
             .meaning("light-map (slice texture) resolution per side"),

@@ -8,6 +8,7 @@ use harness::gpu::{Counted, color_attachment};
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
+use super::dominant::MAX_DOMINANT;
 use super::primitives::{ImpParticle, Prim, Tile};
 use super::shaders::{GATHER_WGSL, IMPOSTOR_WGSL, LIGHT_WGSL, RESOLVE_WGSL, source, total_source};
 use super::surface_shadow::SurfaceShadow;
@@ -48,6 +49,9 @@ pub struct PbUniform {
     pub flags: [f32; 4],
     pub counts: [f32; 4],
     pub sky: [f32; 4],
+    /// The dominant spheres (dominant.rs; `flags[3]` of them): centre and radius, then σ and
+    /// the index in the gathering's list.
+    pub dominant: [[f32; 4]; 2 * MAX_DOMINANT],
 }
 
 /// Impostor atlas texels: min-blendable, and 16-bit floats are ample for depths within a block.
@@ -493,7 +497,8 @@ impl Passes {
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
     /// depth), then each light's shadow on the surfaces; then, if `eye` (the gathering list's
     /// length) is not 0, the eye's view (`eye_slices`). `views[k]`: light k's maps this frame;
-    /// `lists[k]`: the length of light k's primitive list.
+    /// `lists[k]`: the length of light k's primitive list; `dominant`: dominant spheres exist,
+    /// so every light's surface-shadow pass runs, maps or not.
     pub fn encode_light(
         &self,
         enc: &mut wgpu::CommandEncoder,
@@ -501,6 +506,7 @@ impl Passes {
         views: &[u32],
         lists: &[usize],
         eye: usize,
+        dominant: bool,
     ) {
         let passes = slice_passes(self.sizes.slices);
         for (k, &count) in views.iter().enumerate() {
@@ -510,7 +516,8 @@ impl Passes {
             for slot in first..first + count * passes {
                 self.encode_slices(enc, renderer, slot, len);
             }
-            if count > 0 {
+            // Dominant spheres shadow surfaces without any light map (dominant.rs).
+            if count > 0 || dominant {
                 self.surface_shadow
                     .encode(enc, renderer, &self.res.surface_view, k);
             }

@@ -8,12 +8,13 @@ use harness::gpu::{PhaseTimer, phases};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, KnobRead, Prepared, Targets};
 use scenes::Particles;
+use scenes::particles::Particle;
 use scenes::{FrameState, LightState};
 
 use super::blocks::{self, Instancing};
 use super::passes::{self, Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
-use super::{camera_bins, held, light_maps};
+use super::{camera_bins, dominant, held, light_maps};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_maps::ShadowSettings;
 
@@ -45,6 +46,10 @@ pub struct State {
     background_scatters: bool,
     /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
     timer: Option<PhaseTimer>,
+    /// The most dominant spheres (knob `dominant`; 0: none, the paper) and the cloud's extent
+    /// that makes a sphere huge (dominant.rs).
+    dominant: usize,
+    extent: f32,
 }
 
 impl State {
@@ -60,7 +65,8 @@ impl State {
         };
         let p = ctx.params;
         let slices: u32 = p.knob("slices")?;
-        let (mut set, tile_res_knob) = block_set(particles, blocked_mode);
+        let dominant: usize = p.knob::<u32>("dominant")? as usize;
+        let (mut set, tile_res_knob) = block_set(particles, blocked_mode, dominant > 0);
         // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g²;
         // no more bins than instances (g² ≤ blocks: one block has one direction).
         let camera_grid = match blocked_mode {
@@ -137,6 +143,8 @@ impl State {
             sky: particles.sky,
             background_scatters: particles.background.sigma_s.max_element() > 0.0,
             timer: PhaseTimer::new(ctx.gpu, 6),
+            dominant,
+            extent: dominant::extent(&particles.particles),
         })
     }
 
@@ -151,12 +159,7 @@ impl State {
             let d = |p: &Prim| (Vec3::from_slice(&p.center[..3]) - eye).length_squared();
             d(b).total_cmp(&d(a))
         });
-        let local: Vec<Vec3> = frame
-            .lights
-            .iter()
-            .filter(|l| !matches!(l, LightState::Directional { .. }))
-            .filter_map(LightState::position)
-            .collect();
+        let local = local_lights(frame);
         let near = self.near_light;
         let gather = held::expand(&sorted, members, eye, true, |p| {
             members.holds(p, eye) || local.iter().any(|&lp| members.near(p, lp, near))
@@ -302,10 +305,10 @@ impl State {
         gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         targets: &Targets,
-        lists: (&[u32], &[usize], usize),
+        lists: (&[u32], &[usize], usize, bool),
         report: &mut FrameReport,
     ) {
-        let (views, lengths, gathered) = lists;
+        let (views, lengths, gathered, dominant) = lists;
         phases::mark(&mut self.timer, enc, "surfaces");
         self.renderer.encode_shadows(enc, report);
         let surface_targets = Targets {
@@ -326,8 +329,8 @@ impl State {
         phases::mark(&mut self.timer, enc, "light");
         let eye = if self.eye_slices { gathered } else { 0 };
         self.passes
-            .encode_light(enc, &self.renderer, views, lengths, eye);
-        if views.iter().any(|&n| n > 0) {
+            .encode_light(enc, &self.renderer, views, lengths, eye, dominant);
+        if views.iter().any(|&n| n > 0) || dominant {
             report.ran("light-slices");
             report.ran("surface-shadows");
         } else {
@@ -356,17 +359,36 @@ impl Prepared for State {
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
         let mut u: PbUniform = bytemuck::Zeroable::zeroed();
-        let prims = &self.set.prims;
+        let (mut gather, light_lists) = self.lists(frame);
+        // The dominant spheres leave the light passes and the light maps' extents (dominant.rs).
+        let picked = dominant::pick(
+            &gather,
+            frame.camera.position,
+            &local_lights(frame),
+            self.extent,
+            self.dominant,
+        );
+        let spheres: Vec<Prim> = picked.iter().map(|&i| gather[i]).collect();
+        let light_lists: Vec<Vec<Prim>> = match spheres.is_empty() {
+            true => light_lists,
+            false => light_lists
+                .iter()
+                .map(|l| dominant::without(l, &spheres))
+                .collect(),
+        };
+        let mapped = dominant::without(&self.set.prims, &spheres);
         let views: Vec<u32> = frame
             .lights
             .iter()
             .enumerate()
             .map(|(k, light)| {
-                light_maps::light_views(light, prims, self.set.centroid, self.slices, k, &mut u)
+                light_maps::light_views(light, &mapped, self.set.centroid, self.slices, k, &mut u)
             })
             .collect();
-        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0));
-        let (mut gather, light_lists) = self.lists(frame);
+        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0) || !spheres.is_empty());
+        u.flags[3] = picked.len() as f32;
+        u.dominant = dominant::rows(&gather, &picked);
+        report.count("dominant_spheres", picked.len() as f64);
         if self.eye_slices {
             u.views[passes::FACES * views.len()] = self.eye_view(frame, &gather);
         }
@@ -374,7 +396,7 @@ impl Prepared for State {
         let tiles = self.tile_frames(frame, &binned);
         self.upload(gpu, &u, &gather, &light_lists, &tiles);
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
-        let lists = (&views[..], &lengths[..], gather.len());
+        let lists = (&views[..], &lengths[..], gather.len(), !picked.is_empty());
         report.count("eye_slices", self.eye_slices as u32 as f64);
         self.encode_passes(gpu, enc, targets, lists, &mut report);
         report.count("blocks", self.set.prims.len() as f64);
@@ -392,23 +414,41 @@ impl Prepared for State {
     }
 }
 
+/// The positions of the frame's local (not directional) lights.
+fn local_lights(frame: &FrameState) -> Vec<Vec3> {
+    frame
+        .lights
+        .iter()
+        .filter(|l| !matches!(l, LightState::Directional { .. }))
+        .filter_map(LightState::position)
+        .collect()
+}
+
 /// The block set of `particles` (declared blocks where the scene has them and `from_scene`,
 /// else clusters; unblocked spheres for the splat) and the impostor resolution asked for.
+/// With `loose_apart` (dominant spheres on), the loose particles are spheres of their own
+/// (`blocks::with_loose`; the splat's are anyway).
 fn block_set(
     particles: &Particles,
     blocked_mode: Option<(usize, Instancing, u32, bool)>,
+    loose_apart: bool,
 ) -> (BlockSet, u32) {
     let ps = &particles.particles;
     match blocked_mode {
         None => (blocks::unblocked(ps), 1),
         Some((b, mode, res, from_scene)) => {
-            let declared = from_scene
-                .then(|| blocks::declared(ps, &particles.blocks, mode))
-                .flatten();
-            (
-                declared.unwrap_or_else(|| blocks::blocked(ps, b, mode)),
-                res,
-            )
+            let build = |ps: &[Particle]| {
+                from_scene
+                    .then(|| blocks::declared(ps, &particles.blocks, mode))
+                    .flatten()
+                    .unwrap_or_else(|| blocks::blocked(ps, b, mode))
+            };
+            let set = if loose_apart {
+                blocks::with_loose(ps, dominant::extent(ps), build)
+            } else {
+                build(ps)
+            };
+            (set, res)
         }
     }
 }
