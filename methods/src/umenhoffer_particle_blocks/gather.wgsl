@@ -53,7 +53,9 @@ fn fs_gather(in: GatherOut) -> Gathered {
     let iv = prim_interval(p, p.extra.z, Ray(eye, dir));
     if (!iv.ok || iv.far <= 0.0) { discard; }
     let hit = textureLoad(ray_distance, vec2<i32>(in.clip.xy), 0).r;
-    let surf = select(1e30, hit, hit >= 0.0);
+    // The ray ends at the visible surface or, like the reference's, at the far plane: a particle
+    // (a part of one) beyond it is not on the ray (a 1 km sphere around the scene: its far side).
+    let surf = camera_ray_length(camera, dir, hit);
     var near = iv.near;
     var far = iv.far;
     var tau = iv.tau;
