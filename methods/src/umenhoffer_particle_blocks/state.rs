@@ -186,6 +186,34 @@ impl State {
         (gather, lights)
     }
 
+    /// The dominant spheres of the gathering's list (indices, dominant.rs), the light lists
+    /// without them, and the primitives the light maps' extents are taken over (the set's,
+    /// without them).
+    fn split_dominant(
+        &self,
+        frame: &FrameState,
+        gather: &[Prim],
+        light_lists: Vec<Vec<Prim>>,
+    ) -> (Vec<usize>, Vec<Vec<Prim>>, Vec<Prim>) {
+        let eye = frame.camera.position;
+        let picked = dominant::pick(
+            gather,
+            eye,
+            &local_lights(frame),
+            self.extent,
+            self.dominant,
+        );
+        if picked.is_empty() {
+            return (picked, light_lists, self.set.prims.clone());
+        }
+        let spheres: Vec<Prim> = picked.iter().map(|&i| gather[i]).collect();
+        let lists = light_lists
+            .iter()
+            .map(|l| dominant::without(l, &spheres))
+            .collect();
+        (picked, lists, dominant::without(&self.set.prims, &spheres))
+    }
+
     /// The eye's slice view over the gathering's list: along the camera's axis, its square
     /// field covering the screen's diagonal (the map's axes are not the screen's).
     fn eye_view(&self, frame: &FrameState, gather: &[Prim]) -> passes::ViewUniform {
@@ -362,23 +390,11 @@ impl Prepared for State {
         let mut report = self.renderer.start_frame(gpu, frame);
         let mut u: PbUniform = bytemuck::Zeroable::zeroed();
         let (mut gather, light_lists) = self.lists(frame);
-        // The dominant spheres leave the light passes and the light maps' extents (dominant.rs).
-        let picked = dominant::pick(
-            &gather,
-            frame.camera.position,
-            &local_lights(frame),
-            self.extent,
-            self.dominant,
-        );
-        let spheres: Vec<Prim> = picked.iter().map(|&i| gather[i]).collect();
-        let light_lists: Vec<Vec<Prim>> = match spheres.is_empty() {
-            true => light_lists,
-            false => light_lists
-                .iter()
-                .map(|l| dominant::without(l, &spheres))
-                .collect(),
-        };
-        let mapped = dominant::without(&self.set.prims, &spheres);
+        // Spheres standing in for blocks that hold the eye or a light, over every list (before
+        // the dominant spheres leave the light lists).
+        let listed = gather.len() + light_lists.iter().map(Vec::len).sum::<usize>();
+        let plain = (1 + light_lists.len()) * self.set.prims.len();
+        let (picked, light_lists, mapped) = self.split_dominant(frame, &gather, light_lists);
         let views: Vec<u32> = frame
             .lights
             .iter()
@@ -402,9 +418,6 @@ impl Prepared for State {
         report.count("eye_slices", self.eye_slices as u32 as f64);
         self.encode_passes(gpu, enc, targets, lists, &mut report);
         report.count("blocks", self.set.prims.len() as f64);
-        // Spheres standing in for blocks that hold the eye or a light, over every list.
-        let listed = gather.len() + lengths.iter().sum::<usize>();
-        let plain = (1 + lengths.len()) * self.set.prims.len();
         report.count("held_spheres", listed as f64 - plain as f64);
         report.count("particles_per_block", self.set.per_block);
         report.count("declared_blocks", self.set.declared as u32 as f64);
