@@ -377,8 +377,12 @@ fn light_optical_depth(k: u32, x: vec3<f32>) -> f32 {
 // local light, or optically thick, or huge) left out of the light passes and handled exactly:
 // their chords toward the lights here, their eye leg in gather.wgsl.
 fn dominant_count() -> u32 {
-    return u32(pb.flags.w);
+    return select(0u, u32(pb.flags.w), DOMINANT);
 }
+
+// Whether dominant spheres can occur in this scene (dominant.rs `possible`): without, their code
+// folds away (lavapipe executes a loop's bookkeeping even when it runs no iteration).
+override DOMINANT: bool = false;
 
 // Where the ray o + dir·t crosses dominant sphere j: [t0, t1] (t1 ≤ t0: it misses).
 fn dominant_chord(j: u32, o: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {

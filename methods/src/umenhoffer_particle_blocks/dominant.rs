@@ -28,6 +28,7 @@
 
 use glam::Vec3;
 use scenes::particles::Particle;
+use scenes::{LightState, Scene};
 
 use super::primitives::Prim;
 
@@ -60,6 +61,29 @@ pub fn extent(ps: &[Particle]) -> f32 {
 /// for a cloud of `extent` (a degenerate extent, 0, makes nothing huge).
 pub fn loose(radius: f32, density: f32, extent: f32) -> bool {
     density * 2.0 * radius >= THICK || (extent > 0.0 && radius >= HUGE * extent)
+}
+
+/// Whether any frame of `scene` can have a dominant sphere: a loose particle, or a particle
+/// holding the camera or a local light in some frame. Without, the shaders are built without
+/// their code (passes.rs `Modes::dominant`).
+pub fn possible(scene: &Scene, ps: &[Particle]) -> bool {
+    let extent = extent(ps);
+    if ps.iter().any(|p| loose(p.radius, p.density, extent)) {
+        return true;
+    }
+    (0..scene.frame_count()).any(|f| {
+        let frame = scene.frame(f);
+        let lights = frame
+            .lights
+            .iter()
+            .filter(|l| !matches!(l, LightState::Directional { .. }))
+            .filter_map(LightState::position);
+        let viewers: Vec<Vec3> = std::iter::once(frame.camera.position)
+            .chain(lights)
+            .collect();
+        ps.iter()
+            .any(|p| viewers.iter().any(|&v| (p.center - v).length() < p.radius))
+    })
 }
 
 /// Indices into `gather` of its dominant spheres (see the module doc), at most `most`.

@@ -205,6 +205,7 @@ fn shader_checks(id: &str) -> Vec<ShaderCheck> {
         ("MOMENTS", flags),
         ("CHORD_STEPS", &[0.0, 8.0]),
         ("EYE_SLICES", flags),
+        ("DOMINANT", flags),
     ];
     let mut out = Vec::new();
     for (name, wgsl) in [

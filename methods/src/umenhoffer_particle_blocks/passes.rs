@@ -95,6 +95,9 @@ pub struct Modes {
     pub chord_steps: u32,
     /// The eye's own slices attenuate the gathering, which then adds (knob `eye_slices`).
     pub eye_slices: bool,
+    /// Dominant spheres can occur in this scene (dominant.rs `possible`): their code is compiled
+    /// in; without, it is not (lavapipe ran its empty loops at 1.8× the gathering's cost).
+    pub dominant: bool,
 }
 
 /// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
@@ -352,6 +355,7 @@ impl Passes {
                 ("MOMENTS", flag(modes.moments)),
                 ("CHORD_STEPS", modes.chord_steps as f64),
                 ("EYE_SLICES", flag(modes.eye_slices)),
+                ("DOMINANT", flag(modes.dominant)),
                 ("SLICE_GROUPS", (sizes.slices / 4) as f64),
                 ("COVERS", super::held::COVERS as f64),
             ]),

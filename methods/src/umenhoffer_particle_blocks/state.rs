@@ -114,6 +114,7 @@ impl State {
             forward_scattering: p.knob("forward_scattering")?,
             chord_steps: p.knob("chord_steps")?,
             eye_slices: p.knob("eye_slices")?,
+            dominant: dominant > 0 && dominant::possible(ctx.scene, &particles.particles),
             moments: match blocked_mode {
                 Some(_) => p.knob::<String>("interval")? == "moments",
                 None => false,
@@ -403,7 +404,7 @@ impl Prepared for State {
                 light_maps::light_views(light, &mapped, self.set.centroid, self.slices, k, &mut u)
             })
             .collect();
-        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0) || !spheres.is_empty());
+        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0) || !picked.is_empty());
         u.flags[3] = picked.len() as f32;
         u.dominant = dominant::rows(&gather, &picked);
         report.count("dominant_spheres", picked.len() as f64);
