@@ -120,6 +120,7 @@ impl State {
                 None => false,
             },
         };
+        let modes_dominant = modes.dominant;
         let passes = Passes::new(ctx.gpu, &renderer, sizes, modes);
         if !set.imp.is_empty() {
             ctx.gpu
@@ -144,7 +145,8 @@ impl State {
             sky: particles.sky,
             background_scatters: particles.background.sigma_s.max_element() > 0.0,
             timer: PhaseTimer::new(ctx.gpu, 6),
-            dominant,
+            // None picked where the shaders were built without them (`possible` is false).
+            dominant: if modes_dominant { dominant } else { 0 },
             extent: dominant::extent(&particles.particles),
         })
     }
