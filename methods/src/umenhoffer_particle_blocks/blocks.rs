@@ -31,6 +31,7 @@ use glam::Vec3;
 use scenes::particles::{BlockInstancing, Particle};
 
 use super::clusters::{LLOYD_STEPS, Stats, centroid, clusters, median, stats};
+use super::dominant;
 use super::primitives::{BlockSet, ImpParticle, Prim, TileView, sphere};
 
 /// How clusters become impostors.
@@ -58,6 +59,36 @@ pub fn unblocked(ps: &[Particle]) -> BlockSet {
         declared: false,
         members: (0..ps.len()).map(|i| vec![i]).collect(),
     }
+}
+
+/// `build`'s blocks of `ps` with the loose particles (dominant.rs: optically thick, or huge for
+/// a cloud of `extent`) taken out and drawn as their own spheres, so that they can be dominant
+/// spheres wherever they are: in a block, a prototype instance would spread a dense particle's
+/// optical mass over the block, and a huge one would set the block's bounds. Without loose
+/// particles `build` of all; with nothing else, every particle its own sphere.
+pub fn with_loose(
+    ps: &[Particle],
+    extent: f32,
+    build: impl FnOnce(&[Particle]) -> BlockSet,
+) -> BlockSet {
+    let (loose, rest): (Vec<usize>, Vec<usize>) =
+        (0..ps.len()).partition(|&i| dominant::loose(ps[i].radius, ps[i].density, extent));
+    if loose.is_empty() {
+        return build(ps);
+    }
+    if rest.is_empty() {
+        return unblocked(ps);
+    }
+    let kept: Vec<Particle> = rest.iter().map(|&i| ps[i]).collect();
+    let mut set = build(&kept);
+    for i in set.members.iter_mut().flatten() {
+        *i = rest[*i];
+    }
+    for &i in &loose {
+        set.prims.push(sphere(&ps[i]));
+        set.members.push(vec![i]);
+    }
+    set
 }
 
 /// Padding so rasterised particle quads never spill over a tile's border.

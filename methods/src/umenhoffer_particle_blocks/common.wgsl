@@ -32,7 +32,7 @@ struct Pb {
     // x: tile columns; y: tile resolution (texels); z: impostor particles per direction; w: atlas size
     atlas: vec4<f32>,
     // x: clip_fix (0/1); y: background-medium march steps (0: none); z: the cloud dims the
-    // background medium's in-scatter (0/1); w: unused
+    // background medium's in-scatter (0/1); w: the dominant spheres' count
     flags: vec4<f32>,
     // x: the primitive lists' stride C (the gathering's list at 0, light k's at (k + 1)·C);
     // y: impostor tiles per light T (light k's tiles are offset by k·T);
@@ -41,6 +41,9 @@ struct Pb {
     counts: vec4<f32>,
     // rgb: sky radiance
     sky: vec4<f32>,
+    // The dominant spheres (dominant.rs; `dominant_count()` of them), two rows each: centre and
+    // radius (m); x: extinction σ (1/m), y: index in the gathering's list.
+    dominant: array<vec4<f32>, 16>,
 };
 
 struct Prim {
@@ -364,10 +367,58 @@ fn depth_from_slices(vi: u32, uv: vec2<f32>, d: f32) -> f32 {
     return tau;
 }
 
-// Particle optical depth between light k and x. With the forward-scattering approximation
+// Particle optical depth between light k and x: the slices' (every particle but the dominant
+// spheres) plus the dominant spheres' exact chords.
+fn light_optical_depth(k: u32, x: vec3<f32>) -> f32 {
+    return slices_optical_depth(k, x) + dominant_light_depth(k, x);
+}
+
+// The dominant spheres (dominant.rs, knob `dominant`): the few particles (holding the eye or a
+// local light, or optically thick, or huge) left out of the light passes and handled exactly:
+// their chords toward the lights here, their eye leg in gather.wgsl.
+fn dominant_count() -> u32 {
+    return select(0u, u32(pb.flags.w), DOMINANT);
+}
+
+// Whether dominant spheres can occur in this scene (dominant.rs `possible`): without, their code
+// folds away (lavapipe executes a loop's bookkeeping even when it runs no iteration).
+override DOMINANT: bool = false;
+
+// Where the ray o + dir·t crosses dominant sphere j: [t0, t1] (t1 ≤ t0: it misses).
+fn dominant_chord(j: u32, o: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
+    let s = pb.dominant[2u * j];
+    let oc = s.xyz - o;
+    let tc = dot(oc, dir);
+    let h2 = s.w * s.w - (dot(oc, oc) - tc * tc);
+    let h = sqrt(max(h2, 0.0));
+    return select(vec2<f32>(0.0), vec2<f32>(tc - h, tc + h), h2 > 0.0);
+}
+
+// The dominant spheres' optical depth along o + dir·[a, b] (dir a unit vector).
+fn dominant_depth(o: vec3<f32>, dir: vec3<f32>, a: f32, b: f32) -> f32 {
+    var tau = 0.0;
+    for (var j = 0u; j < dominant_count(); j++) {
+        let c = dominant_chord(j, o, dir);
+        tau += pb.dominant[2u * j + 1u].x * max(min(c.y, b) - max(c.x, a), 0.0);
+    }
+    return tau;
+}
+
+// The dominant spheres' optical depth between light k and x: from x back toward a directional
+// light, from a local light's position to x.
+fn dominant_light_depth(k: u32, x: vec3<f32>) -> f32 {
+    if (light_kind(k) == LIGHT_DIRECTIONAL) {
+        return dominant_depth(x, -normalize(lights.lights[k].direction.xyz), 0.0, 1e30);
+    }
+    let lp = lights.lights[k].position.xyz;
+    let r = length(x - lp);
+    return dominant_depth(lp, (x - lp) / max(r, 1e-9), 0.0, r);
+}
+
+// The slices' optical depth between light k and x. With the forward-scattering approximation
 // the transmittance is averaged over a cone of taps around the light ray, widening with the
 // depth travelled in the cloud (light scattered slightly forward fills in shadows).
-fn light_optical_depth(k: u32, x: vec3<f32>) -> f32 {
+fn slices_optical_depth(k: u32, x: vec3<f32>) -> f32 {
     if (pb.maps[k].x < 0.5) { return 0.0; }
     let vi = view_of(k, x);
     let c = light_coord(vi, x);

@@ -8,6 +8,7 @@ use harness::gpu::{Counted, color_attachment};
 use harness::method::AOV_FORMAT;
 use harness::{Gpu, Targets};
 
+use super::dominant::MAX_DOMINANT;
 use super::primitives::{ImpParticle, Prim, Tile};
 use super::shaders::{GATHER_WGSL, IMPOSTOR_WGSL, LIGHT_WGSL, RESOLVE_WGSL, source, total_source};
 use super::surface_shadow::SurfaceShadow;
@@ -48,6 +49,9 @@ pub struct PbUniform {
     pub flags: [f32; 4],
     pub counts: [f32; 4],
     pub sky: [f32; 4],
+    /// The dominant spheres (dominant.rs; `flags[3]` of them): centre and radius, then σ and
+    /// the index in the gathering's list.
+    pub dominant: [[f32; 4]; 2 * MAX_DOMINANT],
 }
 
 /// Impostor atlas texels: min-blendable, and 16-bit floats are ample for depths within a block.
@@ -91,6 +95,9 @@ pub struct Modes {
     pub chord_steps: u32,
     /// The eye's own slices attenuate the gathering, which then adds (knob `eye_slices`).
     pub eye_slices: bool,
+    /// Dominant spheres can occur in this scene (dominant.rs `possible`): their code is compiled
+    /// in; without, it is not (lavapipe ran its empty loops at 1.8× the gathering's cost).
+    pub dominant: bool,
 }
 
 /// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
@@ -348,6 +355,7 @@ impl Passes {
                 ("MOMENTS", flag(modes.moments)),
                 ("CHORD_STEPS", modes.chord_steps as f64),
                 ("EYE_SLICES", flag(modes.eye_slices)),
+                ("DOMINANT", flag(modes.dominant)),
                 ("SLICE_GROUPS", (sizes.slices / 4) as f64),
                 ("COVERS", super::held::COVERS as f64),
             ]),
@@ -493,7 +501,8 @@ impl Passes {
     /// The light pass into the slices of each view in `views` (each cleared to zero optical
     /// depth), then each light's shadow on the surfaces; then, if `eye` (the gathering list's
     /// length) is not 0, the eye's view (`eye_slices`). `views[k]`: light k's maps this frame;
-    /// `lists[k]`: the length of light k's primitive list.
+    /// `lists[k]`: the length of light k's primitive list; `dominant`: dominant spheres exist,
+    /// so every light's surface-shadow pass runs, maps or not.
     pub fn encode_light(
         &self,
         enc: &mut wgpu::CommandEncoder,
@@ -501,6 +510,7 @@ impl Passes {
         views: &[u32],
         lists: &[usize],
         eye: usize,
+        dominant: bool,
     ) {
         let passes = slice_passes(self.sizes.slices);
         for (k, &count) in views.iter().enumerate() {
@@ -510,7 +520,8 @@ impl Passes {
             for slot in first..first + count * passes {
                 self.encode_slices(enc, renderer, slot, len);
             }
-            if count > 0 {
+            // Dominant spheres shadow surfaces without any light map (dominant.rs).
+            if count > 0 || dominant {
                 self.surface_shadow
                     .encode(enc, renderer, &self.res.surface_view, k);
             }

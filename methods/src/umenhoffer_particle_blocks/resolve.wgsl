@@ -5,8 +5,8 @@
 // maps and slices for visibility toward every light), dimmed by the cloud on the eye leg:
 // transmittance 1 before the nearest depth where the cloud contributes, the gathered 1 − α
 // beyond the farthest, and in between the optical depth −ln(1 − α) growing linearly with depth
-// (uniform density across the cloud's span on that ray) — or, with EYE_SLICES, the eye's slices
-// at each step. Needs PRELUDE, FULLSCREEN and common.wgsl.
+// (uniform density across the cloud's span on that ray), the dominant spheres' share exactly
+// along their chords (dominant.rs) — or, with EYE_SLICES, the eye's slices at each step. Needs PRELUDE, FULLSCREEN and common.wgsl.
 
 // The index of the first light that is not directional (light_count() if none).
 fn first_local_light() -> u32 {
@@ -47,13 +47,18 @@ fn resolve(frag: vec4<f32>) -> Resolved {
         if (local < light_count()) { lp = lights.lights[local].position.xyz; }
         let m = angle_march(eye, dir, 0.0, d, n, local < light_count(), lp);
         let e = textureLoad(extents, px, 0);
-        let cloud_tau = -log(max(1.0 - g.a, 1e-30)) * pb.flags.z;
+        // The dominant spheres dim it exactly (their chords; dominant.rs); the linear model
+        // spreads the rest of the gathered optical depth over the span of the other primitives.
+        let dims = pb.flags.z;
+        let dom_tau = select(dominant_depth(eye, dir, 0.0, d), 0.0, EYE_SLICES);
+        let cloud_tau = max(-log(max(1.0 - g.a, 1e-30)) - dom_tau, 0.0) * dims;
         let cloud_span = max(-e.y - e.x, 1e-6);
         var acc = vec3<f32>(0.0);
         for (var k = 0u; k < n; k++) {
             let node = march_node(m, k);
             let t = node.x;
-            var cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0));
+            let dom = select(dominant_depth(eye, dir, 0.0, t), 0.0, EYE_SLICES) * dims;
+            var cloud = exp(-cloud_tau * clamp((t - e.x) / cloud_span, 0.0, 1.0) - dom);
             if (EYE_SLICES && pb.flags.z > 0.5) { cloud = exp(-eye_optical_depth(eye + dir * t)); }
             acc += incident(eye + dir * t, -dir) * (transmittance(medium, t) * cloud * node.y);
         }

@@ -8,12 +8,13 @@ use harness::gpu::{PhaseTimer, phases};
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, KnobRead, Prepared, Targets};
 use scenes::Particles;
+use scenes::particles::Particle;
 use scenes::{FrameState, LightState};
 
 use super::blocks::{self, Instancing};
 use super::passes::{self, Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
-use super::{camera_bins, held, light_maps};
+use super::{camera_bins, dominant, held, light_maps};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_maps::ShadowSettings;
 
@@ -45,6 +46,10 @@ pub struct State {
     background_scatters: bool,
     /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
     timer: Option<PhaseTimer>,
+    /// The most dominant spheres (knob `dominant`; 0: none, the paper) and the cloud's extent
+    /// that makes a sphere huge (dominant.rs).
+    dominant: usize,
+    extent: f32,
 }
 
 impl State {
@@ -60,7 +65,8 @@ impl State {
         };
         let p = ctx.params;
         let slices: u32 = p.knob("slices")?;
-        let (mut set, tile_res_knob) = block_set(particles, blocked_mode);
+        let dominant: usize = p.knob::<u32>("dominant")? as usize;
+        let (mut set, tile_res_knob) = block_set(particles, blocked_mode, dominant > 0);
         // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g²;
         // no more bins than instances (g² ≤ blocks: one block has one direction).
         let camera_grid = match blocked_mode {
@@ -108,11 +114,13 @@ impl State {
             forward_scattering: p.knob("forward_scattering")?,
             chord_steps: p.knob("chord_steps")?,
             eye_slices: p.knob("eye_slices")?,
+            dominant: dominant > 0 && dominant::possible(ctx.scene, &particles.particles),
             moments: match blocked_mode {
                 Some(_) => p.knob::<String>("interval")? == "moments",
                 None => false,
             },
         };
+        let modes_dominant = modes.dominant;
         let passes = Passes::new(ctx.gpu, &renderer, sizes, modes);
         if !set.imp.is_empty() {
             ctx.gpu
@@ -137,6 +145,9 @@ impl State {
             sky: particles.sky,
             background_scatters: particles.background.sigma_s.max_element() > 0.0,
             timer: PhaseTimer::new(ctx.gpu, 6),
+            // None picked where the shaders were built without them (`possible` is false).
+            dominant: if modes_dominant { dominant } else { 0 },
+            extent: dominant::extent(&particles.particles),
         })
     }
 
@@ -147,20 +158,17 @@ impl State {
         let members = &self.members;
         let eye = frame.camera.position;
         let mut sorted = self.set.prims.clone();
-        sorted.sort_by(|a, b| {
-            let d = |p: &Prim| (Vec3::from_slice(&p.center[..3]) - eye).length_squared();
-            d(b).total_cmp(&d(a))
-        });
-        let local: Vec<Vec3> = frame
-            .lights
-            .iter()
-            .filter(|l| !matches!(l, LightState::Directional { .. }))
-            .filter_map(LightState::position)
-            .collect();
+        sorted.sort_by(|a, b| distance2(b, eye).total_cmp(&distance2(a, eye)));
+        let local = local_lights(frame);
         let near = self.near_light;
-        let gather = held::expand(&sorted, members, eye, true, |p| {
+        let mut gather = held::expand(&sorted, members, eye, true, |p| {
             members.holds(p, eye) || local.iter().any(|&lp| members.near(p, lp, near))
         });
+        // Back to front over the whole list, blocks and their stand-in particles alike: clusters
+        // interpenetrate, and one block's particles kept in its place were composited over
+        // particles of other blocks far in front of them (a light inside the cloud: 1.7× the
+        // reference's mean in-scatter).
+        gather.sort_by(|a, b| distance2(b, eye).total_cmp(&distance2(a, eye)));
         // The block holding the eye is drawn as its particles in every light's pass too: what
         // the eye sees around it is lit through its real particles, not the block's uniform
         // interval (a dense particle holding the eye, lit through the prototype's average, was
@@ -179,6 +187,34 @@ impl State {
             })
             .collect();
         (gather, lights)
+    }
+
+    /// The dominant spheres of the gathering's list (indices, dominant.rs), the light lists
+    /// without them, and the primitives the light maps' extents are taken over (the set's,
+    /// without them).
+    fn split_dominant(
+        &self,
+        frame: &FrameState,
+        gather: &[Prim],
+        light_lists: Vec<Vec<Prim>>,
+    ) -> (Vec<usize>, Vec<Vec<Prim>>, Vec<Prim>) {
+        let eye = frame.camera.position;
+        let picked = dominant::pick(
+            gather,
+            eye,
+            &local_lights(frame),
+            self.extent,
+            self.dominant,
+        );
+        if picked.is_empty() {
+            return (picked, light_lists, self.set.prims.clone());
+        }
+        let spheres: Vec<Prim> = picked.iter().map(|&i| gather[i]).collect();
+        let lists = light_lists
+            .iter()
+            .map(|l| dominant::without(l, &spheres))
+            .collect();
+        (picked, lists, dominant::without(&self.set.prims, &spheres))
     }
 
     /// The eye's slice view over the gathering's list: along the camera's axis, its square
@@ -302,10 +338,10 @@ impl State {
         gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         targets: &Targets,
-        lists: (&[u32], &[usize], usize),
+        lists: (&[u32], &[usize], usize, bool),
         report: &mut FrameReport,
     ) {
-        let (views, lengths, gathered) = lists;
+        let (views, lengths, gathered, dominant) = lists;
         phases::mark(&mut self.timer, enc, "surfaces");
         self.renderer.encode_shadows(enc, report);
         let surface_targets = Targets {
@@ -326,8 +362,8 @@ impl State {
         phases::mark(&mut self.timer, enc, "light");
         let eye = if self.eye_slices { gathered } else { 0 };
         self.passes
-            .encode_light(enc, &self.renderer, views, lengths, eye);
-        if views.iter().any(|&n| n > 0) {
+            .encode_light(enc, &self.renderer, views, lengths, eye, dominant);
+        if views.iter().any(|&n| n > 0) || dominant {
             report.ran("light-slices");
             report.ran("surface-shadows");
         } else {
@@ -356,17 +392,24 @@ impl Prepared for State {
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
         let mut u: PbUniform = bytemuck::Zeroable::zeroed();
-        let prims = &self.set.prims;
+        let (mut gather, light_lists) = self.lists(frame);
+        // Spheres standing in for blocks that hold the eye or a light, over every list (before
+        // the dominant spheres leave the light lists).
+        let listed = gather.len() + light_lists.iter().map(Vec::len).sum::<usize>();
+        let plain = (1 + light_lists.len()) * self.set.prims.len();
+        let (picked, light_lists, mapped) = self.split_dominant(frame, &gather, light_lists);
         let views: Vec<u32> = frame
             .lights
             .iter()
             .enumerate()
             .map(|(k, light)| {
-                light_maps::light_views(light, prims, self.set.centroid, self.slices, k, &mut u)
+                light_maps::light_views(light, &mapped, self.set.centroid, self.slices, k, &mut u)
             })
             .collect();
-        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0));
-        let (mut gather, light_lists) = self.lists(frame);
+        let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0) || !picked.is_empty());
+        u.flags[3] = picked.len() as f32;
+        u.dominant = dominant::rows(&gather, &picked);
+        report.count("dominant_spheres", picked.len() as f64);
         if self.eye_slices {
             u.views[passes::FACES * views.len()] = self.eye_view(frame, &gather);
         }
@@ -374,13 +417,10 @@ impl Prepared for State {
         let tiles = self.tile_frames(frame, &binned);
         self.upload(gpu, &u, &gather, &light_lists, &tiles);
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
-        let lists = (&views[..], &lengths[..], gather.len());
+        let lists = (&views[..], &lengths[..], gather.len(), !picked.is_empty());
         report.count("eye_slices", self.eye_slices as u32 as f64);
         self.encode_passes(gpu, enc, targets, lists, &mut report);
         report.count("blocks", self.set.prims.len() as f64);
-        // Spheres standing in for blocks that hold the eye or a light, over every list.
-        let listed = gather.len() + lengths.iter().sum::<usize>();
-        let plain = (1 + lengths.len()) * self.set.prims.len();
         report.count("held_spheres", listed as f64 - plain as f64);
         report.count("particles_per_block", self.set.per_block);
         report.count("declared_blocks", self.set.declared as u32 as f64);
@@ -392,23 +432,46 @@ impl Prepared for State {
     }
 }
 
+/// The squared distance from `eye` to primitive `p`'s centre.
+fn distance2(p: &Prim, eye: Vec3) -> f32 {
+    (Vec3::from_slice(&p.center[..3]) - eye).length_squared()
+}
+
+/// The positions of the frame's local (not directional) lights.
+fn local_lights(frame: &FrameState) -> Vec<Vec3> {
+    frame
+        .lights
+        .iter()
+        .filter(|l| !matches!(l, LightState::Directional { .. }))
+        .filter_map(LightState::position)
+        .collect()
+}
+
 /// The block set of `particles` (declared blocks where the scene has them and `from_scene`,
 /// else clusters; unblocked spheres for the splat) and the impostor resolution asked for.
+/// With `loose_apart` (dominant spheres on), the loose particles are spheres of their own
+/// (`blocks::with_loose`; the splat's are anyway).
 fn block_set(
     particles: &Particles,
     blocked_mode: Option<(usize, Instancing, u32, bool)>,
+    loose_apart: bool,
 ) -> (BlockSet, u32) {
     let ps = &particles.particles;
     match blocked_mode {
         None => (blocks::unblocked(ps), 1),
         Some((b, mode, res, from_scene)) => {
-            let declared = from_scene
-                .then(|| blocks::declared(ps, &particles.blocks, mode))
-                .flatten();
-            (
-                declared.unwrap_or_else(|| blocks::blocked(ps, b, mode)),
-                res,
-            )
+            let build = |ps: &[Particle]| {
+                from_scene
+                    .then(|| blocks::declared(ps, &particles.blocks, mode))
+                    .flatten()
+                    .unwrap_or_else(|| blocks::blocked(ps, b, mode))
+            };
+            let set = if loose_apart {
+                blocks::with_loose(ps, dominant::extent(ps), build)
+            } else {
+                build(ps)
+            };
+            (set, res)
         }
     }
 }
