@@ -8,6 +8,10 @@
 //! Per-frame references come from the reference cache (`--cache`); the frames of the scene
 //! being run are also kept in memory for the records that follow (one scene at a time), so a
 //! run without a cache directory renders each frame's reference once, not once per record.
+//! **Only the frames a record can show are referenced**: a record of W warm-up and K timed
+//! frames shows scene frames 0 … W + K − 1 (modulo the frame count), so its scorer loads the
+//! references of frames 0 … min(W + K, N) − 1 ([`shown_frames`]) — 13 of a 60-frame scene in
+//! the default run, not 60 (ARCHITECTURE §4.1, "Which frames are scored").
 
 use std::sync::{Arc, Mutex};
 
@@ -25,33 +29,45 @@ use crate::verdict::light_core_mask;
 /// The AOVs in the order the runner reads them back.
 pub const AOV_NAMES: [&str; 3] = ["inscatter", "surface", "total"];
 
-/// The per-frame references of the scene last asked for: (cache key of its frame 0, frames).
+/// The per-frame references of the scene last asked for: (cache key of its frame 0, the
+/// frames loaded so far, a prefix 0 … n − 1).
 type Memo = Option<(String, Vec<Arc<ReferenceImages>>)>;
 static FRAME_REFERENCES: Mutex<Memo> = Mutex::new(None);
 
-/// The references of every frame of `scene` (index = frame), frame 0 being `frame0`.
-/// Renders (through the cache) the ones not in memory.
+/// How many scene frames a record of `warmup` + `timed` frames can show: frames cycle through
+/// the scene's N frames from frame 0 (`record::measure`), so min(W + K, N), at least 1.
+pub fn shown_frames(scene: &Scene, warmup: u32, timed: u32) -> u32 {
+    warmup
+        .saturating_add(timed)
+        .clamp(1, scene.frame_count().max(1))
+}
+
+/// The references of frames 0 … `count` − 1 of `scene` (index = frame; at most its frame
+/// count), frame 0 being `frame0`. Renders (through the cache) the ones not in memory.
 pub fn frame_references(
     scene: &Scene,
     frame0: &ReferenceImages,
     settings: Settings,
     cache_dir: Option<&std::path::Path>,
+    count: u32,
 ) -> Result<Vec<Arc<ReferenceImages>>, String> {
     let (w, h) = (frame0.total.width, frame0.total.height);
+    let count = count.clamp(1, scene.frame_count()) as usize;
     let key = reference::cache::key(scene, 0, w, h, &settings);
     let mut memo = FRAME_REFERENCES.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some((k, refs)) = memo.as_ref()
-        && *k == key
-    {
-        return Ok(refs.clone());
-    }
-    let mut refs = vec![Arc::new(frame0.clone())];
-    for f in 1..scene.frame_count() {
-        let (r, _) = reference::cache::render_cached(cache_dir, scene, f, w, h, settings, &|_| {})?;
+    let mut refs = match memo.take() {
+        Some((k, refs)) if k == key => refs,
+        _ => vec![Arc::new(frame0.clone())],
+    };
+    let rendered = (refs.len()..count).try_for_each(|f| {
+        let (r, _) =
+            reference::cache::render_cached(cache_dir, scene, f as u32, w, h, settings, &|_| {})?;
         refs.push(Arc::new(r));
-    }
-    *memo = Some((key, refs.clone()));
-    Ok(refs)
+        Ok::<_, String>(())
+    });
+    let out = refs[..count.min(refs.len())].to_vec();
+    *memo = Some((key, refs));
+    rendered.map(|()| out)
 }
 
 /// Collects the timed frames of one record.
@@ -60,8 +76,12 @@ pub struct FrameScorer<'a> {
     tone: &'a ToneMap,
     /// Frame 0's reference (the only one of a static scene).
     frame0: &'a ReferenceImages,
-    /// Animated scenes: every frame's reference ([`frame_references`]); empty when static.
+    /// Animated scenes: the references of the frames loaded so far, a prefix 0 … n − 1
+    /// ([`frame_references`]); empty when static.
     references: Vec<Arc<ReferenceImages>>,
+    /// Where further frames' references come from, should a frame past the prefix be shown.
+    settings: Settings,
+    cache_dir: Option<&'a std::path::Path>,
     temporal: [Temporal; 3],
     /// Lag and flicker per AOV, fed the same frames in the order they were shown (animated
     /// scenes only).
@@ -72,17 +92,19 @@ pub struct FrameScorer<'a> {
 }
 
 impl<'a> FrameScorer<'a> {
-    /// A scorer for `scene`; for an animated scene, loads every frame's reference (through the
-    /// cache directory when given).
+    /// A scorer for `scene` whose records show `shown` frames (warm-up + timed,
+    /// [`shown_frames`]); for an animated scene, loads the references of the frames they can
+    /// show (through the cache directory when given), before any frame is timed.
     pub fn new(
         scene: &'a Scene,
         tone: &'a ToneMap,
         frame0: &'a ReferenceImages,
         settings: Settings,
-        cache_dir: Option<&std::path::Path>,
+        cache_dir: Option<&'a std::path::Path>,
+        shown: u32,
     ) -> Result<FrameScorer<'a>, String> {
         let references = if scene.frame_count() > 1 {
-            frame_references(scene, frame0, settings, cache_dir)?
+            frame_references(scene, frame0, settings, cache_dir, shown)?
         } else {
             Vec::new()
         };
@@ -91,6 +113,8 @@ impl<'a> FrameScorer<'a> {
             tone,
             frame0,
             references,
+            settings,
+            cache_dir,
             temporal: Default::default(),
             lag: Default::default(),
             frames: Vec::new(),
@@ -120,7 +144,17 @@ impl<'a> FrameScorer<'a> {
     }
 
     fn score(&mut self, index: u32, images: &[Image; 3]) -> Result<(), String> {
-        let f = index as usize % self.references.len().max(1);
+        let f = (index % self.scene.frame_count().max(1)) as usize;
+        if self.animated() && f >= self.references.len() {
+            // Past the frames loaded up front (not in the runner's own use): load up to f.
+            self.references = frame_references(
+                self.scene,
+                self.frame0,
+                self.settings,
+                self.cache_dir,
+                f as u32 + 1,
+            )?;
+        }
         let r = self.references.get(f).cloned();
         let r: &ReferenceImages = r.as_deref().unwrap_or(self.frame0);
         let refs = [&r.inscatter, &r.surface, &r.total];
@@ -238,7 +272,7 @@ mod tests {
         let scene = scenes::library::resolve("sphere-point").expect("library scene");
         let r = synthetic(48, 40);
         let tone = ToneMap::auto(&r.total);
-        let mut scorer = FrameScorer::new(&scene, &tone, &r, Settings::default(), None).unwrap();
+        let mut scorer = FrameScorer::new(&scene, &tone, &r, Settings::default(), None, 9).unwrap();
         let mut rng = crate::testing::Lcg(99);
         for f in 0..6 {
             let frame = [&r.inscatter, &r.surface, &r.total].map(|img| Image {
@@ -282,11 +316,16 @@ mod tests {
         let (w, h) = (20, 16);
         let r0 = reference::render(&scene, 0, w, h, Settings::default(), &|_| {}).unwrap();
         let tone = ToneMap::auto(&r0.total);
-        let refs = frame_references(&scene, &r0, Settings::default(), None).unwrap();
+        let refs = frame_references(&scene, &r0, Settings::default(), None, 8).unwrap();
         assert_eq!(refs.len(), scene.frame_count() as usize);
-        let mut exact = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
-        let mut frozen = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
-        let mut late = FrameScorer::new(&scene, &tone, &r0, Settings::default(), None).unwrap();
+        let new = |shown| FrameScorer::new(&scene, &tone, &r0, Settings::default(), None, shown);
+        // `exact` loads every frame up front; the others only frames 0 … 4 and must load the
+        // rest when shown.
+        let mut exact = new(11).unwrap();
+        assert_eq!(exact.references.len(), 8, "min(W + K, N) frames");
+        let mut frozen = new(5).unwrap();
+        assert_eq!(frozen.references.len(), 5);
+        let mut late = new(5).unwrap();
         for f in 3..11u32 {
             let own = &refs[(f % 8) as usize];
             // Shows the frame shown before (frame 3 shows frame 2): one frame late.

@@ -34,6 +34,31 @@ impl CameraPose {
         self.clip_from_view(aspect) * self.view_from_world()
     }
 
+    /// world_from_view in f64: the camera's pose (view space: x right, y up, looking down −z).
+    pub fn world_from_view(&self) -> DMat4 {
+        dview::look_at_mat4(
+            self.position.as_dvec3(),
+            self.look_at.as_dvec3(),
+            self.up.as_dvec3(),
+        )
+        .inverse()
+    }
+
+    /// A view-space point (m) in world space: where a camera-attached light sits.
+    pub fn world_point(&self, view: Vec3) -> Vec3 {
+        self.world_from_view()
+            .transform_point3(view.as_dvec3())
+            .as_vec3()
+    }
+
+    /// A view-space direction in world space, unit length (`view` need not be unit; not zero).
+    pub fn world_direction(&self, view: Vec3) -> Vec3 {
+        self.world_from_view()
+            .transform_vector3(view.as_dvec3())
+            .normalize()
+            .as_vec3()
+    }
+
     /// Unit forward vector (world).
     pub fn forward(&self) -> DVec3 {
         (self.look_at.as_dvec3() - self.position.as_dvec3()).normalize()

@@ -316,6 +316,13 @@ pub enum LightDesc {
         pattern: Option<Pattern>,
         #[serde(default)]
         keyframes: Vec<LightKey>,
+        /// A flashlight: `position` (m) and `direction` are in camera space (x right, y up,
+        /// −z forward, the camera looking down −z) and follow the camera's pose at every frame
+        /// ([`crate::scene::Scene::frame`]). Such a spot has no keyframes of its own. Default:
+        /// false. Left out of the serialised form when false, so existing scenes keep their
+        /// reference-cache keys.
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        attached_to_camera: bool,
     },
     Directional {
         /// Propagation direction of the light (from the sun toward the scene).

@@ -33,6 +33,14 @@ pub const LIBRARY: &[(&str, &str)] = &[
         include_str!("../library/indirect-point.json"),
     ),
     ("valley-sun", include_str!("../library/valley-sun.json")),
+    (
+        "corridor-walk",
+        include_str!("../library/corridor-walk.json"),
+    ),
+    (
+        "colonnade-flight",
+        include_str!("../library/colonnade-flight.json"),
+    ),
     ("atrium", include_str!("../library/atrium.json")),
     ("atrium-64", include_str!("../library/atrium-64.json")),
 ];

@@ -7,7 +7,9 @@ use glam::{EulerRot, Mat4, Quat, Vec3};
 use serde::Serialize;
 
 use crate::camera::CameraPose;
-use crate::desc::{GeneratorDesc, HeightFog, LightDesc, MediumDesc, SceneDesc, Transform};
+use crate::desc::{
+    CameraDesc, GeneratorDesc, HeightFog, LightDesc, MediumDesc, SceneDesc, Transform,
+};
 use crate::light::LightState;
 use crate::mesh::TriMesh;
 use crate::particles::{BlockInstancing, Particle, expand_with_blocks, generated_count};
@@ -155,28 +157,17 @@ impl Scene {
     }
 
     /// The scene at frame `index` (keyframes interpolated linearly, held outside their range).
+    /// Lights attached to the camera are resolved to world space from the camera's pose at
+    /// that frame.
     pub fn frame(&self, index: u32) -> FrameState {
         let f = index as f32;
-        let c = &self.desc.camera;
-        let (position, look_at) = if c.keyframes.is_empty() {
-            (c.position, c.look_at)
-        } else {
-            let keys: Vec<(f32, (Vec3, Vec3))> = c
-                .keyframes
-                .iter()
-                .map(|k| (k.frame, (k.position, k.look_at)))
-                .collect();
-            sample_keys(&keys, f, |a, b, t| (a.0.lerp(b.0, t), a.1.lerp(b.1, t)))
-        };
-        let camera = CameraPose {
-            position,
-            look_at,
-            up: c.up,
-            fov_y_deg: c.fov_y_deg,
-            near: c.near,
-            far: c.far,
-        };
-        let lights = self.desc.lights.iter().map(|l| light_at(l, f)).collect();
+        let camera = camera_at(&self.desc.camera, f);
+        let lights = self
+            .desc
+            .lights
+            .iter()
+            .map(|l| light_at(l, f, &camera))
+            .collect();
         let world_from_local = self
             .desc
             .objects
@@ -253,14 +244,19 @@ impl Scene {
         light_kinds.sort();
         light_kinds.dedup();
         let many = d.frames > 1;
+        let animated_camera = many && !d.camera.keyframes.is_empty();
         let animated_lights = many
             && d.lights.iter().any(|l| match l {
+                // A flashlight moves when the camera does.
+                LightDesc::Spot {
+                    attached_to_camera: true,
+                    ..
+                } => animated_camera,
                 LightDesc::Point { keyframes, .. }
                 | LightDesc::Spot { keyframes, .. }
                 | LightDesc::Directional { keyframes, .. } => !keyframes.is_empty(),
             });
         let animated_objects = many && d.objects.iter().any(|o| !o.keyframes.is_empty());
-        let animated_camera = many && !d.camera.keyframes.is_empty();
         SceneFeatures {
             medium,
             phase: phase.name(),
@@ -362,7 +358,30 @@ pub struct SceneFeatures {
     pub triangles: usize,
 }
 
-fn light_at(l: &LightDesc, f: f32) -> LightState {
+/// The camera at (possibly fractional) frame `f`: its keys' position and look_at interpolated
+/// linearly, held outside their range; the static pose when it has no keys.
+pub(crate) fn camera_at(c: &CameraDesc, f: f32) -> CameraPose {
+    let (position, look_at) = if c.keyframes.is_empty() {
+        (c.position, c.look_at)
+    } else {
+        let keys: Vec<(f32, (Vec3, Vec3))> = c
+            .keyframes
+            .iter()
+            .map(|k| (k.frame, (k.position, k.look_at)))
+            .collect();
+        sample_keys(&keys, f, |a, b, t| (a.0.lerp(b.0, t), a.1.lerp(b.1, t)))
+    };
+    CameraPose {
+        position,
+        look_at,
+        up: c.up,
+        fov_y_deg: c.fov_y_deg,
+        near: c.near,
+        far: c.far,
+    }
+}
+
+fn light_at(l: &LightDesc, f: f32, camera: &CameraPose) -> LightState {
     match l {
         LightDesc::Point {
             position,
@@ -380,9 +399,18 @@ fn light_at(l: &LightDesc, f: f32) -> LightState {
             intensity,
             pattern,
             keyframes,
+            attached_to_camera,
         } => LightState::Spot {
-            position: animate(*position, keyframes, f, |k| k.position),
-            direction: animate_direction(*direction, keyframes, f),
+            position: if *attached_to_camera {
+                camera.world_point(*position)
+            } else {
+                animate(*position, keyframes, f, |k| k.position)
+            },
+            direction: if *attached_to_camera {
+                camera.world_direction(*direction)
+            } else {
+                animate_direction(*direction, keyframes, f)
+            },
             cos_inner: inner_deg.to_radians().cos(),
             cos_outer: outer_deg.to_radians().cos(),
             tan_outer: outer_deg.to_radians().tan(),

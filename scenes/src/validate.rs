@@ -204,18 +204,49 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
         "",
         cam.keyframes.iter().map(|k| k.frame).enumerate(),
     );
+    let mut keys_ok = true;
     for (k, key) in cam.keyframes.iter().enumerate() {
         let p = format!("camera.keyframes[{k}]");
-        c.finite(&format!("{p}.frame"), key.frame);
-        if c.finite3(&format!("{p}.position"), key.position)
-            & c.finite3(&format!("{p}.look_at"), key.look_at)
-            && (key.look_at - key.position).length_squared() < 1e-12
-        {
+        keys_ok &= c.finite(&format!("{p}.frame"), key.frame);
+        let finite = c.finite3(&format!("{p}.position"), key.position)
+            & c.finite3(&format!("{p}.look_at"), key.look_at);
+        keys_ok &= finite;
+        if finite && (key.look_at - key.position).length_squared() < 1e-12 {
             c.push(
                 &format!("{p}.look_at"),
                 "must differ from the key's position",
             );
+            keys_ok = false;
         }
+    }
+    let up_ok = cam.up.is_finite() && cam.up.length_squared() > 1e-20;
+    if keys_ok && up_ok && !cam.keyframes.is_empty() {
+        animated_view(c, d);
+    }
+}
+
+/// Each frame's interpolated camera has a view direction, not parallel to `up`: keys fine on
+/// their own can still meet between them (position and look_at swapping places), and the
+/// camera's pose there — rays, a camera-attached light — would be undefined.
+fn animated_view(c: &mut Checker, d: &SceneDesc) {
+    for frame in 0..d.frames.clamp(1, MAX_FRAMES) {
+        let pose = crate::scene::camera_at(&d.camera, frame as f32);
+        let view = pose.look_at - pose.position;
+        let problem = if view.length_squared() < 1e-12 {
+            "look_at meets position"
+        } else if view.normalize().cross(d.camera.up.normalize()).length() < 1e-4 {
+            "the view direction is parallel to camera.up"
+        } else {
+            continue;
+        };
+        c.push(
+            "camera.keyframes",
+            format!(
+                "at frame {frame} the interpolated camera has no view: {problem}; every frame in \
+                 [0, frames) needs look_at ≠ position and a view direction not parallel to up"
+            ),
+        );
+        return;
     }
 }
 
@@ -432,9 +463,13 @@ fn light(c: &mut Checker, p: &str, l: &LightDesc) {
             intensity,
             pattern,
             keyframes,
+            attached_to_camera,
         } => {
             c.finite3(&format!("{p}.position"), *position);
             c.nonzero3(&format!("{p}.direction"), *direction);
+            if *attached_to_camera {
+                flashlight(c, p, *position, keyframes);
+            }
             c.non_negative3(&format!("{p}.intensity"), *intensity);
             if !(inner_deg.is_finite() && *inner_deg >= 0.0) {
                 c.push(
@@ -495,6 +530,33 @@ fn light(c: &mut Checker, p: &str, l: &LightDesc) {
             }
             light_keys(c, p, keyframes, true);
         }
+    }
+}
+
+/// The closest a camera-attached spot may be to the eye, m. At the eye itself every pixel's
+/// in-scattering integral diverges (the light's 1/r² at r = 0 lies on every eye ray).
+pub const MIN_FLASHLIGHT_OFFSET: f32 = 0.01;
+
+/// A spot attached to the camera: it follows the camera's keys, so keys of its own would be
+/// ambiguous; and it must not sit at the eye.
+fn flashlight(c: &mut Checker, p: &str, position: Vec3, keys: &[LightKey]) {
+    if !keys.is_empty() {
+        c.push(
+            &format!("{p}.keyframes"),
+            "a spot attached to the camera follows the camera's keyframes and cannot have its \
+             own: remove `keyframes` or `attached_to_camera`",
+        );
+    }
+    if position.is_finite() && position.length() < MIN_FLASHLIGHT_OFFSET {
+        c.push(
+            &format!("{p}.position"),
+            format!(
+                "a spot attached to the camera must be at least {MIN_FLASHLIGHT_OFFSET} m from the \
+                 eye (camera-space [0, 0, 0]): at the eye every pixel's in-scattering diverges; \
+                 got {position} ({} m)",
+                position.length()
+            ),
+        );
     }
 }
 

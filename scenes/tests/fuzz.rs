@@ -1,7 +1,9 @@
 //! Fuzzing the scene loader with proptest: arbitrary JSON, and library scenes with fields
 //! replaced, removed or added. The properties: `parse_scene` never panics; a refusal is a
 //! message that names the file and says something; an accepted scene yields frame states,
-//! features and a medium without panicking, with finite cameras.
+//! features and a medium without panicking, with finite cameras, pixel rays and light poses
+//! (camera-attached spots resolved through the camera's pose) at its first, middle and last
+//! frames.
 //!
 //! OBJ input goes through the same loader with arbitrary OBJ statements in a file an `obj`
 //! shape names. glTF input: the sample level (`scenes::gltf::sample`) mutated as JSON (through
@@ -104,6 +106,7 @@ const WORDS: &[&str] = &[
     "posts",
     "rails",
     "bar",
+    "attached_to_camera",
 ];
 
 /// Numbers at the edges: zero, negatives, f32 overflow (1e39 → inf), denormals, huge counts.
@@ -264,10 +267,24 @@ fn check(text: &str) -> Result<(), TestCaseError> {
             let r = catch_unwind(AssertUnwindSafe(|| {
                 let _ = scene.features();
                 let _ = scene.medium();
-                for i in 0..scene.frame_count().min(3) {
+                let n = scene.frame_count();
+                for i in (0..n.min(3)).chain([n / 2, n - 1]) {
                     let f = scene.frame(i);
                     assert!(f.camera.position.is_finite(), "camera position not finite");
-                    let _ = f.camera.rays(8, 8).direction(0, 0);
+                    let d = f.camera.rays(8, 8).direction(0, 0);
+                    assert!(d.is_finite(), "frame {i}: pixel ray not finite");
+                    // Every light resolves to a finite pose, camera-attached ones included.
+                    for l in &f.lights {
+                        assert!(
+                            l.position().is_none_or(|p| p.is_finite()),
+                            "frame {i}: {l:?}"
+                        );
+                        if let scenes::LightState::Spot { direction, .. }
+                        | scenes::LightState::Directional { direction, .. } = l
+                        {
+                            assert!((direction.length() - 1.0).abs() < 1e-4, "frame {i}: {l:?}");
+                        }
+                    }
                 }
             }));
             prop_assert!(r.is_ok(), "an accepted scene panicked downstream:\n{text}");

@@ -34,7 +34,7 @@ fn lib(name: &str) -> Scene {
 #[test]
 fn every_library_scene_loads_validates_and_renders_a_frame_state() {
     let names = library::names();
-    assert_eq!(names.len(), 17, "{names:?}");
+    assert_eq!(names.len(), 19, "{names:?}");
     for name in names {
         let s = lib(name);
         assert_eq!(s.name, name);
@@ -337,6 +337,35 @@ fn library_features_match_what_the_files_say() {
             particles: 0,
         },
         Want {
+            name: "corridor-walk",
+            kinds: &["point", "spot"],
+            lights: 2,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 60,
+            // The flashlight rides on the moving camera.
+            animated_lights: true,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
+            name: "colonnade-flight",
+            kinds: &["directional"],
+            lights: 1,
+            phase: "henyey-greenstein",
+            textured: false,
+            occluders: true,
+            phong: false,
+            frames: 60,
+            animated_lights: false,
+            animated_objects: false,
+            medium: "homogeneous",
+            particles: 0,
+        },
+        Want {
             name: "atrium",
             kinds: &["directional", "point", "spot"],
             lights: 19,
@@ -391,8 +420,16 @@ fn library_features_match_what_the_files_say() {
         assert_eq!(f.frames, w.frames, "{n}");
         assert_eq!(f.animated_lights, w.animated_lights, "{n}");
         assert_eq!(f.animated_objects, w.animated_objects, "{n}");
-        assert!(!f.animated_camera, "{n}: no library camera moves");
-        assert_eq!(f.animated, w.animated_lights || w.animated_objects, "{n}");
+        let moving_camera = matches!(n, "corridor-walk" | "colonnade-flight");
+        assert_eq!(
+            f.animated_camera, moving_camera,
+            "{n}: the walk and the flight move"
+        );
+        assert_eq!(
+            f.animated,
+            w.animated_lights || w.animated_objects || moving_camera,
+            "{n}"
+        );
         assert!(f.scattering, "{n}: every library scene scatters");
         assert!(!f.ambient, "{n}: no library scene has ambient light");
         assert!(f.surfaces, "{n}: every library scene has a floor");

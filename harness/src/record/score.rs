@@ -22,7 +22,7 @@ use crate::image::{Image, io};
 use crate::method::{Method, Params};
 use crate::reference::ReferenceImages;
 use crate::results::{Record, Status};
-use crate::sequence::{AOV_NAMES, FrameScorer, finite};
+use crate::sequence::{AOV_NAMES, FrameScorer, finite, shown_frames};
 use crate::verdict::light_core_mask;
 
 /// Measures and scores one record of `entry` with `params` on `scene` against `reference`
@@ -63,6 +63,7 @@ fn measure_and_score(
         reference,
         settings.reference,
         settings.cache_dir.as_deref(),
+        shown_frames(scene, settings.warmup, settings.frames),
     ) {
         Ok(s) => s,
         Err(e) => {

@@ -255,7 +255,7 @@ impl Builder {
 
 /// A static light's position and direction as the scene file wrote them (the direction not
 /// normalised, so that the import's frame state normalises the same numbers); None for an
-/// animated one, whose frame-0 state is exported.
+/// animated one or one attached to the camera, whose frame-0 state is exported.
 fn as_given(desc: &LightDesc) -> (Option<Vec3>, Option<Vec3>) {
     match desc {
         LightDesc::Point {
@@ -263,10 +263,12 @@ fn as_given(desc: &LightDesc) -> (Option<Vec3>, Option<Vec3>) {
             keyframes,
             ..
         } if keyframes.is_empty() => (Some(*position), None),
+        // A flashlight's file values are in camera space: its frame-0 world state is exported.
         LightDesc::Spot {
             position,
             direction,
             keyframes,
+            attached_to_camera: false,
             ..
         } if keyframes.is_empty() => (Some(*position), Some(*direction)),
         LightDesc::Directional {

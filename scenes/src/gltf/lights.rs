@@ -85,6 +85,7 @@ pub fn import(doc: &Document, index: usize, world: &Mat4) -> Result<ImportedLigh
                 intensity: rgb,
                 pattern: ours.pattern,
                 keyframes: vec![],
+                attached_to_camera: false,
             }
         }
         Checked::Invalid => return Err(doc.error(format!("{path}.type"), "unknown light type")),
