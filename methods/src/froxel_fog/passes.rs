@@ -32,11 +32,18 @@ pub struct Buffers<'a> {
     pub medium: &'a MediumBuffers,
 }
 
+/// The knob `history`'s values, in the order of their codes (HISTORY in temporal.wgsl).
+pub const HISTORY_MODES: [&str; 3] = ["none", "clamp", "reject"];
+
 /// The volume pipelines' modes (pipeline constants).
 #[derive(Clone, Copy)]
 pub struct Modes {
     pub temporal: bool,
+    /// With `temporal`: the knob `history`'s code (an index into [`HISTORY_MODES`]).
+    pub history: u32,
     pub slice_falloff: bool,
+    /// `falloff` = quadrature: near a local light, the slice's in-scatter by Gauss nodes.
+    pub slice_quadrature: bool,
     pub particles: bool,
     /// `shadow_filter` = pcf: 3 × 3 percentage-closer filtering of the shadow map.
     pub shadow_pcf: bool,
@@ -82,6 +89,7 @@ impl VolumePasses {
                         ("LIGHT", k as f64),
                         ("FIRST", first),
                         ("SLICE_FALLOFF", flag(modes.slice_falloff)),
+                        ("SLICE_QUADRATURE", flag(modes.slice_quadrature)),
                         ("SHADOW_PCF", flag(modes.shadow_pcf)),
                     ];
                     pipeline("inject", &own)
@@ -91,7 +99,9 @@ impl VolumePasses {
         VolumePasses {
             binds,
             inject,
-            temporal: modes.temporal.then(|| pipeline("temporal", &[])),
+            temporal: modes
+                .temporal
+                .then(|| pipeline("temporal", &[("HISTORY", modes.history as f64)])),
             integrate: pipeline("integrate", &[("TEMPORAL", flag(modes.temporal))]),
             source: buffers.source,
         }

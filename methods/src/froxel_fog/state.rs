@@ -11,7 +11,7 @@ use scenes::FrameState;
 
 use super::grid::{FroxelUniform, Temporal};
 use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared, grid_values};
-use super::passes::{Buffers, Dims, Modes, VolumePasses};
+use super::passes::{Buffers, Dims, HISTORY_MODES, Modes, VolumePasses};
 use super::reach;
 use super::shaders::apply_wgsl;
 use crate::common::renderer::SceneRenderer;
@@ -141,9 +141,13 @@ impl State {
             volume: &volume_view,
             medium: &medium,
         };
+        let history: String = p.knob("history")?;
+        let falloff: String = p.knob("falloff")?;
         let modes = Modes {
             temporal: temporal > 0,
-            slice_falloff: p.knob::<String>("falloff")? == "slice",
+            history: HISTORY_MODES.iter().position(|m| *m == history).unwrap_or(0) as u32,
+            slice_falloff: falloff != "point",
+            slice_quadrature: falloff == "quadrature",
             particles: is_particles,
             shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
         };

@@ -1,12 +1,21 @@
 // Temporal accumulation of the injected source (Wronski 2014's reprojection, blended as Godot 4's
 // volumetric_fog_process): each froxel's centre is projected into the previous frame's grid
-// (its camera in `froxel.prev_*`), the previous accumulated source is read there trilinearly,
-// and this frame's jittered injection is blended in with weight `froxel.blend`. Needs PRELUDE,
-// grid.wgsl and the volume bindings (volume.wgsl).
+// (its camera in `froxel.prev_*`), the previous accumulated source is read there trilinearly
+// (rejected outside the previous grid, as Godot and Unreal do), and this frame's jittered
+// injection is blended in. What is done with a history this frame's injection disagrees with is
+// the knob `history` (HISTORY): kept (none, the engines' behaviour), clamped to the range of
+// this frame's source over the 3 × 3 × 3 froxels around it (clamp: Karis 2014's TAA
+// neighbourhood clamp in 3-D), or dropped there (reject). Needs PRELUDE, grid.wgsl and the
+// volume bindings (volume.wgsl).
 
-// Accumulated source of the previous frame (read) and of this one (written).
+// Accumulated source of the previous frame (read) and of this one (written): rgb the source, a
+// the frames it holds (clamp and reject restart a froxel's progressive average where its
+// history is dropped; none keeps the grid-wide weight `froxel.blend`).
 @group(1) @binding(3) var<storage, read> history: array<vec4<f32>>;
 @group(1) @binding(4) var<storage, read_write> accumulated: array<vec4<f32>>;
+
+// Knob `history`: 0 none (every reprojected history kept), 1 clamp, 2 reject.
+override HISTORY: u32 = 0u;
 
 // Continuous coordinates of world point p in the previous frame's grid: column x, column y and
 // slice, each cell spanning [i, i + 1).
@@ -22,20 +31,51 @@ fn previous_grid_coord(p: vec3<f32>) -> vec3<f32> {
 }
 
 // The history trilinearly at grid coordinates g (cell centres at i + 0.5), clamped to the grid.
-fn history_at(g: vec3<f32>) -> vec3<f32> {
+fn history_at(g: vec3<f32>) -> vec4<f32> {
     let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
     let c = clamp(g - 0.5, vec3<f32>(0.0), n - 1.0);
     let i0 = vec3<u32>(floor(c));
     let i1 = min(i0 + 1u, vec3<u32>(n - 1.0));
     let f = c - floor(c);
-    var out = vec3<f32>(0.0);
+    var out = vec4<f32>(0.0);
     for (var corner = 0u; corner < 8u; corner++) {
         let b = vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u);
         let idx = select(i0, i1, b);
         let w = select(1.0 - f, f, b);
-        out += w.x * w.y * w.z * history[froxel_index(idx.x, idx.y, idx.z)].rgb;
+        out += w.x * w.y * w.z * history[froxel_index(idx.x, idx.y, idx.z)];
     }
     return out;
+}
+
+// The history of froxel id reprojected into this frame (rgb the source, a its frames); a = 0
+// where there is none (the first frame, or outside the previous frame's grid).
+fn reprojected(id: vec3<u32>, i: u32) -> vec4<f32> {
+    if (froxel.history == 0u) {
+        return vec4<f32>(0.0);
+    }
+    if (froxel.moved == 0u) {
+        return history[i];
+    }
+    let g = previous_grid_coord(froxel_point(id, vec3<f32>(0.5)));
+    let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
+    let inside = all(g >= vec3<f32>(0.0)) && all(g <= n);
+    return select(vec4<f32>(0.0), history_at(g), inside);
+}
+
+// The range (per channel) of this frame's injected source over the 3 × 3 × 3 froxels around id
+// (fewer at the grid's faces): min in [0], max in [1].
+fn neighbourhood(id: vec3<u32>) -> array<vec3<f32>, 2> {
+    let last = vec3<i32>(i32(froxel.grid_x), i32(froxel.grid_y), i32(froxel.slices)) - 1;
+    var lo = vec3<f32>(3.4e38);
+    var hi = vec3<f32>(-3.4e38);
+    for (var o = 0; o < 27; o++) {
+        let d = vec3<i32>(o % 3, (o / 3) % 3, o / 9) - 1;
+        let q = vec3<u32>(clamp(vec3<i32>(id) + d, vec3<i32>(0), last));
+        let s = source[froxel_index(q.x, q.y, q.z)].rgb;
+        lo = min(lo, s);
+        hi = max(hi, s);
+    }
+    return array<vec3<f32>, 2>(lo, hi);
 }
 
 @compute @workgroup_size(4, 4, 4)
@@ -45,17 +85,22 @@ fn temporal(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let i = froxel_index(id.x, id.y, id.z);
     let current = source[i].rgb;
-    var previous = current;
-    if (froxel.history != 0u) {
-        if (froxel.moved == 0u) {
-            previous = history[i].rgb;
-        } else {
-            let p = froxel_point(id, vec3<f32>(0.5));
-            let g = previous_grid_coord(p);
-            let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
-            let inside = all(g >= vec3<f32>(0.0)) && all(g <= n);
-            previous = select(current, history_at(g), inside);
-        }
+    let h = reprojected(id, i);
+    if (HISTORY == 0u) {
+        // Today's engines: the grid-wide weight; no history (a = 0) reads as this frame.
+        let previous = select(current, h.rgb, h.a > 0.0);
+        accumulated[i] = vec4<f32>(mix(previous, current, froxel.blend), min(h.a + 1.0, f32(froxel.frames)));
+        return;
     }
-    accumulated[i] = vec4<f32>(mix(previous, current, froxel.blend), 0.0);
+    var previous = h.rgb;
+    var held = h.a;
+    let range = neighbourhood(id);
+    if (HISTORY == 1u) {
+        previous = clamp(previous, range[0], range[1]);
+    } else if (any(previous < range[0]) || any(previous > range[1])) {
+        held = 0.0;
+    }
+    // A progressive average over the froxel's first N frames, then an exponential one (1/N).
+    let weight = max(1.0 / (held + 1.0), 1.0 / f32(froxel.frames));
+    accumulated[i] = vec4<f32>(mix(previous, current, weight), min(held + 1.0, f32(froxel.frames)));
 }

@@ -78,13 +78,9 @@ override SLICE_FALLOFF: bool = true;
 // the whole line's integral π/h on the axis (π · 2/a): a ray through the light reads what the
 // pixels around it average, not the 1/h peak of the one ray.
 fn mean_inverse_square(e: vec3<f32>, dir: vec3<f32>, c: vec3<f32>, t0: f32, t1: f32, spread: f32) -> f32 {
-    let w0 = e - c;
-    let tc = -dot(w0, dir);
-    let a = spread * max(tc, 0.0);
-    let h2 = max(dot(w0, w0) - tc * tc, 0.0) + 0.25 * a * a;
-    let h = max(sqrt(h2), 1e-4 * length(w0) + 1e-9);
-    let angle = atan((t1 - tc) / h) - atan((t0 - tc) / h);
-    return angle / (h * max(t1 - t0, 1e-9));
+    let g = closest_approach(e, dir, c, spread);
+    let angle = atan((t1 - g.x) / g.y) - atan((t0 - g.x) / g.y);
+    return angle / (g.y * max(t1 - t0, 1e-9));
 }
 
 // Shadow-map visibility with the `shadow_filter` knob: one texel (none) or 3 × 3 PCF.
@@ -191,13 +187,13 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     let t = sample_distance(i, t0, t1, o.z);
     // Height fog: the slice's mean σ_s along the sample's ray, as `integrate` takes its mean σ_t,
     // so that Hillaire's slice integral gives σ_s/σ_t (1 − e^(−τ)) exactly.
-    let sigma_s = froxel_sigma_s(i) * fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
+    let fog = fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
+    let sigma_s = froxel_sigma_s(i) * fog;
     var s = vec3<f32>(0.0);
     // Empty froxels (particle media without a background) skip the light's evaluation.
     if (any(sigma_s > vec3<f32>(0.0))) {
         let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * froxel.pixel_size);
-        let x = camera.position.xyz + dir * t;
-        s = sigma_s * light_source(LIGHT, dir, t0, t1, t, spread) * particle_transmittance(LIGHT, x);
+        s = slice_source(LIGHT, i, dir, t0, t1, t, spread, fog);
     }
     if (!FIRST) {
         s += source[i].rgb;
