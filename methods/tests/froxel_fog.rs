@@ -330,8 +330,14 @@ fn eye_and_light_inside_particles_match_the_reference_mean() {
         let ratio = mean(&m.inscatter) / mean(&r.inscatter);
         let h = headline(&m.inscatter, &r.inscatter);
         eprintln!("{name}: mean ratio {ratio:.3}, headline {h:.4}");
-        assert!((ratio - 1.0).abs() <= 0.1, "{name}: mean in-scatter ratio {ratio}");
-        assert!(h <= 3.0 * hc, "{name}: headline {h} against cloud-8000's {hc}");
+        assert!(
+            (ratio - 1.0).abs() <= 0.1,
+            "{name}: mean in-scatter ratio {ratio}"
+        );
+        assert!(
+            h <= 3.0 * hc,
+            "{name}: headline {h} against cloud-8000's {hc}"
+        );
     }
 }
 

@@ -21,8 +21,7 @@ pub struct FroxelUniform {
     blend: f32,
     history: u32,
     moved: u32,
-    /// Temporal accumulation's N (knob `temporal`; 0 off).
-    frames: u32,
+    _pad: u32,
     offset: [f32; 4],
     prev_clip_from_world: [[f32; 4]; 4],
     prev_position: [f32; 4],
@@ -67,7 +66,6 @@ impl FroxelUniform {
             depth_exponent: params.knob("depth_exponent")?,
             tiles_x,
             blend: 1.0,
-            frames: temporal,
             ..Zeroable::zeroed()
         })
     }

@@ -23,8 +23,7 @@ struct Froxel {
     history: u32,
     // 1 when the camera moved since that frame (reproject; else read the same froxel)
     moved: u32,
-    // temporal accumulation's N (knob `temporal`; 0 off): the frames a froxel's history holds at most
-    frames: u32,
+    _pad: u32,
     // this frame's jitter offset in [0, 1)³ (Halton 2, 3, 5), rotated per froxel
     offset: vec4<f32>,
     // the previous frame's camera: clip_from_world, eye (w: far plane depth), forward

@@ -17,7 +17,12 @@ pub const PARTICLE_SHADOW_WGSL: &str = include_str!("particle_shadow.wgsl");
 
 /// The volume passes' composed WGSL (inject, temporal and integrate entry points).
 pub fn volume_source() -> String {
-    let shared = [GRID_WGSL, EXTINCTION_WGSL, TEMPORAL_WGSL, SLICE_QUADRATURE_WGSL];
+    let shared = [
+        GRID_WGSL,
+        EXTINCTION_WGSL,
+        TEMPORAL_WGSL,
+        SLICE_QUADRATURE_WGSL,
+    ];
     wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), VOLUME_WGSL)
 }
 

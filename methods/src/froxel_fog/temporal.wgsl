@@ -1,18 +1,24 @@
 // Temporal accumulation of the injected source (Wronski 2014's reprojection, blended as Godot 4's
 // volumetric_fog_process): each froxel's centre is projected into the previous frame's grid
 // (its camera in `froxel.prev_*`), the previous accumulated source is read there trilinearly
-// (rejected outside the previous grid, as Godot and Unreal do), and this frame's jittered
-// injection is blended in. What is done with a history this frame's injection disagrees with is
-// the knob `history` (HISTORY): kept (none, the engines' behaviour), clamped to the range of
-// this frame's source over the 3 × 3 × 3 froxels around it (clamp: Karis 2014's TAA
-// neighbourhood clamp in 3-D), or dropped there (reject). Needs PRELUDE, grid.wgsl and the
-// volume bindings (volume.wgsl).
+// (dropped outside the previous grid, as Godot and Unreal do), and this frame's jittered
+// injection is blended in with weight `froxel.blend`. What is done with a history that is no
+// longer true is the knob `history` (HISTORY): kept (none: Godot's and Unreal's volumetric fog);
+// clamped to the range of this frame's source over the 3 × 3 × 3 froxels around it (clamp:
+// Karis 2014's TAA neighbourhood clamp in 3-D); or dropped where the froxel's lighting changed
+// (reject): `inject` also evaluates each froxel at its centre, a deterministic sample whose
+// relative change since the history began beyond REJECT_CHANGE means the light, a shadow or the
+// medium moved — the jitter alone never changes it (rejection by a change in lighting, as the
+// issue asks; Unreal drops history only outside the previous frustum or behind last frame's
+// depth). Needs PRELUDE, grid.wgsl and the volume
+// bindings (volume.wgsl).
 
 // Accumulated source of the previous frame (read) and of this one (written): rgb the source, a
-// the frames it holds (clamp and reject restart a froxel's progressive average where its
-// history is dropped; none keeps the grid-wide weight `froxel.blend`).
+// (history reject) the centre source, summed over channels, its history began with.
 @group(1) @binding(3) var<storage, read> history: array<vec4<f32>>;
 @group(1) @binding(4) var<storage, read_write> accumulated: array<vec4<f32>>;
+// History reject: this frame's source at each froxel's centre (`inject`), rgb, and a its sum.
+@group(1) @binding(8) var<storage, read_write> centre: array<vec4<f32>>;
 
 // Knob `history`: 0 none (every reprojected history kept), 1 clamp, 2 reject.
 override HISTORY: u32 = 0u;
@@ -47,19 +53,24 @@ fn history_at(g: vec3<f32>) -> vec4<f32> {
     return out;
 }
 
-// The history of froxel id reprojected into this frame (rgb the source, a its frames); a = 0
-// where there is none (the first frame, or outside the previous frame's grid).
-fn reprojected(id: vec3<u32>, i: u32) -> vec4<f32> {
+// The history of froxel id reprojected into this frame; None (valid false) on the first frame
+// and outside the previous frame's grid.
+struct History {
+    value: vec4<f32>,
+    valid: bool,
+};
+
+fn reprojected(id: vec3<u32>, i: u32) -> History {
     if (froxel.history == 0u) {
-        return vec4<f32>(0.0);
+        return History(vec4<f32>(0.0), false);
     }
     if (froxel.moved == 0u) {
-        return history[i];
+        return History(history[i], true);
     }
     let g = previous_grid_coord(froxel_point(id, vec3<f32>(0.5)));
     let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
     let inside = all(g >= vec3<f32>(0.0)) && all(g <= n);
-    return select(vec4<f32>(0.0), history_at(g), inside);
+    return History(history_at(g), inside);
 }
 
 // The range (per channel) of this frame's injected source over the 3 × 3 × 3 froxels around id
@@ -78,29 +89,44 @@ fn neighbourhood(id: vec3<u32>) -> array<vec3<f32>, 2> {
     return array<vec3<f32>, 2>(lo, hi);
 }
 
+// History `reject` (knob `reject_change`): the relative change of a froxel's centre source
+// (summed over channels) since its history began beyond which the history is dropped. The
+// centre sample is deterministic, so the jitter's own spread never trips it.
+override REJECT_CHANGE: f32 = 0.001;
+
+// Whether froxel i's lighting changed since its history `h` began (h.a: the centre source then,
+// carried while the history is kept, so slow drifts add up; this frame's in source[i].a,
+// written by `inject`).
+fn lighting_changed(i: u32, h: vec4<f32>) -> bool {
+    let now = centre[i].a;
+    return abs(now - h.a) > REJECT_CHANGE * max(now, h.a);
+}
+
 @compute @workgroup_size(4, 4, 4)
 fn temporal(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
         return;
     }
     let i = froxel_index(id.x, id.y, id.z);
-    let current = source[i].rgb;
+    let current = source[i];
     let h = reprojected(id, i);
-    if (HISTORY == 0u) {
-        // Today's engines: the grid-wide weight; no history (a = 0) reads as this frame.
-        let previous = select(current, h.rgb, h.a > 0.0);
-        accumulated[i] = vec4<f32>(mix(previous, current, froxel.blend), min(h.a + 1.0, f32(froxel.frames)));
+    var previous = h.value.rgb;
+    var keep = h.valid;
+    if (HISTORY == 1u) {
+        let range = neighbourhood(id);
+        previous = clamp(previous, range[0], range[1]);
+    } else if (HISTORY == 2u) {
+        keep = keep && !lighting_changed(i, h.value);
+    }
+    if (HISTORY == 2u) {
+        // Dropped history (or none yet): this frame's centre sample, as without accumulation
+        // (not one jittered sample: Unreal shades more samples where its history misses); a: the
+        // centre source the kept history began with.
+        let c = centre[i];
+        let kept = vec4<f32>(mix(previous, current.rgb, froxel.blend), h.value.a);
+        accumulated[i] = select(c, kept, keep);
         return;
     }
-    var previous = h.rgb;
-    var held = h.a;
-    let range = neighbourhood(id);
-    if (HISTORY == 1u) {
-        previous = clamp(previous, range[0], range[1]);
-    } else if (any(previous < range[0]) || any(previous > range[1])) {
-        held = 0.0;
-    }
-    // A progressive average over the froxel's first N frames, then an exponential one (1/N).
-    let weight = max(1.0 / (held + 1.0), 1.0 / f32(froxel.frames));
-    accumulated[i] = vec4<f32>(mix(previous, current, weight), min(held + 1.0, f32(froxel.frames)));
+    let blended = mix(previous, current.rgb, select(1.0, froxel.blend, keep));
+    accumulated[i] = vec4<f32>(blended, 0.0);
 }

@@ -171,12 +171,9 @@ fn froxel_point(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     return camera.position.xyz + dir * t;
 }
 
-@compute @workgroup_size(4, 4, 4)
-fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
-        return;
-    }
-    let o = sample_offset(id);
+// Light LIGHT's source S at point o (cell units) of froxel id, or 0 where the froxel scatters
+// nothing (particle media without a background).
+fn froxel_source(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     let dir = grid_ray(id.x, id.y, o.xy);
     let far_t = camera_far_distance(camera, dir);
     let n = f32(froxel.slices);
@@ -188,17 +185,33 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     // Height fog: the slice's mean σ_s along the sample's ray, as `integrate` takes its mean σ_t,
     // so that Hillaire's slice integral gives σ_s/σ_t (1 − e^(−τ)) exactly.
     let fog = fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
-    let sigma_s = froxel_sigma_s(i) * fog;
-    var s = vec3<f32>(0.0);
-    // Empty froxels (particle media without a background) skip the light's evaluation.
-    if (any(sigma_s > vec3<f32>(0.0))) {
-        let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * froxel.pixel_size);
-        s = slice_source(LIGHT, i, dir, t0, t1, t, spread, fog);
+    if (all(froxel_sigma_s(i) * fog <= vec3<f32>(0.0))) {
+        return vec3<f32>(0.0);
     }
+    let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * froxel.pixel_size);
+    return slice_source(LIGHT, i, dir, t0, t1, t, spread, fog);
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
+        return;
+    }
+    let i = froxel_index(id.x, id.y, id.z);
+    var s = froxel_source(id, sample_offset(id));
     if (!FIRST) {
         s += source[i].rgb;
     }
     source[i] = vec4<f32>(s, 0.0);
+    // History reject (temporal.wgsl): the source at the froxel's centre too, and its sum over
+    // channels — deterministic, so a change in it is a change in the lighting, not the jitter.
+    if (TEMPORAL && HISTORY == 2u) {
+        var c = froxel_source(id, vec3<f32>(0.5));
+        if (!FIRST) {
+            c += centre[i].rgb;
+        }
+        centre[i] = vec4<f32>(c, c.r + c.g + c.b);
+    }
 }
 
 // Whether `integrate` reads the temporally accumulated source (temporal.wgsl) or this frame's.
