@@ -10,8 +10,8 @@
 //! spans more than 0.2 rad seen from the light, the whole slice's in-scatter by Gauss nodes in
 //! that angle (`falloff` = quadrature, slice_quadrature.wgsl); `temporal` (with `temporal` N > 0)
 //! blends this frame's jittered injection into the previous frames', reprojected through the
-//! previous camera, the history clamped to (or dropped outside) the range of this frame's source
-//! around each froxel (`history`); `integrate` walks each froxel column from the eye,
+//! previous camera, stale history kept, clamped to this frame's 3 × 3 × 3 range, or dropped where
+//! the froxel's unjittered centre sample changed (`history`, default reject); `integrate` walks each froxel column from the eye,
 //! L += T (S − S e^(−σ_t d)) / σ_t, T *= e^(−σ_t d) per slice of length d, storing L at every
 //! slice's far boundary; `apply` reads L at each pixel's ray length (bilinear across columns,
 //! linear between slice boundaries). The grid has `columns` columns across the image (or columns
@@ -45,9 +45,9 @@
 //! Modernised: Hillaire's analytic slice integral instead of Wronski's point sample times slice
 //! length; a local light's 1/r² averaged over the froxel in closed form (knob `falloff`; `point`
 //! is Wronski's sample), and near the light the slice's whole in-scatter by quadrature in the
-//! angle seen from the light (`quadrature`, the default); history clamped to this frame's
-//! 3 × 3 × 3 neighbourhood (Karis 2014's TAA clamp in 3-D; knob `history`, `none` the engines'
-//! keep-everything); float32 volume; the scene's phase function; spot patterns; particles
+//! angle seen from the light (`quadrature`, the default); history rejection by a change in
+//! lighting, detected on an unjittered centre sample (`history` = reject, the default), or
+//! Karis 2014's TAA clamp in 3-D (`clamp`; `none` is the engines' keep-everything); float32 volume; the scene's phase function; spot patterns; particles
 //! voxelised by exact chords and a froxel with particles sampled at their mean depth.
 //! Limits: shafts thinner than a froxel are blurred across it, and light leaks across depth
 //! discontinuities within a froxel column (a surface reads the volume interpolated from its

@@ -8,10 +8,9 @@
 // Karis 2014's TAA neighbourhood clamp in 3-D); or dropped where the froxel's lighting changed
 // (reject): `inject` also evaluates each froxel at its centre, a deterministic sample whose
 // relative change since the history began beyond REJECT_CHANGE means the light, a shadow or the
-// medium moved — the jitter alone never changes it (rejection by a change in lighting, as the
-// issue asks; Unreal drops history only outside the previous frustum or behind last frame's
-// depth). Needs PRELUDE, grid.wgsl and the volume
-// bindings (volume.wgsl).
+// medium moved — the jitter alone never changes it (rejection by a change in lighting; Unreal
+// drops history only outside the previous frustum or behind last frame's depth). Needs PRELUDE,
+// grid.wgsl and the volume bindings (volume.wgsl).
 
 // Accumulated source of the previous frame (read) and of this one (written): rgb the source, a
 // (history reject) the centre source, summed over channels, its history began with.
@@ -95,7 +94,7 @@ fn neighbourhood(id: vec3<u32>) -> array<vec3<f32>, 2> {
 override REJECT_CHANGE: f32 = 0.001;
 
 // Whether froxel i's lighting changed since its history `h` began (h.a: the centre source then,
-// carried while the history is kept, so slow drifts add up; this frame's in source[i].a,
+// carried while the history is kept, so slow drifts add up; this frame's in centre[i].a,
 // written by `inject`).
 fn lighting_changed(i: u32, h: vec4<f32>) -> bool {
     let now = centre[i].a;
@@ -112,20 +111,18 @@ fn temporal(@builtin(global_invocation_id) id: vec3<u32>) {
     let h = reprojected(id, i);
     var previous = h.value.rgb;
     var keep = h.valid;
-    if (HISTORY == 1u) {
-        let range = neighbourhood(id);
-        previous = clamp(previous, range[0], range[1]);
-    } else if (HISTORY == 2u) {
-        keep = keep && !lighting_changed(i, h.value);
-    }
     if (HISTORY == 2u) {
         // Dropped history (or none yet): this frame's centre sample, as without accumulation
         // (not one jittered sample: Unreal shades more samples where its history misses); a: the
         // centre source the kept history began with.
-        let c = centre[i];
+        keep = keep && !lighting_changed(i, h.value);
         let kept = vec4<f32>(mix(previous, current.rgb, froxel.blend), h.value.a);
-        accumulated[i] = select(c, kept, keep);
+        accumulated[i] = select(centre[i], kept, keep);
         return;
+    }
+    if (HISTORY == 1u) {
+        let range = neighbourhood(id);
+        previous = clamp(previous, range[0], range[1]);
     }
     let blended = mix(previous, current.rgb, select(1.0, froxel.blend, keep));
     accumulated[i] = vec4<f32>(blended, 0.0);
