@@ -31,7 +31,9 @@ struct LightGrid {
 
 // A froxel's particles (particles.wgsl's voxelise): medium rgb their mean σ_s, a their mean τ
 // (1/m) over the froxel; moment.x Σ τ · length · t over their chords in it, so moment.x / (τ d)
-// is the extinction-weighted mean distance t of the particles in the slice (length d).
+// is the extinction-weighted mean distance t of the particles in the slice (length d); moment.y
+// and moment.z the nearest and farthest distance of those chords in the slice (3.4e38 and 0
+// where none).
 struct Voxel {
     medium: vec4<f32>,
     moment: vec4<f32>,

@@ -6,9 +6,12 @@
 //! can reach the view frustum, `reach.rs`) evaluates the in-scatter source
 //! S = σ_s Σ_lights p(θ) V I(ω) e^(−σ_t r) / r² at one point of every froxel, V from the common
 //! shadow maps, I(ω) the spot falloff and pattern, and a point or spot light's 1/r² as its
-//! closed-form mean over the slice and the column's footprint (`falloff`); `temporal` (with
-//! `temporal` N > 0) blends this frame's jittered injection into the previous frames',
-//! reprojected through the previous camera; `integrate` walks each froxel column from the eye,
+//! closed-form mean over the slice and the column's footprint (`falloff`) — and where a slice
+//! spans more than 0.2 rad seen from the light, the whole slice's in-scatter by Gauss nodes in
+//! that angle (`falloff` = quadrature, slice_quadrature.wgsl); `temporal` (with `temporal` N > 0)
+//! blends this frame's jittered injection into the previous frames', reprojected through the
+//! previous camera, stale history kept, clamped to this frame's 3 × 3 × 3 range, or dropped where
+//! the froxel's unjittered centre sample changed (`history`, default reject); `integrate` walks each froxel column from the eye,
 //! L += T (S − S e^(−σ_t d)) / σ_t, T *= e^(−σ_t d) per slice of length d, storing L at every
 //! slice's far boundary; `apply` reads L at each pixel's ray length (bilinear across columns,
 //! linear between slice boundaries). The grid has `columns` columns across the image (or columns
@@ -41,13 +44,16 @@
 //! the screen), Halton jitter with reprojected history blended as Godot.
 //! Modernised: Hillaire's analytic slice integral instead of Wronski's point sample times slice
 //! length; a local light's 1/r² averaged over the froxel in closed form (knob `falloff`; `point`
-//! is Wronski's sample); float32 volume; the scene's phase function; spot patterns; particles
+//! is Wronski's sample), and near the light the slice's whole in-scatter by quadrature in the
+//! angle seen from the light (`quadrature`, the default); history rejection by a change in
+//! lighting, detected on an unjittered centre sample (`history` = reject, the default), or
+//! Karis 2014's TAA clamp in 3-D (`clamp`; `none` is the engines' keep-everything); float32 volume; the scene's phase function; spot patterns; particles
 //! voxelised by exact chords and a froxel with particles sampled at their mean depth.
 //! Limits: shafts thinner than a froxel are blurred across it, and light leaks across depth
 //! discontinuities within a froxel column (a surface reads the volume interpolated from its
 //! neighbours); a spot's cone is point-sampled per froxel (near its apex the froxel is partly
-//! lit); temporal accumulation keeps no history rejection, so it lags behind moving lights and
-//! objects (pen-orbit) and blurs the history a little on every reprojection; particle media with
+//! lit); temporal accumulation blurs the history a little on every reprojection, and with
+//! `history` = none lags behind moving lights and objects (pen-orbit); particle media with
 //! at most four lights (one extinction grid each: orthographic for the sun, a cone from a local
 //! light seeing the cloud within 80°, else — the light inside a particle or the cloud all around
 //! it — a cube of six 90° faces, six times the memory).
@@ -73,6 +79,7 @@ use scenes::SceneFeatures;
 use crate::common::knobs;
 use crate::common::renderer::{homogeneous_support, renderer_limits};
 use particle_passes::PARTICLE_GRIDS;
+use passes::HISTORY_MODES;
 use shaders::{
     apply_source, particle_shadow_source, particle_surface_source, particles_source, volume_source,
 };
@@ -113,9 +120,9 @@ impl Method for FroxelFog {
             Knob::float("depth_exponent", 2.0, 1.0..=4.0)
                 .sweep([1.0, 3.0])
                 .meaning("slice boundary k at depth far·(k/slices)^exponent: 1 linear, larger packs slices near the eye"),
-            Knob::choice("falloff", "slice", &["slice", "point"])
-                .sweep(["point"])
-                .meaning("a point or spot light's 1/r² per froxel: its mean over the slice along the sample ray in closed form (slice), or its value at the sample point (point, Wronski)"),
+            Knob::choice("falloff", "quadrature", &["quadrature", "slice", "point"])
+                .sweep(["slice", "point"])
+                .meaning("a point or spot light's 1/r² per froxel: its mean over the slice along the sample ray in closed form (slice), or its value at the sample point (point, Wronski); quadrature: as slice, but where the slice spans more than 0.2 rad seen from the light, the whole slice's in-scatter (1/r², phase, visibility, both legs' attenuation) by 8 Gauss nodes in that angle"),
             Knob::choice("shadow_filter", "none", &["none", "pcf"])
                 .sweep(["pcf"])
                 .meaning("shadow-map visibility per injected sample: one texel (none), or the lit fraction of the 3 × 3 texels around it (pcf); Wronski's blurred exponential shadow map is not built"),
@@ -126,6 +133,13 @@ impl Method for FroxelFog {
             Knob::choice("jitter", "depth", &["depth", "cell"])
                 .sweep(["cell"])
                 .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
+            // No sweep: inert at the default temporal 0 (README: each mode with temporal on).
+            Knob::choice("history", "reject", &HISTORY_MODES)
+                .sweep(Vec::<&str>::new())
+                .meaning("with temporal > 0, what is done with a reprojected history that is no longer true: kept (none, as Godot's and Unreal's volumetric fog, which drop only history from outside the previous frustum), clamped to the range of this frame's source over the 3 × 3 × 3 froxels around (clamp: Karis 2014's TAA neighbourhood clamp), or dropped where the froxel's unjittered centre sample changed by more than reject_change since the history began, the froxel then showing that centre sample (reject; one more light evaluation per froxel)"),
+            Knob::float("reject_change", 0.001, 0.0..=1.0)
+                .sweep(Vec::<f64>::new())
+                .meaning("with history = reject: the relative change of a froxel's centre source since its history began beyond which the history is dropped (the centre sample is not jittered, so only a change in the lighting, shadows or medium trips it)"),
             Knob::int("extinction_grid", 64, 4..=256)
                 .sweep([32, 128])
                 .unit("texels")
@@ -176,6 +190,24 @@ impl Method for FroxelFog {
                     ("SHADOW_PCF", &[0.0, 1.0]),
                     ("PARTICLES", &[0.0, 1.0]),
                 ],
+            ),
+            // The slice quadrature near local lights (SLICE_QUADRATURE 0 is in the product above).
+            ShaderCheck::combinations(
+                "froxel-fog/volume",
+                &volume_source(),
+                &[
+                    ("LIGHT", &[0.0, 1.0]),
+                    ("SLICE_FALLOFF", &[1.0]),
+                    ("SLICE_QUADRATURE", &[1.0]),
+                    ("SHADOW_PCF", &[0.0, 1.0]),
+                    ("PARTICLES", &[0.0, 1.0]),
+                ],
+            ),
+            // The history modes of the temporal pass (HISTORY 0 is in the product above).
+            ShaderCheck::combinations(
+                "froxel-fog/volume",
+                &volume_source(),
+                &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0])],
             ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
             ShaderCheck::combinations("froxel-fog/particles", &particles_source(), &[]),

@@ -64,7 +64,12 @@ fn add_chord(xy: vec2<u32>, p: Particle, dir: vec3<f32>, far_t: f32) {
         let w = 0.25 * max(hi - lo, 0.0) / max(t1 - t0, 1e-12);
         let i = column_index(xy.x, xy.y, k);
         density[i].medium += vec4<f32>(p.sigma_s, p.tau) * w;
-        density[i].moment += vec4<f32>(p.tau * w * 0.5 * (lo + hi), 0.0, 0.0, 0.0);
+        density[i].moment.x += p.tau * w * 0.5 * (lo + hi);
+        if (hi > lo) {
+            // The span of the slice the particles occupy (slice_quadrature.wgsl).
+            density[i].moment.y = min(density[i].moment.y, lo);
+            density[i].moment.z = max(density[i].moment.z, hi);
+        }
     }
 }
 
@@ -85,7 +90,7 @@ fn voxelise(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     for (var k = 0u; k < froxel.slices; k++) {
-        density[column_index(id.x, id.y, k)] = Voxel(vec4<f32>(0.0), vec4<f32>(0.0));
+        density[column_index(id.x, id.y, k)] = Voxel(vec4<f32>(0.0), vec4<f32>(0.0, 3.4e38, 0.0, 0.0));
     }
     let col = id.y * froxel.grid_x + id.x;
     let r0 = sub_ray(id.xy, vec2<f32>(0.25, 0.25));

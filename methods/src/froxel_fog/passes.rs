@@ -28,15 +28,26 @@ pub struct Buffers<'a> {
     pub source: wgpu::Buffer,
     /// The accumulated source of alternate frames (temporal accumulation; else 16-byte stubs).
     pub history: [wgpu::Buffer; 2],
+    /// History reject: this frame's source at each froxel's centre (else a 16-byte stub).
+    pub centre: wgpu::Buffer,
     pub volume: &'a wgpu::TextureView,
     pub medium: &'a MediumBuffers,
 }
+
+/// The knob `history`'s values, in the order of their codes (HISTORY in temporal.wgsl).
+pub const HISTORY_MODES: [&str; 3] = ["none", "clamp", "reject"];
 
 /// The volume pipelines' modes (pipeline constants).
 #[derive(Clone, Copy)]
 pub struct Modes {
     pub temporal: bool,
+    /// With `temporal`: the knob `history`'s code (an index into [`HISTORY_MODES`]).
+    pub history: u32,
+    /// History `reject`: the knob `reject_change`.
+    pub reject_change: f32,
     pub slice_falloff: bool,
+    /// `falloff` = quadrature: near a local light, the slice's in-scatter by Gauss nodes.
+    pub slice_quadrature: bool,
     pub particles: bool,
     /// `shadow_filter` = pcf: 3 × 3 percentage-closer filtering of the shadow map.
     pub shadow_pcf: bool,
@@ -82,7 +93,11 @@ impl VolumePasses {
                         ("LIGHT", k as f64),
                         ("FIRST", first),
                         ("SLICE_FALLOFF", flag(modes.slice_falloff)),
+                        ("SLICE_QUADRATURE", flag(modes.slice_quadrature)),
                         ("SHADOW_PCF", flag(modes.shadow_pcf)),
+                        // History `reject` injects each froxel's centre too.
+                        ("TEMPORAL", flag(modes.temporal)),
+                        ("HISTORY", modes.history as f64),
                     ];
                     pipeline("inject", &own)
                 })
@@ -91,7 +106,13 @@ impl VolumePasses {
         VolumePasses {
             binds,
             inject,
-            temporal: modes.temporal.then(|| pipeline("temporal", &[])),
+            temporal: modes.temporal.then(|| {
+                let own = [
+                    ("HISTORY", modes.history as f64),
+                    ("REJECT_CHANGE", modes.reject_change as f64),
+                ];
+                pipeline("temporal", &own)
+            }),
             integrate: pipeline("integrate", &[("TEMPORAL", flag(modes.temporal))]),
             source: buffers.source,
         }
@@ -189,6 +210,7 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
                 storage_buffer(5, cs, true),
                 uniform_buffer(6, cs),
                 storage_buffer(7, cs, true),
+                storage_buffer(8, cs, false),
             ],
         });
     let group = |parity: usize| {
@@ -204,6 +226,7 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
                 buffer_entry(5, &b.medium.density),
                 buffer_entry(6, &b.medium.uniform),
                 buffer_entry(7, &b.medium.optical_depth),
+                buffer_entry(8, &b.centre),
             ],
         })
     };

@@ -6,6 +6,7 @@ use crate::common::{resolve, wgsl};
 
 pub const GRID_WGSL: &str = include_str!("grid.wgsl");
 pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
+pub const SLICE_QUADRATURE_WGSL: &str = include_str!("slice_quadrature.wgsl");
 pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
 pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
 pub const LOOKUP_WGSL: &str = include_str!("lookup.wgsl");
@@ -16,7 +17,12 @@ pub const PARTICLE_SHADOW_WGSL: &str = include_str!("particle_shadow.wgsl");
 
 /// The volume passes' composed WGSL (inject, temporal and integrate entry points).
 pub fn volume_source() -> String {
-    let shared = [GRID_WGSL, EXTINCTION_WGSL, TEMPORAL_WGSL];
+    let shared = [
+        GRID_WGSL,
+        EXTINCTION_WGSL,
+        TEMPORAL_WGSL,
+        SLICE_QUADRATURE_WGSL,
+    ];
     wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), VOLUME_WGSL)
 }
 

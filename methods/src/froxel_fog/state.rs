@@ -11,7 +11,7 @@ use scenes::FrameState;
 
 use super::grid::{FroxelUniform, Temporal};
 use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared, grid_values};
-use super::passes::{Buffers, Dims, Modes, VolumePasses};
+use super::passes::{Buffers, Dims, HISTORY_MODES, Modes, VolumePasses};
 use super::reach;
 use super::shaders::apply_wgsl;
 use crate::common::renderer::SceneRenderer;
@@ -97,6 +97,13 @@ impl State {
         let volume_view = volume.create_view(&Default::default());
         let bytes = 16 * grid.froxels();
         let history_bytes = if temporal > 0 { bytes } else { 16 };
+        let history: String = p.knob("history")?;
+        // History reject also injects every froxel's centre (temporal.wgsl).
+        let centre_bytes = if temporal > 0 && history == "reject" {
+            bytes
+        } else {
+            16
+        };
         let none = wgpu::BufferUsages::empty();
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("froxel grid"),
@@ -138,12 +145,21 @@ impl State {
                 storage(gpu, "froxel history 0", history_bytes, none),
                 storage(gpu, "froxel history 1", history_bytes, none),
             ],
+            centre: storage(gpu, "froxel centre source", centre_bytes, none),
             volume: &volume_view,
             medium: &medium,
         };
+        let falloff: String = p.knob("falloff")?;
         let modes = Modes {
             temporal: temporal > 0,
-            slice_falloff: p.knob::<String>("falloff")? == "slice",
+            // The knob's choices are validated against HISTORY_MODES before prepare.
+            history: HISTORY_MODES
+                .iter()
+                .position(|m| *m == history)
+                .unwrap_or(0) as u32,
+            reject_change: p.knob("reject_change")?,
+            slice_falloff: falloff != "point",
+            slice_quadrature: falloff == "quadrature",
             particles: is_particles,
             shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
         };

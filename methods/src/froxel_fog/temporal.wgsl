@@ -1,12 +1,26 @@
 // Temporal accumulation of the injected source (Wronski 2014's reprojection, blended as Godot 4's
 // volumetric_fog_process): each froxel's centre is projected into the previous frame's grid
-// (its camera in `froxel.prev_*`), the previous accumulated source is read there trilinearly,
-// and this frame's jittered injection is blended in with weight `froxel.blend`. Needs PRELUDE,
+// (its camera in `froxel.prev_*`), the previous accumulated source is read there trilinearly
+// (dropped outside the previous grid, as Godot and Unreal do), and this frame's jittered
+// injection is blended in with weight `froxel.blend`. What is done with a history that is no
+// longer true is the knob `history` (HISTORY): kept (none: Godot's and Unreal's volumetric fog);
+// clamped to the range of this frame's source over the 3 × 3 × 3 froxels around it (clamp:
+// Karis 2014's TAA neighbourhood clamp in 3-D); or dropped where the froxel's lighting changed
+// (reject): `inject` also evaluates each froxel at its centre, a deterministic sample whose
+// relative change since the history began beyond REJECT_CHANGE means the light, a shadow or the
+// medium moved — the jitter alone never changes it (rejection by a change in lighting; Unreal
+// drops history only outside the previous frustum or behind last frame's depth). Needs PRELUDE,
 // grid.wgsl and the volume bindings (volume.wgsl).
 
-// Accumulated source of the previous frame (read) and of this one (written).
+// Accumulated source of the previous frame (read) and of this one (written): rgb the source, a
+// (history reject) the centre source, summed over channels, its history began with.
 @group(1) @binding(3) var<storage, read> history: array<vec4<f32>>;
 @group(1) @binding(4) var<storage, read_write> accumulated: array<vec4<f32>>;
+// History reject: this frame's source at each froxel's centre (`inject`), rgb, and a its sum.
+@group(1) @binding(8) var<storage, read_write> centre: array<vec4<f32>>;
+
+// Knob `history`: 0 none (every reprojected history kept), 1 clamp, 2 reject.
+override HISTORY: u32 = 0u;
 
 // Continuous coordinates of world point p in the previous frame's grid: column x, column y and
 // slice, each cell spanning [i, i + 1).
@@ -22,20 +36,69 @@ fn previous_grid_coord(p: vec3<f32>) -> vec3<f32> {
 }
 
 // The history trilinearly at grid coordinates g (cell centres at i + 0.5), clamped to the grid.
-fn history_at(g: vec3<f32>) -> vec3<f32> {
+fn history_at(g: vec3<f32>) -> vec4<f32> {
     let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
     let c = clamp(g - 0.5, vec3<f32>(0.0), n - 1.0);
     let i0 = vec3<u32>(floor(c));
     let i1 = min(i0 + 1u, vec3<u32>(n - 1.0));
     let f = c - floor(c);
-    var out = vec3<f32>(0.0);
+    var out = vec4<f32>(0.0);
     for (var corner = 0u; corner < 8u; corner++) {
         let b = vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u);
         let idx = select(i0, i1, b);
         let w = select(1.0 - f, f, b);
-        out += w.x * w.y * w.z * history[froxel_index(idx.x, idx.y, idx.z)].rgb;
+        out += w.x * w.y * w.z * history[froxel_index(idx.x, idx.y, idx.z)];
     }
     return out;
+}
+
+// The history of froxel id reprojected into this frame; None (valid false) on the first frame
+// and outside the previous frame's grid.
+struct History {
+    value: vec4<f32>,
+    valid: bool,
+};
+
+fn reprojected(id: vec3<u32>, i: u32) -> History {
+    if (froxel.history == 0u) {
+        return History(vec4<f32>(0.0), false);
+    }
+    if (froxel.moved == 0u) {
+        return History(history[i], true);
+    }
+    let g = previous_grid_coord(froxel_point(id, vec3<f32>(0.5)));
+    let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
+    let inside = all(g >= vec3<f32>(0.0)) && all(g <= n);
+    return History(history_at(g), inside);
+}
+
+// The range (per channel) of this frame's injected source over the 3 × 3 × 3 froxels around id
+// (fewer at the grid's faces): min in [0], max in [1].
+fn neighbourhood(id: vec3<u32>) -> array<vec3<f32>, 2> {
+    let last = vec3<i32>(i32(froxel.grid_x), i32(froxel.grid_y), i32(froxel.slices)) - 1;
+    var lo = vec3<f32>(3.4e38);
+    var hi = vec3<f32>(-3.4e38);
+    for (var o = 0; o < 27; o++) {
+        let d = vec3<i32>(o % 3, (o / 3) % 3, o / 9) - 1;
+        let q = vec3<u32>(clamp(vec3<i32>(id) + d, vec3<i32>(0), last));
+        let s = source[froxel_index(q.x, q.y, q.z)].rgb;
+        lo = min(lo, s);
+        hi = max(hi, s);
+    }
+    return array<vec3<f32>, 2>(lo, hi);
+}
+
+// History `reject` (knob `reject_change`): the relative change of a froxel's centre source
+// (summed over channels) since its history began beyond which the history is dropped. The
+// centre sample is deterministic, so the jitter's own spread never trips it.
+override REJECT_CHANGE: f32 = 0.001;
+
+// Whether froxel i's lighting changed since its history `h` began (h.a: the centre source then,
+// carried while the history is kept, so slow drifts add up; this frame's in centre[i].a,
+// written by `inject`).
+fn lighting_changed(i: u32, h: vec4<f32>) -> bool {
+    let now = centre[i].a;
+    return abs(now - h.a) > REJECT_CHANGE * max(now, h.a);
 }
 
 @compute @workgroup_size(4, 4, 4)
@@ -44,18 +107,23 @@ fn temporal(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let i = froxel_index(id.x, id.y, id.z);
-    let current = source[i].rgb;
-    var previous = current;
-    if (froxel.history != 0u) {
-        if (froxel.moved == 0u) {
-            previous = history[i].rgb;
-        } else {
-            let p = froxel_point(id, vec3<f32>(0.5));
-            let g = previous_grid_coord(p);
-            let n = vec3<f32>(f32(froxel.grid_x), f32(froxel.grid_y), f32(froxel.slices));
-            let inside = all(g >= vec3<f32>(0.0)) && all(g <= n);
-            previous = select(current, history_at(g), inside);
-        }
+    let current = source[i];
+    let h = reprojected(id, i);
+    var previous = h.value.rgb;
+    var keep = h.valid;
+    if (HISTORY == 2u) {
+        // Dropped history (or none yet): this frame's centre sample, as without accumulation
+        // (not one jittered sample: Unreal shades more samples where its history misses); a: the
+        // centre source the kept history began with.
+        keep = keep && !lighting_changed(i, h.value);
+        let kept = vec4<f32>(mix(previous, current.rgb, froxel.blend), h.value.a);
+        accumulated[i] = select(centre[i], kept, keep);
+        return;
     }
-    accumulated[i] = vec4<f32>(mix(previous, current, froxel.blend), 0.0);
+    if (HISTORY == 1u) {
+        let range = neighbourhood(id);
+        previous = clamp(previous, range[0], range[1]);
+    }
+    let blended = mix(previous, current.rgb, select(1.0, froxel.blend, keep));
+    accumulated[i] = vec4<f32>(blended, 0.0);
 }

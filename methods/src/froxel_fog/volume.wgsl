@@ -78,13 +78,9 @@ override SLICE_FALLOFF: bool = true;
 // the whole line's integral π/h on the axis (π · 2/a): a ray through the light reads what the
 // pixels around it average, not the 1/h peak of the one ray.
 fn mean_inverse_square(e: vec3<f32>, dir: vec3<f32>, c: vec3<f32>, t0: f32, t1: f32, spread: f32) -> f32 {
-    let w0 = e - c;
-    let tc = -dot(w0, dir);
-    let a = spread * max(tc, 0.0);
-    let h2 = max(dot(w0, w0) - tc * tc, 0.0) + 0.25 * a * a;
-    let h = max(sqrt(h2), 1e-4 * length(w0) + 1e-9);
-    let angle = atan((t1 - tc) / h) - atan((t0 - tc) / h);
-    return angle / (h * max(t1 - t0, 1e-9));
+    let g = closest_approach(e, dir, c, spread);
+    let angle = atan((t1 - g.x) / g.y) - atan((t0 - g.x) / g.y);
+    return angle / (g.y * max(t1 - t0, 1e-9));
 }
 
 // Shadow-map visibility with the `shadow_filter` knob: one texel (none) or 3 × 3 PCF.
@@ -175,12 +171,9 @@ fn froxel_point(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     return camera.position.xyz + dir * t;
 }
 
-@compute @workgroup_size(4, 4, 4)
-fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
-        return;
-    }
-    let o = sample_offset(id);
+// Light LIGHT's source S at point o (cell units) of froxel id, or 0 where the froxel scatters
+// nothing (particle media without a background).
+fn froxel_source(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     let dir = grid_ray(id.x, id.y, o.xy);
     let far_t = camera_far_distance(camera, dir);
     let n = f32(froxel.slices);
@@ -191,18 +184,34 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     let t = sample_distance(i, t0, t1, o.z);
     // Height fog: the slice's mean σ_s along the sample's ray, as `integrate` takes its mean σ_t,
     // so that Hillaire's slice integral gives σ_s/σ_t (1 − e^(−τ)) exactly.
-    let sigma_s = froxel_sigma_s(i) * fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
-    var s = vec3<f32>(0.0);
-    // Empty froxels (particle media without a background) skip the light's evaluation.
-    if (any(sigma_s > vec3<f32>(0.0))) {
-        let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * froxel.pixel_size);
-        let x = camera.position.xyz + dir * t;
-        s = sigma_s * light_source(LIGHT, dir, t0, t1, t, spread) * particle_transmittance(LIGHT, x);
+    let fog = fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
+    if (all(froxel_sigma_s(i) * fog <= vec3<f32>(0.0))) {
+        return vec3<f32>(0.0);
     }
+    let spread = footprint_spread((vec2<f32>(f32(id.x), f32(id.y)) + o.xy) * froxel.pixel_size);
+    return slice_source(LIGHT, i, dir, t0, t1, t, spread, fog);
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
+        return;
+    }
+    let i = froxel_index(id.x, id.y, id.z);
+    var s = froxel_source(id, sample_offset(id));
     if (!FIRST) {
         s += source[i].rgb;
     }
     source[i] = vec4<f32>(s, 0.0);
+    // History reject (temporal.wgsl): the source at the froxel's centre too, and its sum over
+    // channels — deterministic, so a change in it is a change in the lighting, not the jitter.
+    if (TEMPORAL && HISTORY == 2u) {
+        var c = froxel_source(id, vec3<f32>(0.5));
+        if (!FIRST) {
+            c += centre[i].rgb;
+        }
+        centre[i] = vec4<f32>(c, c.r + c.g + c.b);
+    }
 }
 
 // Whether `integrate` reads the temporally accumulated source (temporal.wgsl) or this frame's.
