@@ -17,8 +17,8 @@ use serde::Serialize;
 
 use crate::format::{self, PlotLinks};
 use crate::plot::{
-    FAMILY, LEGEND_W, Line, SIZE, draw_lines, fmt_tick, log_minor, log_range, log_ticks,
-    register_font,
+    LEGEND_W, Line, SIZE, draw_empty, finish_lines, line_chart, log_minor, log_range, log_ticks,
+    register_font, to_png_and_svg,
 };
 
 /// The per-frame plots of one scene (absent for static scenes).
@@ -208,13 +208,8 @@ fn draw_both(
     svg: &Path,
 ) -> Result<()> {
     register_font();
-    {
-        let root = BitMapBackend::new(png, SIZE).into_drawing_area();
-        draw(root, title, y_label, device, lines)
-            .map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
-    }
-    let root = SVGBackend::new(svg, SIZE).into_drawing_area();
-    draw(root, title, y_label, device, lines).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
+    to_png_and_svg!(png, svg, |root| draw(root, title, y_label, device, lines));
+    Ok(())
 }
 
 /// Linear frame axis, log value axis.
@@ -233,39 +228,25 @@ where
     let all = || lines.iter().flat_map(|l| l.points.iter());
     let last = all().map(|p| p.0).fold(0.0f64, f64::max).max(1.0);
     let Some(y) = log_range(all().map(|p| p.1)) else {
-        root.draw(&Text::new(
-            "no scored frame to plot",
-            (20, 40),
-            (FAMILY, 16).into_font(),
-        ))?;
-        root.present()?;
-        return Ok(());
+        return draw_empty(&root, "no scored frame to plot");
     };
-    let mut chart = ChartBuilder::on(&plot_area)
-        .caption(title, (FAMILY, 16))
-        .margin(12)
-        .x_label_area_size(44)
-        .y_label_area_size(64)
-        .build_cartesian_2d(
-            -0.5..last + 0.5,
-            (y.0..y.1)
-                .log_scale()
-                .with_key_points(log_ticks(y.0, y.1))
-                .with_light_points(log_minor(y.0, y.1)),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc(format!("frame (times: {device})"))
-        .y_desc(y_label)
-        .label_style((FAMILY, 13))
-        .axis_desc_style((FAMILY, 14))
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| fmt_tick(*v))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
-    draw_lines(&mut chart, &legend_area, lines)?;
-    root.present()?;
-    Ok(())
+    let mut chart = line_chart(&plot_area, title).build_cartesian_2d(
+        -0.5..last + 0.5,
+        (y.0..y.1)
+            .log_scale()
+            .with_key_points(log_ticks(y.0, y.1))
+            .with_light_points(log_minor(y.0, y.1)),
+    )?;
+    let x_desc = format!("frame (times: {device})");
+    let x_tick = |v: &f64| format!("{v:.0}");
+    finish_lines(
+        &root,
+        &mut chart,
+        &legend_area,
+        (&x_desc, y_label),
+        &x_tick,
+        lines,
+    )
 }
 
 #[cfg(test)]

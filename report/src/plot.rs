@@ -88,19 +88,85 @@ pub fn pareto(labels: &ParetoLabels, series: &[Series], png: &Path, svg: &Path) 
         .collect();
     let total: usize = series.iter().map(|s| s.points.len()).sum();
     let kept: usize = shown.iter().map(|s| s.points.len()).sum();
-    {
-        let root = BitMapBackend::new(png, SIZE).into_drawing_area();
-        draw(root, labels, &shown).map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
-    }
-    {
-        let root = SVGBackend::new(svg, SIZE).into_drawing_area();
-        draw(root, labels, &shown).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))?;
-    }
+    to_png_and_svg!(png, svg, |root| draw(root, labels, &shown));
     Ok(total - kept)
 }
 
 /// Width (px) of the legend column right of the data area.
 pub(crate) const LEGEND_W: u32 = 190;
+
+/// Draws one plot twice, to the PNG `$png` and the SVG `$svg`: `$draw` is called with each
+/// backend's root area (a closure, expanded once per backend so each gets its own type).
+macro_rules! to_png_and_svg {
+    ($png:expr, $svg:expr, $draw:expr) => {{
+        {
+            let root = BitMapBackend::new($png, SIZE).into_drawing_area();
+            ($draw)(root).map_err(|e| anyhow!("drawing {}: {e}", $png.display()))?;
+        }
+        let root = SVGBackend::new($svg, SIZE).into_drawing_area();
+        ($draw)(root).map_err(|e| anyhow!("drawing {}: {e}", $svg.display()))?;
+    }};
+}
+pub(crate) use to_png_and_svg;
+
+/// Writes `message` where a plot has nothing to draw.
+pub(crate) fn draw_empty<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    message: &str,
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    root.draw(&Text::new(message, (20, 40), (FAMILY, 16).into_font()))?;
+    root.present()?;
+    Ok(())
+}
+
+/// The chart of a plot of lines: its caption and the room for the axes' labels.
+pub(crate) fn line_chart<'a, 'b, DB: DrawingBackend>(
+    plot_area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(plot_area);
+    builder
+        .caption(title, (FAMILY, 16))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(64);
+    builder
+}
+
+/// A plot of lines after its chart is built: the mesh (axis titles, tick labels, a light grid;
+/// `x_tick` formats the x labels, the y labels are log ticks), the lines with their legend,
+/// and the root presented.
+pub(crate) fn finish_lines<DB, X, Y>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    legend_area: &DrawingArea<DB, plotters::coord::Shift>,
+    (x_desc, y_desc): (&str, &str),
+    x_tick: &dyn Fn(&f64) -> String,
+    lines: &[Line],
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style((FAMILY, 13))
+        .axis_desc_style((FAMILY, 14))
+        .x_label_formatter(x_tick)
+        .y_label_formatter(&|v| fmt_tick(*v))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    draw_lines(chart, legend_area, lines)?;
+    root.present()?;
+    Ok(())
+}
 
 /// Binds `$e` to a hollow marker of shape `$i` (circle, square, triangle, diamond, plus, x,
 /// repeating) at `$c` and evaluates `$body`: hollow so coincident points of different methods
@@ -296,16 +362,9 @@ pub fn loglog(
         })
         .collect();
     let kept: usize = shown.iter().map(|l| l.points.len()).sum();
-    {
-        let root = BitMapBackend::new(png, SIZE).into_drawing_area();
-        draw_loglog(root, title, x_label, y_label, &shown)
-            .map_err(|e| anyhow!("drawing {}: {e}", png.display()))?;
-    }
-    {
-        let root = SVGBackend::new(svg, SIZE).into_drawing_area();
-        draw_loglog(root, title, x_label, y_label, &shown)
-            .map_err(|e| anyhow!("drawing {}: {e}", svg.display()))?;
-    }
+    to_png_and_svg!(png, svg, |root| draw_loglog(
+        root, title, x_label, y_label, &shown
+    ));
     Ok(total - kept)
 }
 
@@ -323,42 +382,27 @@ where
     let (plot_area, legend_area) = root.split_horizontally(SIZE.0 - LEGEND_W);
     let all = || lines.iter().flat_map(|l| l.points.iter());
     let (Some(x), Some(y)) = (log_range(all().map(|p| p.0)), log_range(all().map(|p| p.1))) else {
-        root.draw(&Text::new(
-            "no timed record to plot",
-            (20, 40),
-            (FAMILY, 16).into_font(),
-        ))?;
-        root.present()?;
-        return Ok(());
+        return draw_empty(&root, "no timed record to plot");
     };
-    let mut chart = ChartBuilder::on(&plot_area)
-        .caption(title, (FAMILY, 16))
-        .margin(12)
-        .x_label_area_size(44)
-        .y_label_area_size(64)
-        .build_cartesian_2d(
-            (x.0..x.1)
-                .log_scale()
-                .with_key_points(log_ticks(x.0, x.1))
-                .with_light_points(log_minor(x.0, x.1)),
-            (y.0..y.1)
-                .log_scale()
-                .with_key_points(log_ticks(y.0, y.1))
-                .with_light_points(log_minor(y.0, y.1)),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .label_style((FAMILY, 13))
-        .axis_desc_style((FAMILY, 14))
-        .x_label_formatter(&|v| fmt_tick(*v))
-        .y_label_formatter(&|v| fmt_tick(*v))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
-    draw_lines(&mut chart, &legend_area, lines)?;
-    root.present()?;
-    Ok(())
+    let mut chart = line_chart(&plot_area, title).build_cartesian_2d(
+        (x.0..x.1)
+            .log_scale()
+            .with_key_points(log_ticks(x.0, x.1))
+            .with_light_points(log_minor(x.0, x.1)),
+        (y.0..y.1)
+            .log_scale()
+            .with_key_points(log_ticks(y.0, y.1))
+            .with_light_points(log_minor(y.0, y.1)),
+    )?;
+    let x_tick = |v: &f64| fmt_tick(*v);
+    finish_lines(
+        &root,
+        &mut chart,
+        &legend_area,
+        (x_label, y_label),
+        &x_tick,
+        lines,
+    )
 }
 
 /// Draws each line (markers joined in x order, the fit dashed) in its palette colour, with its

@@ -38,6 +38,11 @@ const MAX_FRAMES: u32 = 100_000;
 const MAX_TRIANGLES: u64 = 1 << 25;
 
 /// An upper bound on the triangles a procedural shape builds (None: an OBJ file).
+
+/// The largest far/near ratio a camera may have. The methods project with 32-bit floats: past
+/// ~1e7 the projection's depth terms round to those of an infinite far plane (and past ~1e16 even
+/// the reference's 64-bit unprojection of a pixel ray divides by zero).
+pub const MAX_FAR_OVER_NEAR: f32 = 1e6;
 fn triangle_estimate(s: &Shape) -> Option<u64> {
     let n = |x: u32| x as u64;
     Some(match s {
@@ -196,6 +201,16 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
         c.push(
             "camera.far",
             format!("must be greater than near ({}), got {}", cam.near, cam.far),
+        );
+    } else if cam.near > 0.0 && cam.far / cam.near > MAX_FAR_OVER_NEAR {
+        c.push(
+            "camera.far",
+            format!(
+                "must be at most {MAX_FAR_OVER_NEAR:e} × near ({}), got {} ({:e} × near): a 32-bit depth buffer cannot tell such a far plane from infinity",
+                cam.near,
+                cam.far,
+                cam.far / cam.near
+            ),
         );
     }
     unique_frames(

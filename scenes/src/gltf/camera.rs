@@ -10,6 +10,7 @@ use glam::{Mat4, Vec3};
 use super::document::{Document, GltfError};
 use super::extras::{self, CameraExtras, agreeing, near, near3, same_direction};
 use crate::desc::CameraDesc;
+use crate::validate::MAX_FAR_OVER_NEAR;
 
 /// Far plane for a camera without `zfar`, m (the scene format's default).
 pub const DEFAULT_FAR: f32 = 100.0;
@@ -35,10 +36,13 @@ pub fn import(doc: &Document, index: usize, world: &Mat4) -> Result<Option<Camer
         ));
     }
     let far = p.zfar.unwrap_or(DEFAULT_FAR.max(p.znear * 2.0));
-    if !(far.is_finite() && far > p.znear) {
+    if !(far.is_finite() && far > p.znear && far / p.znear <= MAX_FAR_OVER_NEAR) {
         return Err(doc.error(
             format!("{path}.perspective.zfar"),
-            format!("must be finite and > znear = {}, got {far}", p.znear),
+            format!(
+                "must be finite, > znear = {} and ≤ {MAX_FAR_OVER_NEAR:e} × znear (without zfar: {DEFAULT_FAR} m), got {far}",
+                p.znear
+            ),
         ));
     }
     let position = world.transform_point3(Vec3::ZERO);
