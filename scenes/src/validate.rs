@@ -37,12 +37,12 @@ const MAX_FRAMES: u32 = 100_000;
 /// allocated (found by `tests/fuzz.rs`).
 const MAX_TRIANGLES: u64 = 1 << 25;
 
-/// An upper bound on the triangles a procedural shape builds (None: an OBJ file).
-
 /// The largest far/near ratio a camera may have. The methods project with 32-bit floats: past
 /// ~1e7 the projection's depth terms round to those of an infinite far plane (and past ~1e16 even
 /// the reference's 64-bit unprojection of a pixel ray divides by zero).
 pub const MAX_FAR_OVER_NEAR: f32 = 1e6;
+
+/// An upper bound on the triangles a procedural shape builds (None: an OBJ file).
 fn triangle_estimate(s: &Shape) -> Option<u64> {
     let n = |x: u32| x as u64;
     Some(match s {
