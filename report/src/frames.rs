@@ -17,8 +17,8 @@ use serde::Serialize;
 
 use crate::format::{self, PlotLinks};
 use crate::plot::{
-    LEGEND_W, Line, SIZE, draw_empty, finish_lines, line_chart, log_minor, log_range, log_ticks,
-    register_font, to_png_and_svg,
+    LEGEND_W, Line, SIZE, draw_empty, finish_lines, line_chart, log_axis, log_range, register_font,
+    to_png_and_svg,
 };
 
 /// The per-frame plots of one scene (absent for static scenes).
@@ -230,13 +230,8 @@ where
     let Some(y) = log_range(all().map(|p| p.1)) else {
         return draw_empty(&root, "no scored frame to plot");
     };
-    let mut chart = line_chart(&plot_area, title).build_cartesian_2d(
-        -0.5..last + 0.5,
-        (y.0..y.1)
-            .log_scale()
-            .with_key_points(log_ticks(y.0, y.1))
-            .with_light_points(log_minor(y.0, y.1)),
-    )?;
+    let mut chart =
+        line_chart(&plot_area, title).build_cartesian_2d(-0.5..last + 0.5, log_axis(y))?;
     let x_desc = format!("frame (times: {device})");
     let x_tick = |v: &f64| format!("{v:.0}");
     finish_lines(

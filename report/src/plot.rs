@@ -239,16 +239,7 @@ where
         .y_label_area_size(64)
         // plotters' own log key points start at the first power of ten inside the range, so
         // a range within one decade would get no labels; give it 1-2-5 ticks instead.
-        .build_cartesian_2d(
-            (x.0..x.1)
-                .log_scale()
-                .with_key_points(log_ticks(x.0, x.1))
-                .with_light_points(log_minor(x.0, x.1)),
-            (y.0..y.1)
-                .log_scale()
-                .with_key_points(log_ticks(y.0, y.1))
-                .with_light_points(log_minor(y.0, y.1)),
-        )?;
+        .build_cartesian_2d(log_axis(x), log_axis(y))?;
     chart
         .configure_mesh()
         .x_desc(format!("{} on {}", labels.x, labels.device))
@@ -384,16 +375,7 @@ where
     let (Some(x), Some(y)) = (log_range(all().map(|p| p.0)), log_range(all().map(|p| p.1))) else {
         return draw_empty(&root, "no timed record to plot");
     };
-    let mut chart = line_chart(&plot_area, title).build_cartesian_2d(
-        (x.0..x.1)
-            .log_scale()
-            .with_key_points(log_ticks(x.0, x.1))
-            .with_light_points(log_minor(x.0, x.1)),
-        (y.0..y.1)
-            .log_scale()
-            .with_key_points(log_ticks(y.0, y.1))
-            .with_light_points(log_minor(y.0, y.1)),
-    )?;
+    let mut chart = line_chart(&plot_area, title).build_cartesian_2d(log_axis(x), log_axis(y))?;
     let x_tick = |v: &f64| fmt_tick(*v);
     finish_lines(
         &root,
@@ -445,6 +427,17 @@ where
         }
     }
     Ok(())
+}
+
+/// A log axis over `range` (as [`log_range`] gives it) with the house ticks: 1-2-5 or decades
+/// labelled ([`log_ticks`]), the rest of each decade as light grid lines.
+pub(crate) fn log_axis(
+    (lo, hi): (f64, f64),
+) -> plotters::coord::combinators::WithKeyPoints<plotters::coord::combinators::LogCoord<f64>> {
+    (lo..hi)
+        .log_scale()
+        .with_key_points(log_ticks(lo, hi))
+        .with_light_points(log_minor(lo, hi))
 }
 
 /// Tick values for a log axis over `[lo, hi]` (0 < lo < hi): 1-2-5 per decade when the range
