@@ -61,6 +61,9 @@ enum Command {
     Stress(cmd::stress::StressArgs),
     /// Runs of one work list on different adapters → compare.html and compare.json.
     Compare(cmd::compare::CompareArgs),
+    /// Per scene, the cheapest configuration under 1 % and 5 % with its time as a multiple of
+    /// the floor (no-scatter), as Markdown; with --before, a before/after table.
+    Frontier(cmd::frontier::FrontierArgs),
     /// Merge run directories (e.g. the shards of `run --shard i/n`) into one run with its report.
     Merge(cmd::merge::MergeArgs),
     /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
@@ -106,6 +109,7 @@ pub fn main_with(registry: Registry) -> ExitCode {
         Command::Run(a) => cmd::run::run(a, registry),
         Command::Stress(a) => cmd::stress::run(a, registry),
         Command::Merge(a) => cmd::merge::run(a),
+        Command::Frontier(a) => cmd::frontier::run(a),
         Command::Compare(a) => cmd::compare::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a, registry),
         Command::Scaling(a) => cmd::scaling::run(a, registry),

@@ -215,6 +215,11 @@ fn unknown_names_and_bad_knobs_exit_2_with_the_valid_choices() {
         &["nowhere", "sphere-point"],
     );
     refused(&["report", o], &["RUN_DIR", "no results.json"]);
+    refused(&["frontier", o], &["RUN_DIR", "no results.json"]);
+    refused(
+        &["frontier", o, "--before", o, "--out", o],
+        &["RUN_DIR", "no results.json"],
+    );
     assert!(!out.exists(), "a refused command wrote {}", out.display());
 }
 

@@ -31,6 +31,7 @@ pub mod fit;
 pub mod fixture;
 pub mod format;
 pub mod frames;
+pub mod frontier;
 pub mod knobs;
 pub mod matrix;
 pub mod methods;

@@ -28,6 +28,10 @@ pub struct VerdictRow {
     /// Per budget: "method · time" of the fastest configuration within it, or None.
     pub budgets: Vec<Option<BudgetWinner>>,
     pub sentence: String,
+    /// The most accurate configuration's method and error, whatever its time (what a missed
+    /// budget was missed by; `scatterbench frontier`).
+    #[serde(skip)]
+    pub most_accurate: Option<(String, f64)>,
 }
 
 #[derive(Serialize, Clone)]
@@ -38,6 +42,9 @@ pub struct BudgetWinner {
     pub params: String,
     /// Its time as a multiple of the floor's ("1.20×"), None where the run has no floor.
     pub floor_ratio: Option<String>,
+    /// The same multiple as a number.
+    #[serde(skip)]
+    pub floor_ratio_value: Option<f64>,
 }
 
 /// Per metric, per scene.
@@ -54,7 +61,8 @@ pub fn tables(results: &Results, metrics: &[Metric]) -> Vec<VerdictTable> {
         .collect()
 }
 
-fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
+/// The verdict on `scene` of `results` by `metric` (one row of [`tables`]).
+pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
     let records: Vec<&Record> = results
         .records
         .iter()
@@ -77,6 +85,7 @@ fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
         .map(|&b| {
             analysis::cheapest_under_budget(&points, b).map(|p| {
                 let r = records[p.index];
+                let ratio = analysis::floor_ratio(p.time, floor_ms);
                 BudgetWinner {
                     method: r.method.clone(),
                     time: format!("{} ms", ms(p.time)),
@@ -86,12 +95,19 @@ fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
                     } else {
                         String::new()
                     },
-                    floor_ratio: analysis::floor_ratio(p.time, floor_ms).map(times_floor),
+                    floor_ratio: ratio.map(times_floor),
+                    floor_ratio_value: ratio,
                 }
             })
         })
         .collect();
+    let most_accurate = points
+        .iter()
+        .filter(|p| p.error.is_finite())
+        .min_by(|a, b| a.error.total_cmp(&b.error))
+        .map(|p| (records[p.index].method.clone(), p.error));
     VerdictRow {
+        most_accurate,
         scene: scene.to_string(),
         anchor: crate::format::anchor(scene),
         front,
@@ -166,6 +182,7 @@ mod tests {
             error: "0".into(),
             params: String::new(),
             floor_ratio: None,
+            floor_ratio_value: None,
         })
     }
 

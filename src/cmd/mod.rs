@@ -5,6 +5,7 @@ pub mod adapters;
 pub mod compare;
 pub mod device;
 pub mod export;
+pub mod frontier;
 pub mod list;
 pub mod merge;
 pub mod pipe;

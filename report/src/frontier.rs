@@ -1,0 +1,270 @@
+//! The cost of accuracy as a Markdown table (`scatterbench frontier`, ARCHITECTURE §4.5): per
+//! scene, the cheapest configuration under 1 % and under 5 % of the verdict metric, with its
+//! time as a multiple of the same run's floor (no-scatter), for one run or for a run before and
+//! after a change. It reads the verdict table's rows ([`crate::verdict`]), so the committed
+//! table and the report's page cannot disagree.
+//!
+//! Times compare only within one run (shared machines, other adapters); the floor ratio is
+//! the number that compares across runs, and the summary counts it.
+
+use std::fmt::Write;
+
+use harness::results::Results;
+
+use crate::analysis::{BUDGETS, scene_names};
+use crate::format::rel;
+use crate::metric::Metric;
+use crate::verdict::{self, BudgetWinner, VerdictRow, pct};
+
+/// The budgets the table shows (fractions of the verdict metric); each is one of
+/// [`BUDGETS`], so the cells are the verdict table's.
+pub const FRONTIER_BUDGETS: [f64; 2] = [0.01, 0.05];
+
+/// The floor ratio at or under which a winner counts as affordable in the summary (issue 33's
+/// target: the fastest configuration under 1 % within 2× the floor).
+pub const AFFORDABLE_RATIO: f64 = 2.0;
+
+/// One run's verdict per scene (None where the run did not render the scene).
+struct Column<'a> {
+    name: &'static str,
+    results: &'a Results,
+    rows: Vec<Option<VerdictRow>>,
+}
+
+/// The table for `after` (and `before`, shown to its left when given) over the union of both
+/// runs' scenes, `after`'s order first.
+pub fn markdown(after: &Results, before: Option<&Results>) -> String {
+    let mut scenes = scene_names(after);
+    for s in before.map(scene_names).unwrap_or_default() {
+        if !scenes.contains(&s) {
+            scenes.push(s);
+        }
+    }
+    let columns: Vec<Column> = before
+        .map(|b| ("before", b))
+        .into_iter()
+        .chain([("after", after)])
+        .map(|(name, results)| Column {
+            name,
+            results,
+            rows: scenes
+                .iter()
+                .map(|s| rendered(results, s).then(|| verdict::row(results, s, Metric::Verdict)))
+                .collect(),
+        })
+        .collect();
+    let mut out = String::new();
+    runs_block(&mut out, &columns);
+    table(&mut out, &scenes, &columns);
+    summary(&mut out, &columns);
+    out
+}
+
+/// Whether `results` has a record of `scene`.
+fn rendered(results: &Results, scene: &str) -> bool {
+    results.records.iter().any(|r| r.scene == scene)
+}
+
+/// Which run each column is: id, adapter, resolution, commit.
+fn runs_block(out: &mut String, columns: &[Column]) {
+    out.push_str("| run | id | adapter | resolution | commit |\n|---|---|---|---|---|\n");
+    for c in columns {
+        let run = &c.results.run;
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {}×{} | {} |",
+            c.name,
+            run.id,
+            run.machine.adapter,
+            run.resolution[0],
+            run.resolution[1],
+            run.git_commit
+        );
+    }
+    out.push_str(
+        "\nEach cell: the fastest configuration under the budget (verdict metric, ARCHITECTURE \
+         §4.4), its median frame time and that time as a multiple of the same run's floor \
+         (no-scatter, §4.5). Times compare only within one run; the floor ratios compare \
+         across runs.\n\n",
+    );
+}
+
+/// One row per scene: the floor, then per budget one cell per run.
+fn table(out: &mut String, scenes: &[String], columns: &[Column]) {
+    out.push_str("| scene | floor |");
+    let mut rule = String::from("|---|---|");
+    for b in FRONTIER_BUDGETS {
+        for c in columns {
+            let _ = write!(out, " ≤ {} ({}) |", pct(b), c.name);
+            rule.push_str("---|");
+        }
+    }
+    let _ = writeln!(out, "\n{rule}");
+    for (i, scene) in scenes.iter().enumerate() {
+        let floors: Vec<String> = columns
+            .iter()
+            .map(|c| match &c.rows[i] {
+                Some(row) => row.floor.clone().unwrap_or_else(|| "—".into()),
+                None => "not run".into(),
+            })
+            .collect();
+        let _ = write!(out, "| {scene} | {} |", floors.join(" / "));
+        for b in FRONTIER_BUDGETS {
+            for c in columns {
+                let _ = write!(out, " {} |", cell(c.rows[i].as_ref(), b));
+            }
+        }
+        out.push('\n');
+    }
+}
+
+/// "method `knobs` · 12.3 ms · 1.50×", or what the budget was missed by.
+fn cell(row: Option<&VerdictRow>, budget: f64) -> String {
+    let Some(row) = row else {
+        return "not run".into();
+    };
+    match winner(row, budget) {
+        Some(w) => {
+            let knobs = if w.params.is_empty() {
+                String::new()
+            } else {
+                format!(" `{}`", w.params)
+            };
+            let ratio = w.floor_ratio.as_deref().unwrap_or("no floor");
+            format!("{}{knobs} · {} · {ratio}", w.method, w.time)
+        }
+        None => match &row.most_accurate {
+            Some((method, error)) => format!("none (best: {method} {} %)", rel(error * 100.0)),
+            None => "none scored".into(),
+        },
+    }
+}
+
+/// The verdict row's winner of `budget` (one of [`BUDGETS`]).
+fn winner(row: &VerdictRow, budget: f64) -> Option<&BudgetWinner> {
+    let i = BUDGETS.iter().position(|&b| b == budget)?;
+    row.budgets.get(i)?.as_ref()
+}
+
+/// Per run and budget: on how many of the scenes the winner is within [`AFFORDABLE_RATIO`]
+/// of the floor, and which scenes have no winner at all.
+fn summary(out: &mut String, columns: &[Column]) {
+    out.push('\n');
+    for b in FRONTIER_BUDGETS {
+        for c in columns {
+            let rows: Vec<&VerdictRow> = c.rows.iter().flatten().collect();
+            let affordable = rows
+                .iter()
+                .filter(|r| {
+                    winner(r, b)
+                        .and_then(|w| w.floor_ratio_value)
+                        .is_some_and(|x| x <= AFFORDABLE_RATIO)
+                })
+                .count();
+            let missed: Vec<&str> = rows
+                .iter()
+                .filter(|r| winner(r, b).is_none())
+                .map(|r| r.scene.as_str())
+                .collect();
+            let _ = writeln!(
+                out,
+                "- {}: under {}, within {}× the floor on {affordable} of {} scenes{}",
+                c.name,
+                pct(b),
+                AFFORDABLE_RATIO,
+                rows.len(),
+                if missed.is_empty() {
+                    String::new()
+                } else {
+                    format!("; nothing under {} on {}", pct(b), missed.join(", "))
+                }
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::FLOOR_METHOD;
+    use crate::fixture::synthetic::{Measured, record, run};
+    use harness::method::Params;
+
+    fn with(records: &[(&str, &str, f64, f64)]) -> Results {
+        let mut results = run("lavapipe", 512);
+        for &(scene, method, time_ms, headline) in records {
+            let measured = Some(Measured { time_ms, headline });
+            results
+                .records
+                .push(record(scene, method, &Params::new(), measured));
+        }
+        results
+    }
+
+    /// Worked by hand: on "a" the 1 % winner goes from 10× to 1.5× the floor; "b" has nothing
+    /// under 1 % before (best 3 %) and a 2.5× winner after; "c" is only in the later run.
+    #[test]
+    fn cells_and_counts_follow_the_verdict_rows() {
+        let before = with(&[
+            ("a", FLOOR_METHOD, 4.0, 1.0),
+            ("a", "exact", 40.0, 0.001),
+            ("a", "cheap", 5.0, 0.04),
+            ("b", FLOOR_METHOD, 2.0, 1.0),
+            ("b", "cheap", 3.0, 0.03),
+        ]);
+        let after = with(&[
+            ("a", FLOOR_METHOD, 8.0, 1.0),
+            ("a", "exact", 12.0, 0.001),
+            ("a", "cheap", 10.0, 0.04),
+            ("b", FLOOR_METHOD, 2.0, 1.0),
+            ("b", "cheap", 3.0, 0.03),
+            ("b", "new", 5.0, 0.009),
+            ("c", "new", 1.0, 0.002),
+        ]);
+        let md = markdown(&after, Some(&before));
+        let line = |scene: &str| {
+            md.lines()
+                .find(|l| l.starts_with(&format!("| {scene} |")))
+                .unwrap_or_else(|| panic!("no row for {scene} in\n{md}"))
+                .to_string()
+        };
+        // Columns: scene, floor, ≤1 % before, ≤1 % after, ≤5 % before, ≤5 % after.
+        let cells = |scene: &str| -> Vec<String> {
+            line(scene)
+                .split('|')
+                .map(|c| c.trim().to_string())
+                .filter(|c| !c.is_empty())
+                .collect()
+        };
+        let a = cells("a");
+        assert_eq!(a[1], "4.00 ms / 8.00 ms");
+        assert!(a[2].starts_with("exact · 40.0 ms · 10.0×"), "{a:?}");
+        assert!(a[3].starts_with("exact · 12.0 ms · 1.50×"), "{a:?}");
+        assert!(a[4].starts_with("cheap · 5.00 ms · 1.25×"), "{a:?}");
+        assert!(a[5].starts_with("cheap · 10.0 ms · 1.25×"), "{a:?}");
+        let b = cells("b");
+        assert_eq!(b[2], "none (best: cheap 3.00 %)");
+        assert!(b[3].starts_with("new · 5.00 ms · 2.50×"), "{b:?}");
+        let c = cells("c");
+        assert_eq!(c[1], "not run / —");
+        assert_eq!(c[2], "not run");
+        assert!(c[3].starts_with("new · 1.00 ms · no floor"), "{c:?}");
+        // Under 1 %: before a is 10× (not affordable), b has none; after a is 1.5×, b 2.5×,
+        // c has no floor: one of three.
+        assert!(
+            md.contains(
+                "- before: under 1 %, within 2× the floor on 0 of 2 scenes; nothing under 1 % on b"
+            ),
+            "{md}"
+        );
+        assert!(
+            md.contains("- after: under 1 %, within 2× the floor on 1 of 3 scenes\n"),
+            "{md}"
+        );
+        // Under 5 %: after a is cheap at 1.25×, b cheap at 1.5×, c without a floor.
+        assert!(
+            md.contains("- after: under 5 %, within 2× the floor on 2 of 3 scenes\n"),
+            "{md}"
+        );
+    }
+}
