@@ -68,9 +68,11 @@ pub fn loose(radius: f32, density: f32, extent: f32) -> bool {
 /// their code (passes.rs `Modes::dominant`).
 pub fn possible(scene: &Scene, ps: &[Particle]) -> bool {
     let extent = extent(ps);
-    if ps.iter().any(|p| loose(p.radius, p.density, extent)) {
-        return true;
-    }
+    ps.iter().any(|p| loose(p.radius, p.density, extent)) || viewer_inside(scene, ps)
+}
+
+/// Whether in some frame of `scene` the camera or a local light lies inside one of `ps`.
+pub fn viewer_inside(scene: &Scene, ps: &[Particle]) -> bool {
     (0..scene.frame_count()).any(|f| {
         let frame = scene.frame(f);
         let lights = frame
