@@ -2,8 +2,11 @@
 //! 32's close-out, a modernisation): the value resolves per scene, the way engines raise a
 //! volume's quality when the camera enters it.
 //!
-//! Where some frame has the eye or a local light inside a particle (`dominant::viewer_inside`),
-//! `auto` is the accurate profile ([`PROFILE`]: 32 slices, an 8-node quadrature per interval,
+//! Where some frame has the eye or a local light inside a particle ([`viewer_among_particles`];
+//! a huge sphere around the whole scene does not count: it is a dominant sphere, exact on every
+//! leg, and the profile's eye slices only blur it — `particle-radii-1e-4-to-1e3`, the eye inside
+//! a 1 km sphere: the splat's total 0.0008 plain, 0.0029 with the profile), `auto` is the
+//! accurate profile ([`PROFILE`]: 32 slices, an 8-node quadrature per interval,
 //! the eye's slices); elsewhere it is the paper's compositing at 8 slices ([`PLAIN`], the
 //! defaults before). Why all three together: on `particles-inside-deep-light` (a light deep in
 //! a dense particle of a dense, overlapping cloud) the splat's in-scatter headline at 48² was
@@ -20,6 +23,10 @@
 use anyhow::Result;
 use harness::knobs::Auto;
 use harness::{KnobRead, Params};
+use scenes::Scene;
+use scenes::particles::Particle;
+
+use super::dominant;
 
 /// The values of the three accuracy knobs one prepared state uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,6 +56,13 @@ pub const PROFILE: Accuracy = Accuracy {
 
 /// The slice counts `auto` tries with a viewer inside, most first, down to [`PLAIN`]'s.
 const AUTO_SLICES: [u32; 3] = [32, 16, 8];
+
+/// Whether in some frame of `scene` the eye or a local light lies inside one of `ps` that is
+/// not huge for the cloud (dominant.rs `huge`).
+pub fn viewer_among_particles(scene: &Scene, ps: &[Particle]) -> bool {
+    let extent = dominant::extent(ps);
+    dominant::viewer_inside(scene, ps, |p| !dominant::huge(p.radius, extent))
+}
 
 /// The three knobs of `params` resolved: explicit values as given, `auto` as [`PLAIN`] or, with
 /// `viewer_inside`, [`PROFILE`] — its slices the most of [`AUTO_SLICES`] that `fits` (the

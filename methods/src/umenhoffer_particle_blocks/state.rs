@@ -71,7 +71,7 @@ impl State {
         // The accuracy knobs, `auto` resolved for this scene (accuracy.rs).
         let accuracy = accuracy::resolve(
             p,
-            dominant::viewer_inside(ctx.scene, &particles.particles),
+            accuracy::viewer_among_particles(ctx.scene, &particles.particles),
             |s| passes::slice_layers_for(lights, s) <= most_layers,
         )?;
         let slices = accuracy.slices;
