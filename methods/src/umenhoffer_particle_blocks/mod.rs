@@ -82,8 +82,9 @@
 //! and `eye_slices` default to `auto`, the accurate profile (32, 8, true) where some frame has
 //! the eye or a local light inside a particle (not a huge one), else 8, 0, false — as engines
 //! raise a volume's quality when the camera enters it. The splat's deep-light headline at the
-//! defaults: 0.183 → 0.038 at 128², at about 2–2.5× the frame time there; the library's scenes
-//! hold no viewer and are unchanged to the last digit. Explicit values are kept.
+//! defaults: 0.183 → 0.038 at 128², at about 1.7–2.4× the plain frame time there; the
+//! library's scenes hold no viewer and are unchanged to the last digit. Explicit values are
+//! kept.
 //!
 //! `particle-splat` (the paper's "no block" row): every particle its own billboard with the
 //! exact sphere chord per fragment, through the same slice light pass and gathering — so the
@@ -175,7 +176,7 @@ fn shared_knobs() -> Vec<Knob> {
             .default_auto()
             .sweep([4, 16, 32])
             .unit("slices")
-            .meaning("light-pass depth slices: RGBA channels of one or two targets (4, 8; the paper), or of texture-array layers filled eight per light pass (16, 32); auto = 32 where the eye or a local light is inside a particle in some frame (16 or 8 where 32 exceed the adapter's slice-texture layers), else 8"),
+            .meaning("light-pass depth slices: RGBA channels of one or two targets (4, 8; the paper), or of texture-array layers filled eight per light pass (16, 32); auto = 32 where the eye or a local light is inside a particle (not a huge one) in some frame (16 or 8 where 32 exceed the adapter's slice-texture layers), else 8"),
         Knob::boolean("clip_fix", true)
             .meaning("objects in the cloud: depth-interval opacity scaling (§2.4); false = plain billboard clipping"),
         Knob::boolean("forward_scattering", false)
@@ -187,12 +188,12 @@ fn shared_knobs() -> Vec<Knob> {
         Knob::boolean("eye_slices", false)
             .default_auto()
             .sweep([true])
-            .meaning("the light pass also run from the eye: the gathering attenuates each primitive by the eye's slices (overlaps included) and adds, instead of compositing \"over\" in centre order; the background medium is dimmed by them (a modernisation); auto = true where the eye or a local light is inside a particle in some frame, else false (the paper)"),
+            .meaning("the light pass also run from the eye: the gathering attenuates each primitive by the eye's slices (overlaps included) and adds, instead of compositing \"over\" in centre order; the background medium is dimmed by them (a modernisation); auto = true where the eye or a local light is inside a particle (not a huge one) in some frame, else false (the paper)"),
         Knob::int("chord_steps", 0, 0..=64)
             .default_auto()
             .sweep([8])
             .unit("nodes")
-            .meaning("in-scatter over a primitive's depth interval: 0 = closed form (light optical depth linear along it, phase and I at its midpoint, mean 1/r²); n = n-node quadrature per light (in Biri's angle variable for a local light), the converged variant for the error budget; auto = 8 where the eye or a local light is inside a particle in some frame, else 0"),
+            .meaning("in-scatter over a primitive's depth interval: 0 = closed form (light optical depth linear along it, phase and I at its midpoint, mean 1/r²); n = n-node quadrature per light (in Biri's angle variable for a local light), the converged variant for the error budget; auto = 8 where the eye or a local light is inside a particle (not a huge one) in some frame, else 0"),
         Knob::int("dominant", 4, 0..=dominant::MAX_DOMINANT as i64)
             .sweep([0])
             .unit("spheres")
