@@ -5,7 +5,7 @@ use std::ops::RangeInclusive;
 
 use serde::Serialize;
 
-use super::value::ParamValue;
+use super::value::{AUTO, ParamValue};
 
 /// What values a knob accepts.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -68,9 +68,6 @@ pub struct Knob {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub auto: bool,
 }
-
-/// The value of a knob declared [`Knob::or_auto`] that lets the method choose per scene.
-pub const AUTO: &str = "auto";
 
 /// A value of one knob that works only with a value of another, because the method refuses
 /// anything else: biri-shadow-volumes' `accumulate = unorm8` (the paper's blended 8-bit

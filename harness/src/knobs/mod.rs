@@ -19,6 +19,6 @@ pub mod knob;
 pub mod resolve;
 pub mod value;
 
-pub use knob::{AUTO, Knob, KnobProblem, Range, Requirement};
+pub use knob::{Knob, KnobProblem, Range, Requirement};
 pub use resolve::{KnobError, parse, resolve, sweep};
-pub use value::{Auto, KnobRead, KnobType, ParamValue, Params};
+pub use value::{AUTO, Auto, KnobRead, KnobType, ParamValue, Params};

@@ -124,6 +124,10 @@ impl KnobType for String {
     }
 }
 
+/// The value of a knob declared [`Knob::or_auto`](super::Knob::or_auto) that lets the method
+/// choose per scene.
+pub const AUTO: &str = "auto";
+
 /// A knob declared [`Knob::or_auto`](super::Knob::or_auto), read as such:
 /// `params.knob::<Auto<u32>>("slices")` is [`Auto::Auto`] for the word `auto`, else the value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,7 +150,7 @@ impl<T> Auto<T> {
 
 impl<T: KnobType> KnobType for Auto<T> {
     fn from_value(v: &ParamValue) -> Option<Self> {
-        if v.as_str() == Some(super::knob::AUTO) {
+        if v.as_str() == Some(AUTO) {
             Some(Auto::Auto)
         } else {
             T::from_value(v).map(Auto::Set)
