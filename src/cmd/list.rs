@@ -98,7 +98,7 @@ fn print_methods(registry: Registry) {
                 "",
                 p.name,
                 p.default,
-                p.range,
+                p.allowed(),
                 if sweep.is_empty() {
                     "-".into()
                 } else {

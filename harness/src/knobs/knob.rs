@@ -5,7 +5,7 @@ use std::ops::RangeInclusive;
 
 use serde::Serialize;
 
-use super::value::ParamValue;
+use super::value::{AUTO, ParamValue};
 
 /// What values a knob accepts.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -63,6 +63,10 @@ pub struct Knob {
     /// What some of its values need of other knobs.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub requires: Vec<Requirement>,
+    /// Whether the word [`AUTO`] is a value besides the range: the method then picks the value
+    /// per scene, as its meaning says ([`Knob::or_auto`]).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub auto: bool,
 }
 
 /// A value of one knob that works only with a value of another, because the method refuses
@@ -88,6 +92,7 @@ impl Knob {
             unit: "",
             meaning: "",
             requires: Vec::new(),
+            auto: false,
         }
     }
     /// An integer knob in `range` (inclusive).
@@ -132,6 +137,25 @@ impl Knob {
         self.meaning = meaning;
         self
     }
+    /// The word [`AUTO`] is a value too (it may then be the default): the method resolves it
+    /// per scene, as the meaning must say; read it as [`Auto`](super::Auto).
+    pub fn or_auto(mut self) -> Knob {
+        self.auto = true;
+        self
+    }
+    /// [`Knob::or_auto`], with `auto` the default.
+    pub fn default_auto(mut self) -> Knob {
+        self.default = ParamValue::from(AUTO);
+        self.or_auto()
+    }
+    /// What the knob accepts, for errors and listings: the range, and `auto` if declared.
+    pub fn allowed(&self) -> String {
+        if self.auto {
+            format!("{}, or {AUTO}", self.range)
+        } else {
+            self.range.to_string()
+        }
+    }
     /// When this knob is `when`, knob `knob` must be `value` (see [`Requirement`]).
     pub fn requires(
         mut self,
@@ -150,6 +174,9 @@ impl Knob {
     /// The value if it has the knob's type and lies in its range (integers are accepted for a
     /// float knob and stored as floats), else what is wrong.
     pub fn check(&self, v: &ParamValue) -> Result<ParamValue, KnobProblem> {
+        if self.auto && v.as_str() == Some(AUTO) {
+            return Ok(v.clone());
+        }
         match (&self.range, v) {
             (Range::Int { min, max }, ParamValue::Int(i)) => {
                 if (min..=max).contains(&i) {
@@ -188,6 +215,9 @@ impl Knob {
     /// Parses a command-line value (`64`, `0.5`, `true`, `float`) and checks it.
     pub fn parse(&self, text: &str) -> Result<ParamValue, KnobProblem> {
         let t = text.trim();
+        if self.auto && t == AUTO {
+            return Ok(ParamValue::from(AUTO));
+        }
         let v = match self.range {
             Range::Int { .. } | Range::IntSet { .. } => t.parse().map(ParamValue::Int).ok(),
             Range::Float { .. } => t.parse().map(ParamValue::Float).ok(),
@@ -244,5 +274,31 @@ mod tests {
             Knob::boolean("on", true).sweep,
             vec![ParamValue::Bool(false)]
         );
+    }
+
+    /// `auto` only where declared, and spelt exactly; the range still holds beside it.
+    #[test]
+    fn auto_is_a_value_only_where_declared() {
+        let k = Knob::int_of("n", 8, &[4, 8]).or_auto();
+        assert_eq!(k.parse("auto"), Ok(ParamValue::from("auto")));
+        assert_eq!(
+            k.check(&ParamValue::from("auto")),
+            Ok(ParamValue::from("auto"))
+        );
+        assert_eq!(k.parse("4"), Ok(ParamValue::Int(4)));
+        assert_eq!(k.parse("5"), Err(KnobProblem::OutOfRange));
+        assert_eq!(k.parse("Auto"), Err(KnobProblem::WrongType));
+        assert_eq!(k.allowed(), "one of 4, 8, or auto");
+        let b = Knob::boolean("on", false).or_auto();
+        assert_eq!(b.parse("auto"), Ok(ParamValue::from("auto")));
+        assert_eq!(b.parse("yes"), Err(KnobProblem::WrongType));
+        assert_eq!(b.default, ParamValue::Bool(false));
+        assert_eq!(
+            Knob::int("m", 1, 0..=2).default_auto().default,
+            ParamValue::from("auto")
+        );
+        let plain = Knob::boolean("on", false);
+        assert_eq!(plain.parse("auto"), Err(KnobProblem::WrongType));
+        assert_eq!(plain.allowed(), "true or false");
     }
 }

@@ -4,7 +4,9 @@
 //! [`resolve`] fills in defaults and refuses an unknown knob, a value of the wrong type, one
 //! outside the declared range, or a pair of values the declarations forbid, with a
 //! [`KnobError`] naming the method, the knob, the value and what is allowed; the CLI maps that
-//! error to exit code 2. Methods never clamp or re-default a knob.
+//! error to exit code 2. Methods never clamp or re-default a knob. A knob declared
+//! [`Knob::or_auto`] (or [`Knob::default_auto`]) also takes the word `auto`: the method picks
+//! the value per scene as the knob's meaning says, reading it as [`Auto`].
 //!
 //! - [`value`]: the values ([`ParamValue`], [`Params`]) and reading them ([`KnobRead`]);
 //! - [`knob`]: one declaration ([`Knob`], [`Range`], [`Requirement`]), checking one value;
@@ -19,4 +21,4 @@ pub mod value;
 
 pub use knob::{Knob, KnobProblem, Range, Requirement};
 pub use resolve::{KnobError, parse, resolve, sweep};
-pub use value::{KnobRead, KnobType, ParamValue, Params};
+pub use value::{AUTO, Auto, KnobRead, KnobType, ParamValue, Params};

@@ -40,7 +40,7 @@ fn knob_error(
     problem: KnobProblem,
 ) -> KnobError {
     let allowed = match knobs.iter().find(|k| k.name == name) {
-        Some(k) => k.range.to_string(),
+        Some(k) => k.allowed(),
         None if knobs.is_empty() => "(none)".to_string(),
         None => knobs.iter().map(|k| k.name).collect::<Vec<_>>().join(", "),
     };

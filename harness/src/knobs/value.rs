@@ -124,6 +124,40 @@ impl KnobType for String {
     }
 }
 
+/// The value of a knob declared [`Knob::or_auto`](super::Knob::or_auto) that lets the method
+/// choose per scene.
+pub const AUTO: &str = "auto";
+
+/// A knob declared [`Knob::or_auto`](super::Knob::or_auto), read as such:
+/// `params.knob::<Auto<u32>>("slices")` is [`Auto::Auto`] for the word `auto`, else the value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Auto<T> {
+    /// The method picks the value per scene.
+    Auto,
+    /// Set to this value.
+    Set(T),
+}
+
+impl<T> Auto<T> {
+    /// The set value, or `auto()`'s for [`Auto::Auto`].
+    pub fn or_else(self, auto: impl FnOnce() -> T) -> T {
+        match self {
+            Auto::Auto => auto(),
+            Auto::Set(v) => v,
+        }
+    }
+}
+
+impl<T: KnobType> KnobType for Auto<T> {
+    fn from_value(v: &ParamValue) -> Option<Self> {
+        if v.as_str() == Some(AUTO) {
+            Some(Auto::Auto)
+        } else {
+            T::from_value(v).map(Auto::Set)
+        }
+    }
+}
+
 /// The one way a method reads a knob from a resolved parameter set: `params.knob::<u32>("steps")`.
 /// Resolution already checked type and range, so an error here means the method reads a knob it
 /// does not declare, or as a type that cannot hold its range — a bug in the method, reported as
@@ -159,5 +193,11 @@ mod tests {
         assert!(p.knob::<u32>("n").is_err());
         assert!(p.knob::<bool>("n").is_err());
         assert!(p.knob::<i64>("missing").is_err());
+        assert_eq!(p.knob::<Auto<i64>>("n").unwrap(), Auto::Set(-1));
+        let a: Params = [("n".to_string(), ParamValue::from("auto"))]
+            .into_iter()
+            .collect();
+        assert_eq!(a.knob::<Auto<u32>>("n").unwrap(), Auto::Auto);
+        assert!(a.knob::<u32>("n").is_err());
     }
 }

@@ -46,7 +46,8 @@ fn declared(m: &dyn Method) -> Vec<String> {
             if k.check(v).is_err() {
                 out.push(format!(
                     "{id}.{}: {v} is outside its own range ({})",
-                    k.name, k.range
+                    k.name,
+                    k.allowed()
                 ));
             }
         }
@@ -67,7 +68,8 @@ fn refusals(m: &dyn Method) -> Vec<String> {
                 Ok(_) => {
                     out.push(format!(
                         "{id}.{} = {v} accepted (allowed: {})",
-                        k.name, k.range
+                        k.name,
+                        k.allowed()
                     ));
                     continue;
                 }
@@ -77,7 +79,7 @@ fn refusals(m: &dyn Method) -> Vec<String> {
             let names_all =
                 text.contains(id) && text.contains(k.name) && text.contains(&err.allowed);
             if (err.method.as_str(), err.knob.as_str()) != (id, k.name)
-                || err.allowed != k.range.to_string()
+                || err.allowed != k.allowed()
                 || !names_all
             {
                 out.push(format!(
@@ -96,11 +98,13 @@ fn refusals(m: &dyn Method) -> Vec<String> {
     out
 }
 
-/// Values just outside each knob's declared range (and of the wrong type).
+/// Values just outside each knob's declared range (and of the wrong type; a word near `auto`
+/// where the knob takes it).
 pub fn outside(k: &harness::Knob) -> Vec<harness::ParamValue> {
     use harness::ParamValue as V;
     use harness::knobs::Range;
-    match &k.range {
+    let near_auto = k.auto.then(|| V::from("automatic"));
+    let mut out = match &k.range {
         Range::Int { min, max } => vec![V::Int(min - 1), V::Int(max + 1), V::from("x")],
         Range::IntSet { values } => {
             let hi = values.iter().max().expect("values");
@@ -113,5 +117,7 @@ pub fn outside(k: &harness::Knob) -> Vec<harness::ParamValue> {
         ],
         Range::Bool => vec![V::Int(1), V::from("yes")],
         Range::Choice { .. } => vec![V::from("no-such-choice"), V::Int(0)],
-    }
+    };
+    out.extend(near_auto);
+    out
 }

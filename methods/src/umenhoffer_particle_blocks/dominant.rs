@@ -60,7 +60,12 @@ pub fn extent(ps: &[Particle]) -> f32 {
 /// Whether a sphere of `radius` (m) and extinction `density` (1/m) is loose: thick, or huge
 /// for a cloud of `extent` (a degenerate extent, 0, makes nothing huge).
 pub fn loose(radius: f32, density: f32, extent: f32) -> bool {
-    density * 2.0 * radius >= THICK || (extent > 0.0 && radius >= HUGE * extent)
+    density * 2.0 * radius >= THICK || huge(radius, extent)
+}
+
+/// Whether a sphere of `radius` (m) is huge for a cloud of `extent` (never for extent 0).
+pub fn huge(radius: f32, extent: f32) -> bool {
+    extent > 0.0 && radius >= HUGE * extent
 }
 
 /// Whether any frame of `scene` can have a dominant sphere: a loose particle, or a particle
@@ -68,9 +73,12 @@ pub fn loose(radius: f32, density: f32, extent: f32) -> bool {
 /// their code (passes.rs `Modes::dominant`).
 pub fn possible(scene: &Scene, ps: &[Particle]) -> bool {
     let extent = extent(ps);
-    if ps.iter().any(|p| loose(p.radius, p.density, extent)) {
-        return true;
-    }
+    ps.iter().any(|p| loose(p.radius, p.density, extent)) || viewer_inside(scene, ps, |_| true)
+}
+
+/// Whether in some frame of `scene` the camera or a local light lies inside one of `ps` that
+/// `counts`.
+pub fn viewer_inside(scene: &Scene, ps: &[Particle], counts: impl Fn(&Particle) -> bool) -> bool {
     (0..scene.frame_count()).any(|f| {
         let frame = scene.frame(f);
         let lights = frame
@@ -82,6 +90,7 @@ pub fn possible(scene: &Scene, ps: &[Particle]) -> bool {
             .chain(lights)
             .collect();
         ps.iter()
+            .filter(|p| counts(p))
             .any(|p| viewers.iter().any(|&v| (p.center - v).length() < p.radius))
     })
 }

@@ -150,7 +150,12 @@ pub fn slice_passes(slices: u32) -> u32 {
 /// Layers of each slice texture: one per light pass of every light's FACES views and of the
 /// eye's view (`eye_slices`; allocated always, a few layers).
 pub fn slice_layers(sizes: &Sizes) -> u32 {
-    (FACES * sizes.lights.max(1) + 1) as u32 * slice_passes(sizes.slices)
+    slice_layers_for(sizes.lights, sizes.slices)
+}
+
+/// [`slice_layers`] for `lights` lights and `slices` slices.
+pub fn slice_layers_for(lights: usize, slices: u32) -> u32 {
+    (FACES * lights.max(1) + 1) as u32 * slice_passes(slices)
 }
 
 /// Binding `b` of common.wgsl's group 1, as a layout entry: the uniform, the primitive, tile

@@ -14,7 +14,7 @@ use scenes::{FrameState, LightState};
 use super::blocks::{self, Instancing};
 use super::passes::{self, Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
-use super::{camera_bins, dominant, held, light_maps};
+use super::{accuracy, camera_bins, dominant, held, light_maps};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_maps::ShadowSettings;
 
@@ -36,8 +36,10 @@ pub struct State {
     /// Each block's own particles (None: the splat, or clusters that did not match).
     members: held::Members,
     slices: u32,
-    /// The eye's own slices attenuate the gathering (knob `eye_slices`).
+    /// The eye's own slices attenuate the gathering (knob `eye_slices`, resolved).
     eye_slices: bool,
+    /// Quadrature nodes per interval in the gathering (knob `chord_steps`, resolved).
+    chord_steps: u32,
     /// Camera impostor bins per side (knob `camera_bins`; 1: one camera tile, the paper, and
     /// always for clusters and the splat): the prototype's camera tiles are 1 .. 1 + g².
     camera_grid: usize,
@@ -64,7 +66,15 @@ impl State {
             bail!("scene '{}' has no particle medium", ctx.scene.name);
         };
         let p = ctx.params;
-        let slices: u32 = p.knob("slices")?;
+        let lights = ctx.scene.desc.lights.len();
+        let most_layers = ctx.gpu.device.limits().max_texture_array_layers;
+        // The accuracy knobs, `auto` resolved for this scene (accuracy.rs).
+        let accuracy = accuracy::resolve(
+            p,
+            accuracy::viewer_among_particles(ctx.scene, &particles.particles),
+            |s| passes::slice_layers_for(lights, s) <= most_layers,
+        )?;
+        let slices = accuracy.slices;
         let dominant: usize = p.knob::<u32>("dominant")? as usize;
         let (mut set, tile_res_knob) = block_set(particles, blocked_mode, dominant > 0);
         // Prototype mode: g² camera tiles of the prototype (camera_bins.rs), tiles 1 .. 1 + g²;
@@ -82,7 +92,6 @@ impl State {
         // Each block's own particles, for blocks that hold a viewer (held.rs).
         let members = held::Members::of(&particles.particles, &set);
         held::Members::index(&mut set.prims);
-        let lights = ctx.scene.desc.lights.len();
         let (tiles, cols, tile_res) = atlas(&set, lights, tile_res_knob);
         // The particle methods sample no spot pattern: a small texture.
         let renderer = SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, 64)?;
@@ -98,10 +107,7 @@ impl State {
             lights,
             camera_tiles: (camera_grid * camera_grid) as u32,
         };
-        let (layers, most) = (
-            passes::slice_layers(&sizes),
-            ctx.gpu.device.limits().max_texture_array_layers,
-        );
+        let (layers, most) = (passes::slice_layers(&sizes), most_layers);
         if layers > most {
             bail!(
                 "scene '{}': knob `slices` = {slices} with {lights} lights needs {layers} slice-texture layers (6 light maps per light, {} passes of eight slices each); this adapter allows {most}: use fewer slices (4 … 32)",
@@ -112,8 +118,8 @@ impl State {
         let modes = Modes {
             blocks: blocked_mode.is_some(),
             forward_scattering: p.knob("forward_scattering")?,
-            chord_steps: p.knob("chord_steps")?,
-            eye_slices: p.knob("eye_slices")?,
+            chord_steps: accuracy.chord_steps,
+            eye_slices: accuracy.eye_slices,
             dominant: dominant > 0 && dominant::possible(ctx.scene, &particles.particles),
             moments: match blocked_mode {
                 Some(_) => p.knob::<String>("interval")? == "moments",
@@ -140,7 +146,8 @@ impl State {
                 None => 0.0,
             },
             slices,
-            eye_slices: p.knob("eye_slices")?,
+            eye_slices: accuracy.eye_slices,
+            chord_steps: accuracy.chord_steps,
             camera_grid,
             sky: particles.sky,
             background_scatters: particles.background.sigma_s.max_element() > 0.0,
@@ -418,7 +425,10 @@ impl Prepared for State {
         self.upload(gpu, &u, &gather, &light_lists, &tiles);
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
         let lists = (&views[..], &lengths[..], gather.len(), !picked.is_empty());
+        // The accuracy knobs as used (`auto` resolved, accuracy.rs).
         report.count("eye_slices", self.eye_slices as u32 as f64);
+        report.count("slices", self.slices as f64);
+        report.count("chord_steps", self.chord_steps as f64);
         self.encode_passes(gpu, enc, targets, lists, &mut report);
         report.count("blocks", self.set.prims.len() as f64);
         report.count("held_spheres", listed as f64 - plain as f64);
