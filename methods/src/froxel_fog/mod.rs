@@ -134,12 +134,12 @@ impl Method for FroxelFog {
                 .sweep(["cell"])
                 .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
             // No sweep: inert at the default temporal 0 (README: each mode with temporal on).
-            Knob::choice("history", "reject", &HISTORY_MODES)
+            Knob::choice("history", "range", &HISTORY_MODES)
                 .sweep(Vec::<&str>::new())
-                .meaning("with temporal > 0, what is done with a reprojected history that is no longer true: kept (none, as Godot's and Unreal's volumetric fog, which drop only history from outside the previous frustum), clamped to the range of this frame's source over the 3 × 3 × 3 froxels around (clamp: Karis 2014's TAA neighbourhood clamp), or dropped where the froxel's unjittered centre sample changed by more than reject_change since the history began, the froxel then showing that centre sample (reject; one more light evaluation per froxel)"),
+                .meaning("with temporal > 0, what is done with a reprojected history that is no longer true: kept (none, as Godot's and Unreal's volumetric fog, which drop only history from outside the previous frustum), clamped to the range of this frame's source over the 3 × 3 × 3 froxels around (clamp: Karis 2014's TAA neighbourhood clamp), or dropped where the froxel's unjittered centre sample changed by more than reject_change since the history began, the froxel then showing that centre sample (reject; one more light evaluation per froxel; a moving camera moves every froxel's centre, so it drops all history then), or as reject but, where the camera moved, dropped where the reprojected centre sample the history began with lies outside the range of this frame's centre samples over the 3 × 3 × 3 froxels around, widened by reject_change (range), or as reject but, where the camera moved, dropped where this frame's lighting at the previous grid's froxel centres the history is read from changed by more than reject_change since last frame (revisit; one more light evaluation per froxel while the camera moves)"),
             Knob::float("reject_change", 0.001, 0.0..=1.0)
                 .sweep(Vec::<f64>::new())
-                .meaning("with history = reject: the relative change of a froxel's centre source since its history began beyond which the history is dropped (the centre sample is not jittered, so only a change in the lighting, shadows or medium trips it)"),
+                .meaning("with history = reject, range or revisit: the relative change of a froxel's centre source since its history began beyond which the history is dropped (the centre sample is not jittered, so only a change in the lighting, shadows or medium trips it)"),
             Knob::int("extinction_grid", 64, 4..=256)
                 .sweep([32, 128])
                 .unit("texels")
@@ -207,7 +207,7 @@ impl Method for FroxelFog {
             ShaderCheck::combinations(
                 "froxel-fog/volume",
                 &volume_source(),
-                &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0])],
+                &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0, 3.0, 4.0])],
             ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
             ShaderCheck::combinations("froxel-fog/particles", &particles_source(), &[]),
