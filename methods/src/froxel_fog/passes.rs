@@ -118,7 +118,13 @@ impl VolumePasses {
                 ];
                 pipeline("temporal", &own)
             }),
-            integrate: pipeline("integrate", &[("TEMPORAL", flag(modes.temporal))]),
+            integrate: pipeline(
+                "integrate",
+                &[
+                    ("TEMPORAL", flag(modes.temporal)),
+                    ("HISTORY", modes.history as f64),
+                ],
+            ),
             source: buffers.source,
             centre: buffers.centre,
         }

@@ -187,15 +187,19 @@ fn blend_froxel(id: vec3<u32>) -> vec2<bool> {
     let h = reprojected(id, i);
     var previous = h.value.rgb;
     if (HISTORY >= 2u) {
-        // Dropped history (or none yet): this frame's centre sample, as without accumulation
-        // (not one jittered sample: Unreal shades more samples where its history misses); a: the
-        // centre source the kept history began with.
+        // The history holds the residual: the mean of the jittered samples less the centre
+        // sample (the froxel shows centre + residual, `injected` in volume.wgsl), so a kept
+        // history carries only what the jitter adds, and reprojection resamples that, not the
+        // whole source. Dropped (or none yet): residual 0, the froxel shows this frame's centre
+        // sample, as without accumulation (Unreal shades more samples where its history
+        // misses). a: the centre source the kept history began with.
+        let c = centre.at[i];
         let rejected = h.valid && lighting_changed(id, i, h);
         // History revisit under a moved camera compares frame to frame: the kept history's
         // centre source is this frame's (the history's own was at another world point).
-        let then = select(h.value.a, centre.at[i].a, HISTORY == 4u && froxel.moved != 0u);
-        let kept = vec4<f32>(mix(previous, current.rgb, froxel.blend), then);
-        accumulated[i] = select(centre.at[i], kept, h.valid && !rejected);
+        let then = select(h.value.a, c.a, HISTORY == 4u && froxel.moved != 0u);
+        let kept = vec4<f32>(mix(previous, current.rgb - c.rgb, froxel.blend), then);
+        accumulated[i] = select(vec4<f32>(vec3<f32>(0.0), c.a), kept, h.valid && !rejected);
         return vec2<bool>(h.valid, rejected);
     }
     if (HISTORY == 1u) {

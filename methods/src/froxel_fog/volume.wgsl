@@ -238,6 +238,12 @@ fn revisited(id: vec3<u32>) -> f32 {
 override TEMPORAL: bool = false;
 
 fn injected(i: u32) -> vec3<f32> {
+    if (TEMPORAL && HISTORY >= 2u) {
+        // History reject, range, revisit: the centre sample plus the accumulated residual (the
+        // residual, reprojected from a neighbouring point, may exceed a dark centre: no source is
+        // negative).
+        return max(centre.at[i].rgb + accumulated[i].rgb, vec3<f32>(0.0));
+    }
     if (TEMPORAL) {
         return accumulated[i].rgb;
     }
