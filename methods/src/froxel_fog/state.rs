@@ -32,8 +32,9 @@ pub struct State {
     apply: ResolvePass,
     no_skip: bool,
     temporal: Temporal,
-    /// The temporal pass's counts (temporal.wgsl `centre.counts`) and their readback.
-    history_counts: HistoryCounts,
+    /// The temporal pass's counts (temporal.wgsl `centre.counts`) and their readback (history
+    /// reject, range, revisit).
+    history_counts: Option<HistoryCounts>,
     /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
     timer: Timer,
 }
@@ -130,17 +131,14 @@ impl State {
         let history: String = p.knob("history")?;
         // History reject, range and revisit also inject every froxel's centre (temporal.wgsl),
         // after 16 bytes of the temporal pass's counts.
-        let centre_bytes = if temporal > 0 && ["reject", "range", "revisit"].contains(&&*history) {
-            16 + bytes
-        } else {
-            32
-        };
+        let rejecting = temporal > 0 && ["reject", "range", "revisit"].contains(&&*history);
+        let centre_bytes = if rejecting { 16 + bytes } else { 32 };
         let none = wgpu::BufferUsages::empty();
         // Cleared when no light is injected (passes.rs).
         let cleared = wgpu::BufferUsages::COPY_DST;
         let counted = cleared | wgpu::BufferUsages::COPY_SRC;
         let centre = storage(gpu, "froxel centre source", centre_bytes, counted);
-        let history_counts = HistoryCounts::new(gpu, centre.clone());
+        let history_counts = rejecting.then(|| HistoryCounts::new(gpu, centre.clone()));
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("froxel grid"),
             size: std::mem::size_of::<FroxelUniform>() as u64,
@@ -331,12 +329,14 @@ impl Prepared for State {
         let parity = (self.temporal.rendered % 2) as usize;
         if self.temporal.frames > 0 {
             self.timer.mark(enc, "temporal");
-            self.history_counts.begin(gpu, &mut report);
+            if let Some(c) = &mut self.history_counts {
+                c.begin(gpu, &mut report);
+            }
             self.volume
                 .encode_temporal(gpu, enc, &self.renderer, dims, parity);
-            self.history_counts
-                .readback
-                .end_frame(enc, &self.history_counts.buffer);
+            if let Some(c) = &mut self.history_counts {
+                c.readback.end_frame(enc, &c.buffer);
+            }
             report.ran("temporal");
         }
         self.timer.mark(enc, "integrate");
