@@ -19,11 +19,15 @@
 // grid's centres the history was trilinearly read from differs from that frame's centre sample
 // there: `inject` also evaluates every froxel of the previous frame's grid (its camera), so the
 // comparison is at one world point, and a light that moved with the camera (a flashlight) is
-// rejected wherever it lights while a still light keeps its history.
+// rejected wherever it lights while a still light keeps its history. The rejecting modes (reject,
+// range, revisit) keep in the history only the residual of the jittered samples over the centre
+// sample, which `integrate` adds to this frame's centre sample: a reprojection then resamples
+// only what the jitter adds, not the whole source (which blurred, README).
 // Needs PRELUDE, grid.wgsl and the volume bindings (volume.wgsl).
 
-// Accumulated source of the previous frame (read) and of this one (written): rgb the source, a
-// (history reject, range) the centre source, summed over channels, its history began with.
+// Accumulated source of the previous frame (read) and of this one (written): rgb the source (the
+// rejecting modes: its residual over the centre sample), a (the rejecting modes) the centre
+// source, summed over channels, its history began with (revisit with a moved camera: last frame's).
 @group(1) @binding(3) var<storage, read> history: array<vec4<f32>>;
 @group(1) @binding(4) var<storage, read_write> accumulated: array<vec4<f32>>;
 // History reject, range, revisit: this frame's source at each froxel's centre (`inject`), rgb,
