@@ -57,10 +57,11 @@ fn previous_grid_coord(p: vec3<f32>) -> vec3<f32> {
 }
 
 // The previous frame's camera as a Camera (what grid_ray, froxel_point and the light evaluation
-// read): its clip_from_world, eye and forward with the far plane in w; world_from_clip unused.
+// read): its clip_from_world, eye and forward with the far plane in w; world_from_clip is not
+// read, and holds this frame's.
 fn previous_camera() -> Camera {
     let eye = vec4<f32>(froxel.prev_position.xyz, camera.position.w);
-    return Camera(froxel.prev_clip_from_world, mat4x4<f32>(), eye, froxel.prev_forward, camera.viewport);
+    return Camera(froxel.prev_clip_from_world, camera.world_from_clip, eye, froxel.prev_forward, camera.viewport);
 }
 
 // The history trilinearly at grid coordinates g (cell centres at i + 0.5), clamped to the grid.
