@@ -172,8 +172,9 @@ fn temporal_reprojection_follows_a_moving_camera() {
     let order: Vec<u32> = (0..8).rev().collect();
     let grid = ("columns", ParamValue::Int(16));
     let off = headline_after(&gpu, &scene, 128, std::slice::from_ref(&grid), &order);
-    // History none: the default (reject) drops every history a pan changes the centre sample of,
-    // which would leave the reprojection untested.
+    // History none: reject drops every history a pan changes the centre sample of, and the
+    // default (range) shows the centre sample plus a reprojected residual; none reprojects the
+    // whole source, the reprojection under test.
     let on = headline_after(
         &gpu,
         &scene,
@@ -382,7 +383,8 @@ fn after_the_jump(gpu: &harness::Gpu, knobs: &[(&str, ParamValue)]) -> f64 {
 }
 
 /// A light that jumps between frames (issue 34): with temporal accumulation (`temporal` 8) and
-/// history `reject` (the default), the frame after the jump is within 2× the error of no
+/// history `reject` or `range` (the default; the same rule with the camera still), the frame
+/// after the jump is within 2× the error of no
 /// accumulation at all — the stale light is gone within one frame — while `none` (no rejection)
 /// keeps 4/5 of the old light's glow and reads more than 5× worse. `clamp` is printed, not
 /// bounded: its 3 × 3 × 3 range around a point light's peak is wide, so it keeps part of the
@@ -401,10 +403,94 @@ fn a_jumping_light_leaves_no_stale_glow_with_history_rejection() {
         after_the_jump(&gpu, &knobs)
     };
     let (none, clamp, reject) = (with("none"), with("clamp"), with("reject"));
+    let range = with("range");
     eprintln!(
-        "jumping light, frame 4 headline: temporal off {off:.4}, none {none:.4}, clamp {clamp:.4}, reject {reject:.4}"
+        "jumping light, frame 4 headline: temporal off {off:.4}, none {none:.4}, clamp {clamp:.4}, reject {reject:.4}, range {range:.4}"
     );
     assert!(off < 0.1, "the single-sample image itself is off: {off}");
     assert!(none > 5.0 * off, "history none: {none} against {off}");
     assert!(reject < 2.0 * off, "history reject: {reject} against {off}");
+    assert!(range < 2.0 * off, "history range: {range} against {off}");
+}
+
+/// fence-spot with the camera trucking 0.1 m a frame sideways (`frames` frames), its look-at
+/// fixed: the froxel grid moves with the camera, so every froxel's centre is another world point
+/// each frame while the lighting of the world stays put.
+fn trucking_fence_spot(frames: u32) -> scenes::Scene {
+    let mut scene = library("fence-spot");
+    let key = |frame: f32, x: f32| scenes::desc::CameraKey {
+        frame,
+        position: glam::Vec3::new(x, 2.2, 5.5),
+        look_at: glam::Vec3::new(0.0, 1.2, -0.5),
+    };
+    let last = (frames - 1) as f32;
+    scene.desc.camera.keyframes = vec![key(0.0, 4.5), key(last, 4.5 - 0.1 * last)];
+    scene.desc.frames = frames;
+    scene
+}
+
+/// The mean in-scatter headline of frames 1 … N − 1 of `scene` (rendered 0 … N − 1 on one
+/// prepared instance with `knobs`, each against its own reference), and the share of the
+/// reprojected froxels whose history was dropped (counters, which arrive two frames late: frames
+/// 1 … N − 3), summed over the frames.
+fn moving_headline(
+    gpu: &harness::Gpu,
+    scene: &scenes::Scene,
+    res: u32,
+    knobs: &[(&str, ParamValue)],
+) -> (f64, f64) {
+    let mut p = prepare(gpu, &FroxelFog, scene, res, knobs, false).unwrap();
+    let settings = harness::reference::Settings::default();
+    let (mut sum, mut rejected, mut reprojected) = (0.0, 0.0, 0.0);
+    for f in 0..scene.desc.frames {
+        let image = render_prepared(gpu, p.as_mut(), scene, res, f, 1).unwrap();
+        let count = |name: &str| image.report.counters.get(name).copied().unwrap_or(0.0);
+        rejected += count("history_rejected");
+        reprojected += count("history_reprojected");
+        if f > 0 {
+            let r = harness::reference::render(scene, f, res, res, settings, &|_| {}).unwrap();
+            sum += headline(image.aov(Aov::Inscatter), &r.inscatter);
+        }
+    }
+    let frames = (scene.desc.frames - 1) as f64;
+    (sum / frames, rejected / reprojected.max(1.0))
+}
+
+/// Under a moving camera (issue 34), history `range` (the default) keeps the reprojected
+/// history where its centre value lies within this frame's 3 × 3 × 3 centre range, so temporal
+/// accumulation (`temporal` 8) lowers the mean headline of the moving frames below that of one
+/// centred sample (`temporal` 0) on fence-spot, where accumulation helps most (the static test
+/// above), and drops little of it (the spot does not move). History `reject` compares each
+/// froxel's centre exactly, and the moving grid moves every centre: it drops every history the
+/// light reaches (issue 34's cause), and reads as off. Measured: off 0.1079, range 0.0994
+/// (dropped 0.011), revisit 0.0994 (0.000), reject 0.1077 (0.341).
+#[test]
+fn history_survives_a_moving_camera_with_range_rejection() {
+    let Some(gpu) = gpu() else { return };
+    let scene = trucking_fence_spot(6);
+    let grid = ("columns", ParamValue::Int(16));
+    let (off, _) = moving_headline(&gpu, &scene, 128, std::slice::from_ref(&grid));
+    let with = |history: &str| {
+        let knobs = [
+            grid.clone(),
+            ("temporal", ParamValue::Int(8)),
+            ("history", ParamValue::from(history)),
+        ];
+        moving_headline(&gpu, &scene, 128, &knobs)
+    };
+    let (range, range_dropped) = with("range");
+    let (reject, reject_dropped) = with("reject");
+    eprintln!(
+        "trucking fence-spot 128², mean headline of frames 1-5: temporal off {off:.4}, range {range:.4} (history dropped {range_dropped:.3}), reject {reject:.4} (dropped {reject_dropped:.3})"
+    );
+    assert!(off < 0.2, "the single-sample image itself is off: {off}");
+    assert!(range < 0.96 * off, "history range: {range} against {off}");
+    assert!(
+        range_dropped < 0.05,
+        "history range dropped {range_dropped} of the reprojected histories"
+    );
+    assert!(
+        reject_dropped > 0.2,
+        "history reject dropped only {reject_dropped} under a moving camera"
+    );
 }

@@ -122,7 +122,7 @@ impl Temporal {
             g.moved = (prev != camera) as u32;
             g.prev_clip_from_world = prev.clip_from_world(aspect).to_cols_array_2d();
             g.prev_position = prev.position.extend(prev.far).to_array();
-            g.prev_forward = prev.forward().as_vec3().extend(0.0).to_array();
+            g.prev_forward = prev.forward().as_vec3().extend(prev.far).to_array();
         }
     }
 

@@ -26,7 +26,8 @@ struct Froxel {
     _pad: u32,
     // this frame's jitter offset in [0, 1)³ (Halton 2, 3, 5), rotated per froxel
     offset: vec4<f32>,
-    // the previous frame's camera: clip_from_world, eye (w: far plane depth), forward
+    // the previous frame's camera: clip_from_world, eye (w: far plane depth), forward (w: the
+    // same far plane depth, as Camera.forward)
     prev_clip_from_world: mat4x4<f32>,
     prev_position: vec4<f32>,
     prev_forward: vec4<f32>,

@@ -11,7 +11,10 @@
 //! that angle (`falloff` = quadrature, slice_quadrature.wgsl); `temporal` (with `temporal` N > 0)
 //! blends this frame's jittered injection into the previous frames', reprojected through the
 //! previous camera, stale history kept, clamped to this frame's 3 × 3 × 3 range, or dropped where
-//! the froxel's unjittered centre sample changed (`history`, default reject); `integrate` walks each froxel column from the eye,
+//! the lighting changed (`history`, default range: the unjittered centre sample compared with
+//! the history's, under a moving camera the reprojected one with this frame's 3 × 3 × 3 range, or
+//! (revisit) at the previous grid's froxel centres re-evaluated this frame; the rejecting modes keep the jittered samples' mean less the centre sample, and show
+//! the centre sample plus that residual); `integrate` walks each froxel column from the eye,
 //! L += T (S − S e^(−σ_t d)) / σ_t, T *= e^(−σ_t d) per slice of length d, storing L at every
 //! slice's far boundary; `apply` reads L at each pixel's ray length (bilinear across columns,
 //! linear between slice boundaries). The grid has `columns` columns across the image (or columns
@@ -46,14 +49,23 @@
 //! length; a local light's 1/r² averaged over the froxel in closed form (knob `falloff`; `point`
 //! is Wronski's sample), and near the light the slice's whole in-scatter by quadrature in the
 //! angle seen from the light (`quadrature`, the default); history rejection by a change in
-//! lighting, detected on an unjittered centre sample (`history` = reject, the default), or
+//! lighting, detected on an unjittered centre sample (`history` = reject; range, the default,
+//! tests the reprojected centre against this frame's 3 × 3 × 3 centre range while the camera
+//! moves; revisit compares at one world point, re-evaluating the previous frame's froxel
+//! centres — it crashes lavapipe in prepare about 3 times in 10 on corridor-walk), the history holding only the jitter's residual over the centre sample, or
 //! Karis 2014's TAA clamp in 3-D (`clamp`; `none` is the engines' keep-everything); float32 volume; the scene's phase function; spot patterns; particles
 //! voxelised by exact chords and a froxel with particles sampled at their mean depth.
 //! Limits: shafts thinner than a froxel are blurred across it, and light leaks across depth
 //! discontinuities within a froxel column (a surface reads the volume interpolated from its
 //! neighbours); a spot's cone is point-sampled per froxel (near its apex the froxel is partly
 //! lit); temporal accumulation blurs the history a little on every reprojection, and with
-//! `history` = none lags behind moving lights and objects (pen-orbit); particle media with
+//! `history` = none lags behind moving lights and objects (pen-orbit); history revisit crashes
+//! lavapipe's shader compiler now and then (heap corruption in prepare, 3 of 10 corridor-walk
+//! runs at 64²; reject and range 0 of 10), and evaluates
+//! the previous grid's froxels with this frame's particle density of the same index (particle
+//! media under a moving camera: a moved cloud reads as changed lighting, its history dropped);
+//! on corridor-walk the jittered samples themselves score worse than the centre sample, even
+//! with the camera still (README), so temporal accumulation does not pay there; particle media with
 //! at most four lights (one extinction grid each: orthographic for the sun, a cone from a local
 //! light seeing the cloud within 80°, else — the light inside a particle or the cloud all around
 //! it — a cube of six 90° faces, six times the memory).
@@ -134,12 +146,12 @@ impl Method for FroxelFog {
                 .sweep(["cell"])
                 .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
             // No sweep: inert at the default temporal 0 (README: each mode with temporal on).
-            Knob::choice("history", "reject", &HISTORY_MODES)
+            Knob::choice("history", "range", &HISTORY_MODES)
                 .sweep(Vec::<&str>::new())
-                .meaning("with temporal > 0, what is done with a reprojected history that is no longer true: kept (none, as Godot's and Unreal's volumetric fog, which drop only history from outside the previous frustum), clamped to the range of this frame's source over the 3 × 3 × 3 froxels around (clamp: Karis 2014's TAA neighbourhood clamp), or dropped where the froxel's unjittered centre sample changed by more than reject_change since the history began, the froxel then showing that centre sample (reject; one more light evaluation per froxel)"),
+                .meaning("with temporal > 0, what is done with a reprojected history that is no longer true: kept (none, as Godot's and Unreal's volumetric fog, which drop only history from outside the previous frustum), clamped to the range of this frame's source over the 3 × 3 × 3 froxels around (clamp: Karis 2014's TAA neighbourhood clamp), or dropped where the froxel's unjittered centre sample changed by more than reject_change since the history began, the froxel then showing that centre sample (reject; one more light evaluation per froxel; a moving camera moves every froxel's centre, so it drops all history then), or as reject but, where the camera moved, dropped where the reprojected centre sample the history began with lies outside the range of this frame's centre samples over the 3 × 3 × 3 froxels around, widened by reject_change (range), or as reject but, where the camera moved, dropped where this frame's lighting at the previous grid's froxel centres the history is read from changed by more than reject_change since last frame (revisit; one more light evaluation per froxel while the camera moves)"),
             Knob::float("reject_change", 0.001, 0.0..=1.0)
                 .sweep(Vec::<f64>::new())
-                .meaning("with history = reject: the relative change of a froxel's centre source since its history began beyond which the history is dropped (the centre sample is not jittered, so only a change in the lighting, shadows or medium trips it)"),
+                .meaning("with history = reject, range or revisit: the relative change of a froxel's centre source since its history began beyond which the history is dropped (the centre sample is not jittered, so only a change in the lighting, shadows or medium trips it)"),
             Knob::int("extinction_grid", 64, 4..=256)
                 .sweep([32, 128])
                 .unit("texels")
@@ -207,7 +219,7 @@ impl Method for FroxelFog {
             ShaderCheck::combinations(
                 "froxel-fog/volume",
                 &volume_source(),
-                &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0])],
+                &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0, 3.0, 4.0])],
             ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
             ShaderCheck::combinations("froxel-fog/particles", &particles_source(), &[]),

@@ -28,14 +28,16 @@ pub struct Buffers<'a> {
     pub source: wgpu::Buffer,
     /// The accumulated source of alternate frames (temporal accumulation; else 16-byte stubs).
     pub history: [wgpu::Buffer; 2],
-    /// History reject: this frame's source at each froxel's centre (else a 16-byte stub).
+    /// History reject, range, revisit: 16 bytes of counts (the temporal pass's, `history_counts`
+    /// in state.rs), then this frame's source at each froxel's centre (else the counts and one).
     pub centre: wgpu::Buffer,
+
     pub volume: &'a wgpu::TextureView,
     pub medium: &'a MediumBuffers,
 }
 
 /// The knob `history`'s values, in the order of their codes (HISTORY in temporal.wgsl).
-pub const HISTORY_MODES: [&str; 3] = ["none", "clamp", "reject"];
+pub const HISTORY_MODES: [&str; 5] = ["none", "clamp", "reject", "range", "revisit"];
 
 /// The volume pipelines' modes (pipeline constants).
 #[derive(Clone, Copy)]
@@ -43,7 +45,7 @@ pub struct Modes {
     pub temporal: bool,
     /// With `temporal`: the knob `history`'s code (an index into [`HISTORY_MODES`]).
     pub history: u32,
-    /// History `reject`: the knob `reject_change`.
+    /// History `reject`, `range`, `revisit`: the knob `reject_change`.
     pub reject_change: f32,
     pub slice_falloff: bool,
     /// `falloff` = quadrature: near a local light, the slice's in-scatter by Gauss nodes.
@@ -61,8 +63,10 @@ pub struct VolumePasses {
     /// Reprojects and blends the history (temporal accumulation on).
     temporal: Option<wgpu::ComputePipeline>,
     integrate: wgpu::ComputePipeline,
-    /// The source buffer (cleared when no light is injected).
+    /// The source buffer, and history reject's centre sources (both cleared when no light is
+    /// injected: no light, no source).
     source: wgpu::Buffer,
+    centre: wgpu::Buffer,
 }
 
 impl VolumePasses {
@@ -95,7 +99,8 @@ impl VolumePasses {
                         ("SLICE_FALLOFF", flag(modes.slice_falloff)),
                         ("SLICE_QUADRATURE", flag(modes.slice_quadrature)),
                         ("SHADOW_PCF", flag(modes.shadow_pcf)),
-                        // History `reject` injects each froxel's centre too.
+                        // History `reject`, `range` and `revisit` inject each froxel's centre
+                        // too (`revisit` also the previous grid's).
                         ("TEMPORAL", flag(modes.temporal)),
                         ("HISTORY", modes.history as f64),
                     ];
@@ -113,8 +118,15 @@ impl VolumePasses {
                 ];
                 pipeline("temporal", &own)
             }),
-            integrate: pipeline("integrate", &[("TEMPORAL", flag(modes.temporal))]),
+            integrate: pipeline(
+                "integrate",
+                &[
+                    ("TEMPORAL", flag(modes.temporal)),
+                    ("HISTORY", modes.history as f64),
+                ],
+            ),
             source: buffers.source,
+            centre: buffers.centre,
         }
     }
 
@@ -141,6 +153,8 @@ impl VolumePasses {
     ) {
         if active.is_empty() {
             enc.clear_buffer(&self.source, 0, None);
+            // The centre sources after the temporal pass's counts.
+            enc.clear_buffer(&self.centre, 16, None);
             return;
         }
         let mut pass = self.pass(gpu, enc, renderer, "froxel inject", 0);
@@ -194,7 +208,8 @@ impl VolumePasses {
 }
 
 /// Group 1 of the volume passes: the grid uniform, the source buffer, the volume texture, the
-/// history read and the history written (one group per frame parity).
+/// history read and the history written (one group per frame parity), the particle media and
+/// the centre sources.
 fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup; 2]) {
     let cs = wgpu::ShaderStages::COMPUTE;
     let layout = gpu

@@ -41,7 +41,7 @@ struct SliceExtinction {
 // closest approach (t_c, h) to it), f = I(ω) p(θ) V e^(−σ_t r) e^(−τ_particles(light → x)), by
 // QUADRATURE_PANELS two-node Gauss–Legendre panels uniform in ψ = atan((t − t_c)/h).
 fn light_integral(k: u32, dir: vec3<f32>, g: vec2<f32>, lo: f32, hi: f32, x: SliceExtinction) -> vec3<f32> {
-    let e = camera.position.xyz;
+    let e = view.position.xyz;
     let c = lights.lights[k].position.xyz;
     let p0 = atan((lo - g.x) / g.y);
     let dp = (atan((hi - g.x) / g.y) - p0) / f32(QUADRATURE_PANELS);
@@ -67,7 +67,7 @@ fn light_integral(k: u32, dir: vec3<f32>, g: vec2<f32>, lo: f32, hi: f32, x: Sli
 // Light k's in-scatter source S of froxel i (the slice [t0, t1] of the ray along dir, sampled at
 // t; `fog` the slice's mean height-fog density), as the slice integral wants it.
 fn slice_source(k: u32, i: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32, fog: f32) -> vec3<f32> {
-    let e = camera.position.xyz;
+    let e = view.position.xyz;
     let sigma_s = froxel_sigma_s(i) * fog;
     let one_sample = sigma_s * light_source(k, dir, t0, t1, t, spread) * particle_transmittance(k, e + dir * t);
     if (!SLICE_QUADRATURE || light_kind(k) == LIGHT_DIRECTIONAL) {

@@ -14,6 +14,7 @@ use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared, grid_v
 use super::passes::{Buffers, Dims, HISTORY_MODES, Modes, VolumePasses};
 use super::reach;
 use super::shaders::apply_wgsl;
+use crate::common::counters::CounterReadback;
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::ResolvePass;
 use crate::common::shadow_maps::ShadowSettings;
@@ -31,6 +32,9 @@ pub struct State {
     apply: ResolvePass,
     no_skip: bool,
     temporal: Temporal,
+    /// The temporal pass's counts (temporal.wgsl `centre.counts`) and their readback (history
+    /// reject, range, revisit).
+    history_counts: Option<HistoryCounts>,
     /// GPU time per phase (counters `gpu_ms_<phase>`), where timestamps inside encoders exist.
     timer: Timer,
 }
@@ -67,6 +71,33 @@ impl Timer {
     }
 }
 
+/// The temporal pass's counts (history reject, range, revisit) of froxels whose reprojected
+/// history was dropped and that had one, reported (counters `history_rejected`,
+/// `history_reprojected`) two frames late, as [`CounterReadback`] delivers them.
+struct HistoryCounts {
+    /// The centre-source buffer, whose first 8 bytes are the counts (temporal.wgsl).
+    buffer: wgpu::Buffer,
+    readback: CounterReadback,
+}
+
+impl HistoryCounts {
+    fn new(gpu: &Gpu, buffer: wgpu::Buffer) -> HistoryCounts {
+        HistoryCounts {
+            buffer,
+            readback: CounterReadback::new(gpu, 2),
+        }
+    }
+
+    /// Zeroes this frame's counts and reports the latest that arrived.
+    fn begin(&mut self, gpu: &Gpu, report: &mut FrameReport) {
+        self.readback.begin_frame(gpu, &self.buffer);
+        if let Some(c) = self.readback.latest() {
+            report.count("history_rejected", c[0] as f64);
+            report.count("history_reprojected", c[1] as f64);
+        }
+    }
+}
+
 /// A storage buffer of `size` bytes.
 fn storage(gpu: &Gpu, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
     gpu.buffer(&wgpu::BufferDescriptor {
@@ -98,13 +129,16 @@ impl State {
         let bytes = 16 * grid.froxels();
         let history_bytes = if temporal > 0 { bytes } else { 16 };
         let history: String = p.knob("history")?;
-        // History reject also injects every froxel's centre (temporal.wgsl).
-        let centre_bytes = if temporal > 0 && history == "reject" {
-            bytes
-        } else {
-            16
-        };
+        // History reject, range and revisit also inject every froxel's centre (temporal.wgsl),
+        // after 16 bytes of the temporal pass's counts.
+        let rejecting = temporal > 0 && ["reject", "range", "revisit"].contains(&&*history);
+        let centre_bytes = if rejecting { 16 + bytes } else { 32 };
         let none = wgpu::BufferUsages::empty();
+        // Cleared when no light is injected (passes.rs).
+        let cleared = wgpu::BufferUsages::COPY_DST;
+        let counted = cleared | wgpu::BufferUsages::COPY_SRC;
+        let centre = storage(gpu, "froxel centre source", centre_bytes, counted);
+        let history_counts = rejecting.then(|| HistoryCounts::new(gpu, centre.clone()));
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("froxel grid"),
             size: std::mem::size_of::<FroxelUniform>() as u64,
@@ -140,12 +174,12 @@ impl State {
         );
         let buffers = Buffers {
             uniform: &uniform,
-            source: storage(gpu, "froxel source", bytes, wgpu::BufferUsages::COPY_DST),
+            source: storage(gpu, "froxel source", bytes, cleared),
             history: [
                 storage(gpu, "froxel history 0", history_bytes, none),
                 storage(gpu, "froxel history 1", history_bytes, none),
             ],
-            centre: storage(gpu, "froxel centre source", centre_bytes, none),
+            centre,
             volume: &volume_view,
             medium: &medium,
         };
@@ -201,6 +235,7 @@ impl State {
                 rendered: 0,
                 previous: None,
             },
+            history_counts,
             timer: Timer::new(gpu),
         })
     }
@@ -294,8 +329,14 @@ impl Prepared for State {
         let parity = (self.temporal.rendered % 2) as usize;
         if self.temporal.frames > 0 {
             self.timer.mark(enc, "temporal");
+            if let Some(c) = &mut self.history_counts {
+                c.begin(gpu, &mut report);
+            }
             self.volume
                 .encode_temporal(gpu, enc, &self.renderer, dims, parity);
+            if let Some(c) = &mut self.history_counts {
+                c.readback.end_frame(enc, &c.buffer);
+            }
             report.ran("temporal");
         }
         self.timer.mark(enc, "integrate");

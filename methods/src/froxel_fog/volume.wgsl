@@ -4,7 +4,9 @@
 // grid.wgsl, extinction.wgsl and temporal.wgsl (the history bindings).
 
 @group(1) @binding(0) var<uniform> froxel: Froxel;
-// In-scatter source S (rgb, W m⁻³ sr⁻¹ per unit radiance) per froxel, x fastest then y then slice.
+// In-scatter source S (rgb, W m⁻³ sr⁻¹ per unit radiance) per froxel, x fastest then y then slice;
+// a: with history revisit and a moved camera, this frame's lighting (summed over channels) at
+// the centre of the froxel of the previous frame's grid with the same index (temporal.wgsl).
 @group(1) @binding(1) var<storage, read_write> source: array<vec4<f32>>;
 // Integrated in-scatter at each slice's far boundary, slice k in tile (k % tiles_x, k / tiles_x).
 @group(1) @binding(2) var volume: texture_storage_2d<rgba32float, write>;
@@ -13,6 +15,10 @@
 @group(1) @binding(5) var<storage, read> density: array<Voxel>;
 @group(1) @binding(6) var<uniform> particle_medium: ParticleMedium;
 @group(1) @binding(7) var<storage, read> optical_depth: array<f32>;
+
+// The camera the froxel grid is laid out for: this frame's (`camera`, set first by every entry
+// point), or the previous frame's while `inject` revisits its grid (history revisit).
+var<private> view: Camera;
 
 // Whether the scene's medium has particles (voxelised into `density`); false: homogeneous.
 override PARTICLES: bool = false;
@@ -47,8 +53,8 @@ fn sample_offset(id: vec3<u32>) -> vec3<f32> {
 // viewport (o = ½: the froxel column's centre).
 fn grid_ray(x: u32, y: u32, o: vec2<f32>) -> vec3<f32> {
     let ps = froxel.pixel_size;
-    let frag = min((vec2<f32>(f32(x), f32(y)) + o) * ps, camera.viewport.xy);
-    return camera_ray_dir(camera, frag);
+    let frag = min((vec2<f32>(f32(x), f32(y)) + o) * ps, view.viewport.xy);
+    return camera_ray_dir(view, frag);
 }
 
 // The ray through the centre of froxel column (x, y).
@@ -96,7 +102,7 @@ fn froxel_visibility(k: u32, x: vec3<f32>) -> f32 {
 // froxel mean with SLICE_FALLOFF, `spread` as in mean_inverse_square), p(θ) V E for directional
 // light (not attenuated).
 fn light_source(k: u32, dir: vec3<f32>, t0: f32, t1: f32, t: f32, spread: f32) -> vec3<f32> {
-    let e = camera.position.xyz;
+    let e = view.position.xyz;
     let x = e + dir * t;
     if (light_kind(k) == LIGHT_DIRECTIONAL) {
         let dir_l = lights.lights[k].direction.xyz;
@@ -156,26 +162,26 @@ fn froxel_particle_tau(i: u32) -> f32 {
 // over the column (jitter 2, temporal accumulation).
 fn footprint_spread(frag: vec2<f32>) -> f32 {
     let ps = froxel.pixel_size;
-    let d0 = camera_ray_dir(camera, frag);
-    let dx = length(camera_ray_dir(camera, frag + vec2<f32>(ps, 0.0)) - d0);
-    let dy = length(camera_ray_dir(camera, frag + vec2<f32>(0.0, ps)) - d0);
+    let d0 = camera_ray_dir(view, frag);
+    let dx = length(camera_ray_dir(view, frag + vec2<f32>(ps, 0.0)) - d0);
+    let dy = length(camera_ray_dir(view, frag + vec2<f32>(0.0, ps)) - d0);
     return select(sqrt(dx * dy / PI), 0.0, froxel.jitter == 2u);
 }
 
 // World position of point o (cell units) of froxel id.
 fn froxel_point(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     let dir = grid_ray(id.x, id.y, o.xy);
-    let far_t = camera_far_distance(camera, dir);
+    let far_t = camera_far_distance(view, dir);
     let n = f32(froxel.slices);
     let t = slice_distance(far_t, (f32(id.z) + o.z) / n);
-    return camera.position.xyz + dir * t;
+    return view.position.xyz + dir * t;
 }
 
 // Light LIGHT's source S at point o (cell units) of froxel id, or 0 where the froxel scatters
 // nothing (particle media without a background).
 fn froxel_source(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     let dir = grid_ray(id.x, id.y, o.xy);
-    let far_t = camera_far_distance(camera, dir);
+    let far_t = camera_far_distance(view, dir);
     let n = f32(froxel.slices);
     // The point moves within the slice's depth interval (linearly in depth, as before).
     let t0 = slice_distance(far_t, f32(id.z) / n);
@@ -184,7 +190,7 @@ fn froxel_source(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
     let t = sample_distance(i, t0, t1, o.z);
     // Height fog: the slice's mean σ_s along the sample's ray, as `integrate` takes its mean σ_t,
     // so that Hillaire's slice integral gives σ_s/σ_t (1 − e^(−τ)) exactly.
-    let fog = fog_mean_density(medium, camera.position.xyz + dir * t0, dir, t1 - t0);
+    let fog = fog_mean_density(medium, view.position.xyz + dir * t0, dir, t1 - t0);
     if (all(froxel_sigma_s(i) * fog <= vec3<f32>(0.0))) {
         return vec3<f32>(0.0);
     }
@@ -194,6 +200,7 @@ fn froxel_source(id: vec3<u32>, o: vec3<f32>) -> vec3<f32> {
 
 @compute @workgroup_size(4, 4, 4)
 fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
+    view = camera;
     if (id.x >= froxel.grid_x || id.y >= froxel.grid_y || id.z >= froxel.slices) {
         return;
     }
@@ -202,22 +209,41 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
     if (!FIRST) {
         s += source[i].rgb;
     }
-    source[i] = vec4<f32>(s, 0.0);
-    // History reject (temporal.wgsl): the source at the froxel's centre too, and its sum over
-    // channels — deterministic, so a change in it is a change in the lighting, not the jitter.
-    if (TEMPORAL && HISTORY == 2u) {
+    source[i] = vec4<f32>(s, select(source[i].a, 0.0, FIRST) + revisited(id));
+    // History reject, range (temporal.wgsl): the source at the froxel's centre too, and its sum
+    // over channels — deterministic, so a change in it is a change in the lighting, not the jitter.
+    if (TEMPORAL && HISTORY >= 2u) {
         var c = froxel_source(id, vec3<f32>(0.5));
         if (!FIRST) {
-            c += centre[i].rgb;
+            c += centre.at[i].rgb;
         }
-        centre[i] = vec4<f32>(c, c.r + c.g + c.b);
+        centre.at[i] = vec4<f32>(c, c.r + c.g + c.b);
     }
+}
+
+// History revisit (temporal.wgsl) with a moved camera: light LIGHT's source at the centre of
+// froxel id of the previous frame's grid, where its history was sampled, summed over channels;
+// else 0.
+fn revisited(id: vec3<u32>) -> f32 {
+    if (!TEMPORAL || HISTORY != 4u || froxel.moved == 0u) {
+        return 0.0;
+    }
+    view = previous_camera();
+    let r = froxel_source(id, vec3<f32>(0.5));
+    view = camera;
+    return r.r + r.g + r.b;
 }
 
 // Whether `integrate` reads the temporally accumulated source (temporal.wgsl) or this frame's.
 override TEMPORAL: bool = false;
 
 fn injected(i: u32) -> vec3<f32> {
+    if (TEMPORAL && HISTORY >= 2u) {
+        // History reject, range, revisit: the centre sample plus the accumulated residual (the
+        // residual, reprojected from a neighbouring point, may exceed a dark centre: no source is
+        // negative).
+        return max(centre.at[i].rgb + accumulated[i].rgb, vec3<f32>(0.0));
+    }
     if (TEMPORAL) {
         return accumulated[i].rgb;
     }
@@ -226,6 +252,7 @@ fn injected(i: u32) -> vec3<f32> {
 
 @compute @workgroup_size(8, 8, 1)
 fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
+    view = camera;
     if (id.x >= froxel.grid_x || id.y >= froxel.grid_y) {
         return;
     }
