@@ -71,7 +71,7 @@ impl Planes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, opts: Options) -> Planes {
         let gpu = ctx.gpu;
         let scene = ctx.scene;
-        let casters = ShadowCasters::new(scene);
+        let casters = ShadowCasters::with_split(scene, opts.split);
         let tex =
             |label, format, usage| gpu.texture_2d(label, ctx.width, ctx.height, format, usage);
         let depth = tex(
