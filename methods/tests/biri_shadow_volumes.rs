@@ -233,9 +233,8 @@ fn per_pixel_lists_cannot_overflow() {
 /// (`silhouettes = whole-mesh`), both against the reference, on `fence-spot` itself (the spot,
 /// the floor, the 9-post fence) at 64²: the fence's 13 bars are closed pieces, so far fewer
 /// crossings are stored (measured: see the eprintln), and the in-scatter is as exact as the
-/// per-triangle volumes' (measured rel RMSE 5.33e-4 both, pools 39 k vs 290 k crossings; bound: 1e-3 and
-/// within 10 % + 1e-5 of the per-triangle error). A silhouette of the wrong orientation, a lost
-/// piece or a bar counted twice shows as a shaft error of 1e-2 or more.
+/// per-triangle volumes' (measured rel RMSE 5.33e-4 both, pools 39 k vs 290 k crossings;
+/// bound: 1e-3 and within 10 % + 1e-5 of the per-triangle error).
 #[test]
 fn per_piece_silhouettes_match_per_triangle_volumes() {
     let Some(gpu) = gpu() else { return };

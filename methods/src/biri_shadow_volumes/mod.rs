@@ -20,7 +20,9 @@
 //! so correct with the camera in a shadow) removes the light where the count is not zero
 //! (`common::stencil_surfaces`; knob `surface_shadows = shadow-map` uses shadow maps instead). Shadow planes
 //! (`planes.rs`): silhouettes from `common::silhouette` (recomputed only when a light or caster
-//! moved; open or non-manifold casters fall back to per-triangle planes, counted in
+//! moved), one per closed piece of a caster (knob `silhouettes`, default `per-piece`: a union of
+//! touching closed solids such as the fence casts one volume per solid; `whole-mesh` keeps the
+//! former rule); open or non-manifold pieces fall back to per-triangle planes, counted in
 //! `nonmanifold_casters` and recorded as a skipped "silhouette of <name>"), extruded past the far
 //! plane. Two resolves (knob `resolve`):
 //! - `per-pixel` (default, modern): per light, every plane fragment in front of the visible
