@@ -1,7 +1,8 @@
 //! The crossing lists' per-pixel sort (`common/wgsl/crossing_lists.wgsl`, `crossing_sorted`) on
 //! the GPU against a stable sort by |distance| on the CPU: lists of every length class — empty,
-//! one, short, the private merge sort's cap and past it (the pool's insertion-sort fallback) —
-//! with ties of |distance| and both signs, so both paths must order exactly as the walk expects.
+//! one, short, the private merge sort's cap and past it (the pool's insertion-sort fallback),
+//! and nearly sorted lists under the cap (insertion sort too) — with ties of |distance| and both
+//! signs, so every path must order exactly as the walk expects.
 
 use harness::testing::gpu_or_skip;
 use methods::common::crossing_lists::WGSL as CROSSING_LISTS;
@@ -56,15 +57,26 @@ fn crossing_lists_sort_stably_by_distance_on_both_paths() {
     let lengths = [
         0, 1, 2, 3, 5, 16, 17, 64, 100, 163, 255, 256, 257, 300, 7, 128,
     ];
-    let input = lists(&lengths);
+    let mut input = lists(&lengths);
+    // Nearly sorted lists (0, 1 and 2 descents, under the cap: the insertion-sort path), as
+    // planes drawn near to far leave them.
+    for (n, descents) in [(20, 0), (23, 1), (40, 2)] {
+        let mut v = lists(&[n]).remove(0);
+        v.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
+        v.dedup_by(|a, b| a.abs() == b.abs());
+        for d in 0..descents {
+            v.swap(3 + 9 * d, 4 + 9 * d);
+        }
+        input.push(v);
+    }
     let mut offsets = vec![0u32];
     for l in &input {
         offsets.push(offsets.last().unwrap() + l.len() as u32);
     }
     let pool: Vec<f32> = input.concat();
-    let counts: Vec<u32> = lengths.iter().map(|&n| n as u32).collect();
+    let counts: Vec<u32> = input.iter().map(|l| l.len() as u32).collect();
     // CrossingCfg: list 0, width = the lists, height 1, one list per "pixel".
-    let cfg: [u32; 8] = [0, lengths.len() as u32, 1, 1, 0, 0, 0, 0];
+    let cfg: [u32; 8] = [0, input.len() as u32, 1, 1, 0, 0, 0, 0];
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
     let buffers = [
         gpu.buffer_init(

@@ -20,7 +20,9 @@
 //! so correct with the camera in a shadow) removes the light where the count is not zero
 //! (`common::stencil_surfaces`; knob `surface_shadows = shadow-map` uses shadow maps instead). Shadow planes
 //! (`planes.rs`): silhouettes from `common::silhouette` (recomputed only when a light or caster
-//! moved; open or non-manifold casters fall back to per-triangle planes, counted in
+//! moved), one per closed piece of a caster (knob `silhouettes`, default `per-piece`: a union of
+//! touching closed solids such as the fence casts one volume per solid; `whole-mesh` keeps the
+//! former rule); open or non-manifold pieces fall back to per-triangle planes, counted in
 //! `nonmanifold_casters` and recorded as a skipped "silhouette of <name>"), extruded past the far
 //! plane. Two resolves (knob `resolve`):
 //! - `per-pixel` (default, modern): per light, every plane fragment in front of the visible
@@ -84,6 +86,7 @@ use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
+use crate::common::shadow_planes::Split;
 use crate::common::stencil::DEPTH_STENCIL;
 use crate::common::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::LightMask;
@@ -180,6 +183,9 @@ impl Method for BiriShadowVolumes {
                 .unit("panels")
                 .meaning("spot lights (modernised): two-node Gauss-Legendre panels of each lit interval's quadrature, in the angle seen from the light, over the stretch inside the cone"),
             knobs::pattern_res(512),
+            Knob::choice("silhouettes", "per-piece", &["per-piece", "whole-mesh"])
+                .sweep(["whole-mesh"])
+                .meaning("per-piece: every closed piece of a caster (a union of touching closed solids such as the fence's bars comes apart into them) casts its silhouette volume, open pieces per-triangle volumes; whole-mesh: a caster that is not a closed 2-manifold as a whole casts per-triangle volumes (3 planes per triangle)"),
         ]
     }
 
@@ -278,6 +284,10 @@ impl State {
             rules: p.knob("stencil_rules")?,
             unorm8,
             spot_panels: p.knob("spot_panels")?,
+            split: match p.knob::<String>("silhouettes")?.as_str() {
+                "whole-mesh" => Split::WholeMesh,
+                _ => Split::Components,
+            },
         };
         let planes = planes::Planes::new(ctx, &renderer, options);
         let want_iss: bool = p.knob("indirect")?;

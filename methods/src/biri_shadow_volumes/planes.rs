@@ -71,7 +71,7 @@ impl Planes {
     pub fn new(ctx: &PrepareContext, renderer: &SceneRenderer, opts: Options) -> Planes {
         let gpu = ctx.gpu;
         let scene = ctx.scene;
-        let casters = ShadowCasters::new(scene);
+        let casters = ShadowCasters::with_split(scene, opts.split);
         let tex =
             |label, format, usage| gpu.texture_2d(label, ctx.width, ctx.height, format, usage);
         let depth = tex(
@@ -154,9 +154,15 @@ impl Planes {
     pub fn update(&mut self, gpu: &Gpu, frame: &FrameState, report: &mut FrameReport) -> LightMask {
         let eye = frame.camera.position;
         let far = frame.camera.far;
+        // The stencil rules need back to front (step 4); the per-pixel lists come out nearly
+        // sorted when the planes are drawn near to far (`crossing_sorted`).
+        let order = match self.opts.resolve {
+            Resolve::Stencil => Order::BackToFront,
+            Resolve::PerPixel => Order::FrontToBack,
+        };
         let planes = self.casters.planes(
             frame,
-            Order::BackToFront,
+            order,
             |l| 2.0 * (far + (l.position().unwrap_or(eye) - eye).length()) + 1.0,
             report,
         );

@@ -2,6 +2,8 @@
 //! stencil pipelines of `stencil_pipes.rs`): the resolve's options, each light's range of
 //! planes, and the per-light uniform slot. A leaf: it imports none of them.
 
+use crate::common::shadow_planes::Split;
+
 /// How the plane crossings become in-scatter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Resolve {
@@ -11,9 +13,13 @@ pub enum Resolve {
     PerPixel,
 }
 
-/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`).
+/// The shadow-plane options (knobs `resolve`, `stencil_rules`, `accumulate`, `silhouettes`).
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
+    /// Knob `silhouettes`: closed pieces of a caster cast silhouette volumes
+    /// (`Split::Components`), or a caster that is not closed as a whole falls back to
+    /// per-triangle volumes (`Split::WholeMesh`).
+    pub split: Split,
     pub resolve: Resolve,
     /// Step 5's stencil rules (stencil resolve only).
     pub rules: bool,

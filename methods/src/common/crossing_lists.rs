@@ -12,19 +12,21 @@
 //!    always holds every crossing of this frame;
 //! 4. gather: the method draws the same planes with the same pipeline state calling
 //!    `crossing_append` into the harness's encoder;
-//! 5. walk: `crossing_sorted` sorts one list by distance (a merge sort in private memory up
-//!    to 256 crossings, an insertion sort in the pool beyond; tests/crossing_sort.rs), `crossing_walk`
-//!    (`wgsl/crossing_passes.wgsl`) walks it from the eye's shadow count and sums the method's
-//!    `crossing_lit(px, a, b)` over the lit intervals.
+//! 5. walk: `crossing_sorted` sorts one list by distance (an insertion sort where the list has
+//!    at most 2 descents — nearly sorted, as planes drawn near to far leave it — else a merge
+//!    sort in private memory up to 256 crossings, an insertion sort in the pool beyond;
+//!    tests/crossing_sort.rs), `crossing_walk` (`wgsl/crossing_passes.wgsl`) walks it from the
+//!    eye's shadow count, writing where the lit state toggles, and sums the method's
+//!    `crossing_lit(px, a, b)` over the lit intervals in a second loop.
 //!
 //! Why a sync rather than "grow and redraw" from the last frame's size: a frame is then never
 //! wrong (the first frame, a camera cut, a new caster), at the cost of one submit-and-wait per
 //! frame (the scene depth and the count passes run before the rest of the frame is encoded).
 //! Cost: per frame 2 × planes rasterised (count + gather), 8 bytes per pixel and light for
-//! counts and offsets, 4 bytes per crossing; the sort is an insertion sort, n − 1 + inversions
-//! (≤ n²/2) steps per list of n. The walk calls the method's `crossing_lit` once per lit
-//! interval, but lavapipe runs a branch for a group of pixels whenever one of them takes it, so
-//! in practice about once per crossing of the group's longest list.
+//! counts and offsets, 4 bytes per crossing; the sort n − 1 + inversions steps per nearly
+//! sorted list of n, n·⌈log₂ n⌉ otherwise. The walk calls the method's `crossing_lit` once per
+//! lit interval of the SIMD group's busiest pixel (lavapipe runs a branch for a group of pixels
+//! whenever one of them takes it, hence the separate loop over the intervals).
 //!
 //! Counters: `max_crossings` (longest list, this frame), `crossing_pool` (crossings stored, this
 //! frame), `crossing_count_ms` (the submit-and-wait: GPU work outside the harness's timestamps),

@@ -2,6 +2,10 @@
 //! silhouette shadow planes): the casters' edge meshes, their silhouettes per light (recomputed
 //! only when a light or a caster moved), the quads extruded from them in eye-distance order, and
 //! the number of shadow volumes that contain the eye (the seed of a z-pass stencil count).
+//!
+//! Each caster is split into its closed pieces first (`EdgeMesh::components`, `Split`): a union
+//! of touching closed solids casts one silhouette volume per solid instead of three planes per
+//! triangle.
 
 use std::time::Instant;
 
@@ -20,6 +24,18 @@ pub enum Order {
     FrontToBack,
 }
 
+/// How casters become shadow volumes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Split {
+    /// Each closed piece of a caster (`EdgeMesh::components`) casts its silhouette volume; only
+    /// open or non-manifold pieces fall back to per-triangle volumes.
+    #[default]
+    Components,
+    /// A caster that is not a closed 2-manifold as a whole falls back to per-triangle volumes
+    /// entirely (the former behaviour; kept to compare against).
+    WholeMesh,
+}
+
 /// One light's shadow planes.
 #[derive(Clone, Debug, Default)]
 pub struct LightPlanes {
@@ -31,12 +47,14 @@ pub struct LightPlanes {
 
 /// The scene's volumetric-shadow casters, with silhouettes cached per light.
 pub struct ShadowCasters {
-    /// (object index, its edge mesh in local space).
+    /// (object index, one piece of its edge mesh in local space): several per object when it
+    /// splits into closed pieces (`Split::Components`).
     casters: Vec<(usize, EdgeMesh)>,
-    /// Per caster: whether it is a closed 2-manifold (silhouette planes), else per-triangle
-    /// planes, with the object's name for the recorded warning.
+    /// Per piece: whether it is a closed 2-manifold (silhouette planes), else per-triangle
+    /// planes.
     closed: Vec<bool>,
-    names: Vec<String>,
+    /// Names of the objects with an open or non-manifold piece, for the recorded warning.
+    open_names: Vec<String>,
     /// Light positions/directions and caster transforms the silhouettes were built for.
     built_for: Option<(Vec<LightPos>, Vec<Mat4>)>,
     silhouettes: Vec<Vec<[Vec3; 2]>>,
@@ -52,39 +70,58 @@ pub fn light_pos(light: &LightState) -> LightPos {
 }
 
 impl ShadowCasters {
-    /// Every object with `casts_volumetric_shadow`.
+    /// Every object with `casts_volumetric_shadow`, split into closed pieces.
     pub fn new(scene: &Scene) -> ShadowCasters {
+        ShadowCasters::with_split(scene, Split::Components)
+    }
+
+    /// Every object with `casts_volumetric_shadow`, split as `split` says.
+    pub fn with_split(scene: &Scene, split: Split) -> ShadowCasters {
         let casters: Vec<(usize, EdgeMesh)> = scene
             .desc
             .objects
             .iter()
             .enumerate()
             .filter(|(_, o)| o.casts_volumetric_shadow)
-            .map(|(k, _)| (k, EdgeMesh::new(&scene.meshes[k])))
+            .flat_map(|(k, _)| {
+                let mesh = EdgeMesh::new(&scene.meshes[k]);
+                let pieces = match split {
+                    Split::Components => mesh.components(),
+                    Split::WholeMesh => vec![mesh],
+                };
+                pieces.into_iter().map(move |m| (k, m))
+            })
             .collect();
+        let closed: Vec<bool> = casters
+            .iter()
+            .map(|(_, m)| m.is_closed_manifold())
+            .collect();
+        let mut open_names: Vec<String> = Vec::new();
+        for ((k, _), _) in casters.iter().zip(&closed).filter(|(_, c)| !**c) {
+            let name = &scene.desc.objects[*k].name;
+            if !open_names.contains(name) {
+                open_names.push(name.clone());
+            }
+        }
         ShadowCasters {
-            closed: casters
-                .iter()
-                .map(|(_, m)| m.is_closed_manifold())
-                .collect(),
-            names: casters
-                .iter()
-                .map(|(k, _)| scene.desc.objects[*k].name.clone())
-                .collect(),
+            closed,
+            open_names,
             casters,
             built_for: None,
             silhouettes: Vec::new(),
         }
     }
 
+    /// (object index, piece) of every caster piece.
     pub fn casters(&self) -> &[(usize, EdgeMesh)] {
         &self.casters
     }
 
     /// Silhouettes (cached), extrusion `reach` metres past each edge, ordering, eye counts.
     /// Counters: `silhouettes_recomputed`, `silhouette_ms`, `sort_ms`, `silhouette_edges`,
-    /// `nonmanifold_casters` (open or non-manifold casters, whose every triangle casts its own
-    /// planes instead; each is also recorded as a skipped "silhouette of <name>").
+    /// `nonmanifold_casters` (objects with an open or non-manifold piece, whose every triangle
+    /// casts its own planes instead; each is also recorded as a skipped "silhouette of <name>"),
+    /// `closed_pieces` (caster pieces casting silhouette volumes).
     pub fn planes(
         &mut self,
         frame: &FrameState,
@@ -123,12 +160,13 @@ impl ShadowCasters {
             self.built_for = Some(key);
         }
         report.count("silhouettes_recomputed", moved as u32 as f64);
-        let open = self.closed.iter().filter(|c| !**c).count();
-        report.count("nonmanifold_casters", open as f64);
-        for (name, _) in self.names.iter().zip(&self.closed).filter(|(_, c)| !**c) {
+        report.count("nonmanifold_casters", self.open_names.len() as f64);
+        let closed = self.closed.iter().filter(|c| **c).count();
+        report.count("closed_pieces", closed as f64);
+        for name in &self.open_names {
             report.skip(
                 &format!("silhouette of {name}"),
-                "open or non-manifold mesh: per-triangle shadow planes instead",
+                "open or non-manifold piece: per-triangle shadow planes for it instead",
             );
         }
         report.count("silhouette_ms", t0.elapsed().as_secs_f64() * 1e3);

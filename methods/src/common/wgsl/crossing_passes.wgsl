@@ -22,26 +22,46 @@ fn fs_crossing_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
 
 // Pass 4: the sum of `crossing_lit(px, a, b)` over the lit intervals of the ray through pixel px
 // from the eye to distance `end` (the visible surface), walking its sorted crossings from the
-// eye's shadow count (crossing_cfg.eye_count). Count ≤ 0 is lit (a negative count only comes from a plane the rasteriser
-// lost, and is treated as lit rather than trusted).
+// eye's shadow count (crossing_cfg.eye_count). Count ≤ 0 is lit (a negative count only comes
+// from a plane the rasteriser lost, and is treated as lit rather than trusted).
+// Two loops, so that `crossing_lit` runs once per lit interval of the group's busiest pixel: a
+// SIMD rasteriser (lavapipe) runs a branch for a group of pixels whenever one of them takes it,
+// so calling it from inside the crossing loop cost one call per crossing of the group's longest
+// list. The first loop writes the distances where the lit state toggles over the sorted list
+// (in place: one write per crossing read at most), the second pairs them up.
 fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
     let list = crossing_sorted(px);
     var count = i32(crossing_cfg.eye_count);
-    var start = 0.0;
-    var sum = vec3<f32>(0.0);
+    var toggles = 0u;
     for (var a = 0u; a < list.y; a++) {
         let x = crossing_pool[list.x + a];
-        let d = min(abs(x), end);
         let lit = count <= 0;
         count += select(-1, 1, x > 0.0);
-        if (lit && count > 0) {
-            sum += crossing_lit(px, start, d);
-        } else if (!lit && count <= 0) {
-            start = d;
+        if (lit != (count <= 0)) {
+            crossing_pool[list.x + toggles] = min(abs(x), end);
+            toggles += 1u;
         }
     }
-    if (count <= 0) {
-        sum += crossing_lit(px, start, end);
+    // Bounds of the lit intervals: [0 if the eye is lit] ++ toggles ++ [end if the ray ends lit],
+    // an even count, taken in pairs.
+    let eye_lit = select(0u, 1u, crossing_cfg.eye_count == 0u);
+    let bounds = eye_lit + toggles + select(0u, 1u, count <= 0);
+    var sum = vec3<f32>(0.0);
+    for (var j = 0u; j + 1u < bounds; j += 2u) {
+        let a = crossing_bound(list.x, j, eye_lit, toggles, end);
+        let b = crossing_bound(list.x, j + 1u, eye_lit, toggles, end);
+        sum += crossing_lit(px, a, b);
     }
     return sum;
+}
+
+// Bound j of `crossing_walk`'s lit intervals: 0 (the eye, when lit), a toggle, or `end`.
+fn crossing_bound(base: u32, j: u32, eye_lit: u32, toggles: u32, end: f32) -> f32 {
+    if (j < eye_lit) {
+        return 0.0;
+    }
+    if (j - eye_lit < toggles) {
+        return crossing_pool[base + j - eye_lit];
+    }
+    return end;
 }
