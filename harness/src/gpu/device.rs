@@ -75,7 +75,10 @@ impl Gpu {
             | wgpu::Features::PIPELINE_STATISTICS_QUERY
             // Shadow planes between the eye and the near plane are rasterised (depth clamped)
             // instead of clipped, so z-pass counts from the eye stay exact (Everitt & Kilgard).
-            | wgpu::Features::DEPTH_CLIP_CONTROL;
+            | wgpu::Features::DEPTH_CLIP_CONTROL
+            // Per-pixel crossing lists count and store only the plane fragments in front of the
+            // visible surface (methods' common::crossing_lists::passes_wgsl).
+            | wgpu::Features::SHADER_EARLY_DEPTH_TEST;
         let features = adapter.features() & optional;
         let supported = adapter.limits();
         let limits = wgpu::Limits {

@@ -261,13 +261,18 @@ impl Method for BiriPolynomial {
         [
             ShaderCheck::combinations(
                 "biri-polynomial/passes",
-                &passes_source(),
+                &passes_source(false),
                 &[
                     ("ORDER", &orders),
                     ("FIT", flags),
                     ("ANY_SPOT", flags),
                     ("ALL_SPOT", flags),
                 ],
+            ),
+            ShaderCheck::combinations(
+                "biri-polynomial/passes (early depth test)",
+                &passes_source(true),
+                &[],
             ),
             ShaderCheck::combinations("biri-polynomial/resolve", &resolve_source(), &[]),
         ]

@@ -106,7 +106,12 @@ impl Passes {
             bytemuck::cast_slice(&spots.data),
             wgpu::BufferUsages::STORAGE,
         );
-        let module = wgsl::module(&gpu.device, "biri-poly passes", &passes_source());
+        let early_depth_test = crate::common::crossing_lists::early_depth_test(&gpu.device);
+        let module = wgsl::module(
+            &gpu.device,
+            "biri-poly passes",
+            &passes_source(early_depth_test),
+        );
         let is_spot: Vec<bool> = match cfg.eval {
             Eval::Vertex => vec![],
             Eval::Fragment => spots.slots.iter().map(|s| s.1[1] > 0.5).collect(),

@@ -9,8 +9,9 @@ use crate::common::{crossing_lists, resolve, wgsl};
 pub const KERNEL_WGSL: &str = include_str!("kernel.wgsl");
 pub const RESOLVE_WGSL: &str = include_str!("resolve.wgsl");
 
-/// The composed WGSL of the surface and shadow-plane passes.
-pub fn passes_source() -> String {
+/// The composed WGSL of the surface and shadow-plane passes; `early_depth_test`: see
+/// [`crossing_lists::passes_wgsl`].
+pub fn passes_source(early_depth_test: bool) -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN, wgsl::LIGHT_SEGMENTS]].concat(),
         &format!(
@@ -21,7 +22,7 @@ pub fn passes_source() -> String {
             include_str!("spot.wgsl"),
             include_str!("spot_rays.wgsl"),
             crossing_lists::WGSL,
-            crossing_lists::PASSES_WGSL,
+            crossing_lists::passes_wgsl(early_depth_test),
             include_str!("pixel.wgsl")
         ),
     )

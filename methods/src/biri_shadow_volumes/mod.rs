@@ -105,9 +105,9 @@ pub fn resolve_source() -> String {
     resolve::source(&resolve_wgsl())
 }
 
-/// The composed WGSL of the shadow-plane passes.
+/// The composed WGSL of the shadow-plane passes (as on a device without the early depth test).
 pub fn planes_source() -> String {
-    planes::source()
+    planes::source(false)
 }
 
 /// `config` in resolve.wgsl, field for field.
@@ -213,6 +213,11 @@ impl Method for BiriShadowVolumes {
         [
             ShaderCheck::combinations("biri-shadow-volumes/ldss", &resolve_source(), &[]),
             ShaderCheck::combinations("biri-shadow-volumes/planes", &planes_source(), &[]),
+            ShaderCheck::combinations(
+                "biri-shadow-volumes/planes (early depth test)",
+                &planes::source(true),
+                &[],
+            ),
             ShaderCheck::combinations("biri-shadow-volumes/indirect", &indirect::source(), &[]),
         ]
         .concat()

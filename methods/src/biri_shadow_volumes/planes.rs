@@ -31,8 +31,9 @@ pub const VOLUMES: &str = "second_pass_volumes";
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
 
-/// The composed WGSL of the plane passes (stencil and per-pixel).
-pub fn source() -> String {
+/// The composed WGSL of the plane passes (stencil and per-pixel); `early_depth_test`: see
+/// [`crossing_lists::passes_wgsl`].
+pub fn source(early_depth_test: bool) -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
@@ -40,7 +41,7 @@ pub fn source() -> String {
             wgsl::LDSS,
             crate::common::stencil::PLANE_WGSL,
             crossing_lists::WGSL,
-            crossing_lists::PASSES_WGSL
+            crossing_lists::passes_wgsl(early_depth_test)
         ),
     )
 }
@@ -110,7 +111,11 @@ impl Planes {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let module = wgsl::module(&gpu.device, "biri planes", &source());
+        let module = wgsl::module(
+            &gpu.device,
+            "biri planes",
+            &source(crossing_lists::early_depth_test(&gpu.device)),
+        );
         let builder = PipelineBuilder::new(
             &gpu.device,
             "biri planes",

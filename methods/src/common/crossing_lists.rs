@@ -42,8 +42,33 @@ use super::pipeline::ComputeStage;
 /// The shared WGSL: bindings, count, append, scan, sort.
 pub const WGSL: &str = include_str!("wgsl/crossing_lists.wgsl");
 /// The count and gather fragment entries and the walk (after PRELUDE and [`WGSL`]); the
-/// including module supplies `crossing_lit(px, a, b) -> vec3<f32>`.
-pub const PASSES_WGSL: &str = include_str!("wgsl/crossing_passes.wgsl");
+/// including module supplies `crossing_lit(px, a, b) -> vec3<f32>`. Compose it through
+/// [`passes_wgsl`].
+const PASSES_WGSL: &str = include_str!("wgsl/crossing_passes.wgsl");
+/// Where the count and gather entries take the early depth test.
+const EARLY_DEPTH_MARK: &str = "/* early depth test */";
+
+/// [`PASSES_WGSL`], with the count and gather fragment entries' depth test forced before the
+/// shader where `early_depth_test` (the device has `Features::SHADER_EARLY_DEPTH_TEST`; see
+/// [`early_depth_test`]). A fragment shader with side effects (the counts' atomics, the
+/// gathered crossings) otherwise runs for the plane fragments behind the visible surface too,
+/// and lavapipe does run it: on fence-spot at 256², 0.17 M of 0.62 M crossings, counted,
+/// stored and sorted though the walk stops at the surface (−20 % GPU time, same image).
+pub fn passes_wgsl(early_depth_test: bool) -> String {
+    let attribute = if early_depth_test {
+        "@early_depth_test(force)"
+    } else {
+        ""
+    };
+    PASSES_WGSL.replace(EARLY_DEPTH_MARK, attribute)
+}
+
+/// Whether `device` forces fragment tests early (for [`passes_wgsl`]).
+pub fn early_depth_test(device: &wgpu::Device) -> bool {
+    device
+        .features()
+        .contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
+}
 /// The bind group index the WGSL uses.
 pub const GROUP: u32 = 2;
 /// Uniform slot stride (wgpu's guaranteed minimum dynamic-offset alignment).

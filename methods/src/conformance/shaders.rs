@@ -27,7 +27,9 @@ fn validate(check: &ShaderCheck, scenes: &[Vec<(&'static str, f64)>]) -> Result<
         naga::front::wgsl::parse_str(&check.source).map_err(|e| e.emit_to_string(&check.source))?;
     let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
+        // The early depth test of the crossing lists' fragment entries (wgpu grants it with
+        // `Features::SHADER_EARLY_DEPTH_TEST`, which the harness requests).
+        naga::valid::Capabilities::default() | naga::valid::Capabilities::EARLY_DEPTH_TEST,
     )
     .validate(&module)
     .map_err(|e| format!("{e:?}"))?;

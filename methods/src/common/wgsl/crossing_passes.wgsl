@@ -6,15 +6,16 @@
 // so each method keeps its own per-interval integral (biri-shadow-volumes: eq. 7 between two
 // distances; biri-polynomial: Γ(b) − Γ(a)).
 
-// Pass 1: one count per plane fragment in front of the visible surface.
-@fragment
+// Pass 1: one count per plane fragment in front of the visible surface. (The marker after
+// @fragment becomes @early_depth_test(force) where the device has it: `passes_wgsl`.)
+@fragment /* early depth test */
 fn fs_crossing_count(v: PlaneFrag) {
     crossing_count_fragment(vec2<u32>(v.clip.xy));
 }
 
 // Pass 3: the fragment's distance along the view ray, + front-facing (entering a shadow volume),
 // − back-facing (leaving one).
-@fragment
+@fragment /* early depth test */
 fn fs_crossing_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
     let d = plane_distance(v);
     crossing_append(vec2<u32>(v.clip.xy), select(-d, d, front));
