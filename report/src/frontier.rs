@@ -11,7 +11,7 @@ use std::fmt::Write;
 
 use harness::results::Results;
 
-use crate::analysis::{BUDGETS, scene_names};
+use crate::analysis::{BUDGETS, ordered, scene_names};
 use crate::format::rel;
 use crate::metric::Metric;
 use crate::verdict::{self, BudgetWinner, VerdictRow, pct};
@@ -34,12 +34,8 @@ struct Column<'a> {
 /// The table for `after` (and `before`, shown to its left when given) over the union of both
 /// runs' scenes, `after`'s order first.
 pub fn markdown(after: &Results, before: Option<&Results>) -> String {
-    let mut scenes = scene_names(after);
-    for s in before.map(scene_names).unwrap_or_default() {
-        if !scenes.contains(&s) {
-            scenes.push(s);
-        }
-    }
+    let later = before.map(scene_names).unwrap_or_default();
+    let scenes = ordered(scene_names(after).iter().chain(&later).map(String::as_str));
     let columns: Vec<Column> = before
         .map(|b| ("before", b))
         .into_iter()

@@ -38,6 +38,15 @@ pub struct Buffers<'a> {
 
 /// The knob `history`'s values, in the order of their codes (HISTORY in temporal.wgsl).
 pub const HISTORY_MODES: [&str; 5] = ["none", "clamp", "reject", "range", "revisit"];
+/// The first code of the rejecting modes (reject, range, revisit): they inject each froxel's
+/// centre too and count what they drop (temporal.wgsl `HISTORY >= 2u`).
+pub const FIRST_REJECTING: u32 = 2;
+
+/// The code of the knob `history`'s value `mode` (the knob's choices are validated against
+/// [`HISTORY_MODES`] before prepare).
+pub fn history_code(mode: &str) -> u32 {
+    HISTORY_MODES.iter().position(|m| *m == mode).unwrap_or(0) as u32
+}
 
 /// The volume pipelines' modes (pipeline constants).
 #[derive(Clone, Copy)]

@@ -11,7 +11,7 @@ use scenes::FrameState;
 
 use super::grid::{FroxelUniform, Temporal};
 use super::particle_passes::{Grid, MediumBuffers, ParticlePasses, Shared, grid_values};
-use super::passes::{Buffers, Dims, HISTORY_MODES, Modes, VolumePasses};
+use super::passes::{self, Buffers, Dims, Modes, VolumePasses};
 use super::reach;
 use super::shaders::apply_wgsl;
 use crate::common::counters::CounterReadback;
@@ -128,10 +128,10 @@ impl State {
         let volume_view = volume.create_view(&Default::default());
         let bytes = 16 * grid.froxels();
         let history_bytes = if temporal > 0 { bytes } else { 16 };
-        let history: String = p.knob("history")?;
+        let history = passes::history_code(&p.knob::<String>("history")?);
         // History reject, range and revisit also inject every froxel's centre (temporal.wgsl),
         // after 16 bytes of the temporal pass's counts.
-        let rejecting = temporal > 0 && ["reject", "range", "revisit"].contains(&&*history);
+        let rejecting = temporal > 0 && history >= passes::FIRST_REJECTING;
         let centre_bytes = if rejecting { 16 + bytes } else { 32 };
         let none = wgpu::BufferUsages::empty();
         // Cleared when no light is injected (passes.rs).
@@ -186,11 +186,7 @@ impl State {
         let falloff: String = p.knob("falloff")?;
         let modes = Modes {
             temporal: temporal > 0,
-            // The knob's choices are validated against HISTORY_MODES before prepare.
-            history: HISTORY_MODES
-                .iter()
-                .position(|m| *m == history)
-                .unwrap_or(0) as u32,
+            history,
             reject_change: p.knob("reject_change")?,
             slice_falloff: falloff != "point",
             slice_quadrature: falloff == "quadrature",
