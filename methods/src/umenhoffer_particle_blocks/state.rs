@@ -11,10 +11,11 @@ use scenes::Particles;
 use scenes::particles::Particle;
 use scenes::{FrameState, LightState};
 
+use super::accuracy::{self, Accuracy};
 use super::blocks::{self, Instancing};
 use super::passes::{self, Modes, Passes, PbUniform, Sizes};
 use super::primitives::{BlockSet, Prim, Tile, TileView, tile_frames};
-use super::{accuracy, camera_bins, dominant, held, light_maps};
+use super::{camera_bins, dominant, held, light_maps};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_maps::ShadowSettings;
 
@@ -35,11 +36,8 @@ pub struct State {
     near_light: f32,
     /// Each block's own particles (None: the splat, or clusters that did not match).
     members: held::Members,
-    slices: u32,
-    /// The eye's own slices attenuate the gathering (knob `eye_slices`, resolved).
-    eye_slices: bool,
-    /// Quadrature nodes per interval in the gathering (knob `chord_steps`, resolved).
-    chord_steps: u32,
+    /// The knobs `slices`, `chord_steps` and `eye_slices`, `auto` resolved (accuracy.rs).
+    accuracy: Accuracy,
     /// Camera impostor bins per side (knob `camera_bins`; 1: one camera tile, the paper, and
     /// always for clusters and the splat): the prototype's camera tiles are 1 .. 1 + g².
     camera_grid: usize,
@@ -145,9 +143,7 @@ impl State {
                 Some(_) => p.knob::<f64>("near_light")? as f32,
                 None => 0.0,
             },
-            slices,
-            eye_slices: accuracy.eye_slices,
-            chord_steps: accuracy.chord_steps,
+            accuracy,
             camera_grid,
             sky: particles.sky,
             background_scatters: particles.background.sigma_s.max_element() > 0.0,
@@ -232,7 +228,7 @@ impl State {
         let tan_y = (cam.fov_y_deg.to_radians() * 0.5).tan();
         let tan = tan_y * (1.0 + aspect * aspect).sqrt() * 1.02;
         let axis = cam.forward().as_vec3();
-        light_maps::eye_view(cam.position, axis, tan, gather, self.slices)
+        light_maps::eye_view(cam.position, axis, tan, gather, self.accuracy.slices)
     }
 
     /// With camera bins: each gathered block's camera tile (its bin's) and the set's tiles with
@@ -367,7 +363,11 @@ impl State {
             report.count("impostor_splats", (groups * self.set.imp.len()) as f64);
         }
         phases::mark(&mut self.timer, enc, "light");
-        let eye = if self.eye_slices { gathered } else { 0 };
+        let eye = if self.accuracy.eye_slices {
+            gathered
+        } else {
+            0
+        };
         self.passes
             .encode_light(enc, &self.renderer, views, lengths, eye, dominant);
         if views.iter().any(|&n| n > 0) || dominant {
@@ -410,14 +410,21 @@ impl Prepared for State {
             .iter()
             .enumerate()
             .map(|(k, light)| {
-                light_maps::light_views(light, &mapped, self.set.centroid, self.slices, k, &mut u)
+                light_maps::light_views(
+                    light,
+                    &mapped,
+                    self.set.centroid,
+                    self.accuracy.slices,
+                    k,
+                    &mut u,
+                )
             })
             .collect();
         let mut u = self.frame_uniform(u, views.iter().any(|&n| n > 0) || !picked.is_empty());
         u.flags[3] = picked.len() as f32;
         u.dominant = dominant::rows(&gather, &picked);
         report.count("dominant_spheres", picked.len() as f64);
-        if self.eye_slices {
+        if self.accuracy.eye_slices {
             u.views[passes::FACES * views.len()] = self.eye_view(frame, &gather);
         }
         let binned = self.bin_camera_tiles(frame.camera.position, &mut gather);
@@ -426,9 +433,9 @@ impl Prepared for State {
         let lengths: Vec<usize> = light_lists.iter().map(Vec::len).collect();
         let lists = (&views[..], &lengths[..], gather.len(), !picked.is_empty());
         // The accuracy knobs as used (`auto` resolved, accuracy.rs).
-        report.count("eye_slices", self.eye_slices as u32 as f64);
-        report.count("slices", self.slices as f64);
-        report.count("chord_steps", self.chord_steps as f64);
+        report.count("eye_slices", self.accuracy.eye_slices as u32 as f64);
+        report.count("slices", self.accuracy.slices as f64);
+        report.count("chord_steps", self.accuracy.chord_steps as f64);
         self.encode_passes(gpu, enc, targets, lists, &mut report);
         report.count("blocks", self.set.prims.len() as f64);
         report.count("held_spheres", listed as f64 - plain as f64);
