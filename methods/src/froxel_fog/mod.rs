@@ -145,6 +145,10 @@ impl Method for FroxelFog {
             Knob::choice("jitter", "depth", &["depth", "cell"])
                 .sweep(["cell"])
                 .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
+            // No sweep: inert at the default temporal 0 (README: with temporal on).
+            Knob::choice("jitter_bound", "surface", &["surface", "slice"])
+                .sweep(Vec::<&str>::new())
+                .meaning("with temporal > 0, the depth range a froxel's jittered samples cover: its whole slice (slice, as Wronski, Hillaire and Unreal jitter), or only the slice's part in front of the nearest visible surface of its froxel column (surface: a surface inside the slice reads only that part, so light behind a thin wall no longer leaks into it; one pass over the pixels per frame)"),
             // No sweep: inert at the default temporal 0 (README: each mode with temporal on).
             Knob::choice("history", "range", &HISTORY_MODES)
                 .sweep(Vec::<&str>::new())
