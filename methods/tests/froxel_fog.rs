@@ -462,8 +462,8 @@ fn moving_headline(
 /// centred sample (`temporal` 0) on fence-spot, where accumulation helps most (the static test
 /// above), and drops little of it (the spot does not move). History `reject` compares each
 /// froxel's centre exactly, and the moving grid moves every centre: it drops every history the
-/// light reaches (issue 34's cause), and reads as off. Measured: off 0.1079, range 0.0994
-/// (dropped 0.011), revisit 0.0994 (0.000), reject 0.1077 (0.341).
+/// light reaches (issue 34's cause), and reads as off. Measured: off 0.1079, range 0.1008
+/// (dropped 0.011; 0.0994 with `jitter_bound` slice), reject 0.1077 (0.341).
 #[test]
 fn history_survives_a_moving_camera_with_range_rejection() {
     let Some(gpu) = gpu() else { return };
