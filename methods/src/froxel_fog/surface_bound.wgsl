@@ -48,7 +48,7 @@ fn nearest_surface(@builtin(global_invocation_id) id: vec3<u32>) {
             let dir = camera_ray_dir(camera, vec2<f32>(f32(px), f32(py)) + 0.5);
             let far_t = camera_far_distance(camera, dir);
             let d = camera_ray_length(camera, dir, textureLoad(surface_distance, vec2<i32>(px, py), 0).r);
-            let s = f32(froxel.slices) * pow(clamp(d / far_t, 0.0, 1.0), 1.0 / froxel.depth_exponent);
+            let s = slice_coordinate(froxel, d, far_t);
             nearest = min(nearest, s);
         }
     }
