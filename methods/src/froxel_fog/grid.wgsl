@@ -37,3 +37,9 @@ struct Froxel {
 fn tile_texel(g: Froxel, x: u32, y: u32, k: u32) -> vec2<u32> {
     return vec2<u32>(x + (k % g.tiles_x) * g.grid_x, y + (k / g.tiles_x) * g.grid_y);
 }
+
+// Continuous slice coordinate (slice k spans [k, k + 1)) of distance d along a ray whose far
+// plane lies at distance far_t: slice boundary k sits at far_t · (k / slices)^depth_exponent.
+fn slice_coordinate(g: Froxel, d: f32, far_t: f32) -> f32 {
+    return f32(g.slices) * pow(clamp(d / far_t, 0.0, 1.0), 1.0 / g.depth_exponent);
+}

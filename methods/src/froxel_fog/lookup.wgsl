@@ -23,7 +23,7 @@ fn column(x: i32, y: i32, f: f32) -> vec4<f32> {
 // The volume at distance d along the ray through framebuffer position frag (direction dir).
 fn volume_at(frag: vec2<f32>, dir: vec3<f32>, d: f32) -> vec4<f32> {
     let far_t = camera_far_distance(camera, dir);
-    let f = f32(froxel.slices) * pow(clamp(d / far_t, 0.0, 1.0), 1.0 / froxel.depth_exponent);
+    let f = slice_coordinate(froxel, d, far_t);
     let g = frag / froxel.pixel_size - 0.5;
     let g0 = floor(g);
     let w = g - g0;

@@ -53,7 +53,10 @@
 //! tests the reprojected centre against this frame's 3 × 3 × 3 centre range while the camera
 //! moves; revisit compares at one world point, re-evaluating the previous frame's froxel
 //! centres — it crashes lavapipe in prepare about 3 times in 10 on corridor-walk), the history holding only the jitter's residual over the centre sample, or
-//! Karis 2014's TAA clamp in 3-D (`clamp`; `none` is the engines' keep-everything); float32 volume; the scene's phase function; spot patterns; particles
+//! Karis 2014's TAA clamp in 3-D (`clamp`; `none` is the engines' keep-everything); the jitter
+//! in depth kept in front of the froxel column's nearest visible surface (`jitter_bound` =
+//! surface, the default; `slice` jitters over the whole slice as Wronski and Unreal), so light
+//! behind a thin wall does not leak into the wall's pixels more than one centred sample; float32 volume; the scene's phase function; spot patterns; particles
 //! voxelised by exact chords and a froxel with particles sampled at their mean depth.
 //! Limits: shafts thinner than a froxel are blurred across it, and light leaks across depth
 //! discontinuities within a froxel column (a surface reads the volume interpolated from its
@@ -64,8 +67,8 @@
 //! runs at 64²; reject and range 0 of 10), and evaluates
 //! the previous grid's froxels with this frame's particle density of the same index (particle
 //! media under a moving camera: a moved cloud reads as changed lighting, its history dropped);
-//! on corridor-walk the jittered samples themselves score worse than the centre sample, even
-//! with the camera still (README), so temporal accumulation does not pay there; particle media with
+//! with `jitter_bound` = slice the jittered samples leak light through thin walls more than the
+//! centre sample (corridor-walk, README); particle media with
 //! at most four lights (one extinction grid each: orthographic for the sun, a cone from a local
 //! light seeing the cloud within 80°, else — the light inside a particle or the cloud all around
 //! it — a cube of six 90° faces, six times the memory).
@@ -145,6 +148,10 @@ impl Method for FroxelFog {
             Knob::choice("jitter", "depth", &["depth", "cell"])
                 .sweep(["cell"])
                 .meaning("with temporal > 0, where the sample point moves from frame to frame (Halton 2, 3, 5, rotated per froxel): along its column's centre ray (depth) or over the whole froxel (cell, as Unreal)"),
+            // No sweep: inert at the default temporal 0 (README: with temporal on).
+            Knob::choice("jitter_bound", "surface", &["surface", "slice"])
+                .sweep(Vec::<&str>::new())
+                .meaning("with temporal > 0, the depth range a froxel's jittered samples cover: its whole slice (slice, as Wronski, Hillaire and Unreal jitter), or only the slice's part in front of the nearest visible surface of its froxel column (surface: a surface inside the slice reads only that part, so light behind a thin wall no longer leaks into it; one pass over the pixels per frame)"),
             // No sweep: inert at the default temporal 0 (README: each mode with temporal on).
             Knob::choice("history", "range", &HISTORY_MODES)
                 .sweep(Vec::<&str>::new())
@@ -220,6 +227,12 @@ impl Method for FroxelFog {
                 "froxel-fog/volume",
                 &volume_source(),
                 &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0, 3.0, 4.0])],
+            ),
+            // The jitter bounded in front of the nearest surface (jitter_bound = surface).
+            ShaderCheck::combinations(
+                "froxel-fog/volume",
+                &volume_source(),
+                &[("TEMPORAL", &[1.0]), ("SURFACE_BOUND", &[1.0])],
             ),
             ShaderCheck::combinations("froxel-fog/apply", &apply_source(), &[]),
             ShaderCheck::combinations("froxel-fog/particles", &particles_source(), &[]),

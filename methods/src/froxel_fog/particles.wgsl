@@ -35,7 +35,7 @@ fn chord(p: Particle, o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 
 // Slice coordinate of view distance t on a ray of far distance far_t.
 fn slice_of(t: f32, far_t: f32) -> f32 {
-    return f32(froxel.slices) * pow(clamp(t / far_t, 0.0, 1.0), 1.0 / froxel.depth_exponent);
+    return slice_coordinate(froxel, t, far_t);
 }
 
 // Distance of slice k's near boundary on a ray of far distance far_t.

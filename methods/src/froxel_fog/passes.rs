@@ -7,7 +7,7 @@ use harness::Gpu;
 use super::particle_passes::MediumBuffers;
 use super::shaders::volume_source;
 use crate::common::layouts::{
-    buffer_entry, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
+    buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
@@ -31,6 +31,11 @@ pub struct Buffers<'a> {
     /// History reject, range, revisit: 16 bytes of counts (the temporal pass's, `history_counts`
     /// in state.rs), then this frame's source at each froxel's centre (else the counts and one).
     pub centre: wgpu::Buffer,
+    /// Jitter bound `surface`: each froxel column's nearest surface as a slice coordinate
+    /// (surface_bound.wgsl `nearest_slice`; else a 4-byte stub).
+    pub nearest_slice: wgpu::Buffer,
+    /// The surface pass's ray distance per pixel (read by `nearest_surface`).
+    pub surface_distance: &'a wgpu::TextureView,
 
     pub volume: &'a wgpu::TextureView,
     pub medium: &'a MediumBuffers,
@@ -62,6 +67,9 @@ pub struct Modes {
     pub particles: bool,
     /// `shadow_filter` = pcf: 3 × 3 percentage-closer filtering of the shadow map.
     pub shadow_pcf: bool,
+    /// With `temporal`, `jitter_bound` = surface: the jitter in depth stays in front of the
+    /// column's nearest surface (surface_bound.wgsl).
+    pub surface_bound: bool,
 }
 
 pub struct VolumePasses {
@@ -71,6 +79,8 @@ pub struct VolumePasses {
     inject: Vec<[wgpu::ComputePipeline; 2]>,
     /// Reprojects and blends the history (temporal accumulation on).
     temporal: Option<wgpu::ComputePipeline>,
+    /// Each froxel column's nearest surface (jitter bound `surface`).
+    nearest_surface: Option<wgpu::ComputePipeline>,
     integrate: wgpu::ComputePipeline,
     /// The source buffer, and history reject's centre sources (both cleared when no light is
     /// injected: no light, no source).
@@ -112,6 +122,7 @@ impl VolumePasses {
                         // too (`revisit` also the previous grid's).
                         ("TEMPORAL", flag(modes.temporal)),
                         ("HISTORY", modes.history as f64),
+                        ("SURFACE_BOUND", flag(modes.surface_bound)),
                     ];
                     pipeline("inject", &own)
                 })
@@ -127,6 +138,9 @@ impl VolumePasses {
                 ];
                 pipeline("temporal", &own)
             }),
+            nearest_surface: modes
+                .surface_bound
+                .then(|| pipeline("nearest_surface", &[])),
             integrate: pipeline(
                 "integrate",
                 &[
@@ -167,6 +181,10 @@ impl VolumePasses {
             return;
         }
         let mut pass = self.pass(gpu, enc, renderer, "froxel inject", 0);
+        if let Some(p) = &self.nearest_surface {
+            pass.set_pipeline(p);
+            pass.dispatch_workgroups(dims.grid_x.div_ceil(8), dims.grid_y.div_ceil(8), 1);
+        }
         for (i, &k) in active.iter().enumerate() {
             pass.set_pipeline(&self.inject[k][(i == 0) as usize]);
             pass.dispatch_workgroups(
@@ -235,6 +253,8 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
                 uniform_buffer(6, cs),
                 storage_buffer(7, cs, true),
                 storage_buffer(8, cs, false),
+                storage_buffer(9, cs, false),
+                float_texture(10, cs),
             ],
         });
     let group = |parity: usize| {
@@ -251,6 +271,8 @@ fn bindings(gpu: &Gpu, b: &Buffers) -> (wgpu::BindGroupLayout, [wgpu::BindGroup;
                 buffer_entry(6, &b.medium.uniform),
                 buffer_entry(7, &b.medium.optical_depth),
                 buffer_entry(8, &b.centre),
+                buffer_entry(9, &b.nearest_slice),
+                view_entry(10, b.surface_distance),
             ],
         })
     };

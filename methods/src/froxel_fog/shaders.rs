@@ -8,6 +8,7 @@ pub const GRID_WGSL: &str = include_str!("grid.wgsl");
 pub const VOLUME_WGSL: &str = include_str!("volume.wgsl");
 pub const SLICE_QUADRATURE_WGSL: &str = include_str!("slice_quadrature.wgsl");
 pub const TEMPORAL_WGSL: &str = include_str!("temporal.wgsl");
+pub const SURFACE_BOUND_WGSL: &str = include_str!("surface_bound.wgsl");
 pub const APPLY_WGSL: &str = include_str!("apply.wgsl");
 pub const LOOKUP_WGSL: &str = include_str!("lookup.wgsl");
 pub const EXTINCTION_WGSL: &str = include_str!("extinction.wgsl");
@@ -21,6 +22,7 @@ pub fn volume_source() -> String {
         GRID_WGSL,
         EXTINCTION_WGSL,
         TEMPORAL_WGSL,
+        SURFACE_BOUND_WGSL,
         SLICE_QUADRATURE_WGSL,
     ];
     wgsl::compose(&[wgsl::PRELUDE, &shared].concat(), VOLUME_WGSL)

@@ -139,6 +139,10 @@ impl State {
         let counted = cleared | wgpu::BufferUsages::COPY_SRC;
         let centre = storage(gpu, "froxel centre source", centre_bytes, counted);
         let history_counts = rejecting.then(|| HistoryCounts::new(gpu, centre.clone()));
+        // Jitter bound `surface`: one nearest-surface slice coordinate per froxel column.
+        let surface_bound = temporal > 0 && p.knob::<String>("jitter_bound")? == "surface";
+        let columns = grid.grid_x as u64 * grid.grid_y as u64;
+        let nearest_bytes = if surface_bound { 4 * columns } else { 4 };
         let uniform = gpu.buffer(&wgpu::BufferDescriptor {
             label: Some("froxel grid"),
             size: std::mem::size_of::<FroxelUniform>() as u64,
@@ -180,6 +184,8 @@ impl State {
                 storage(gpu, "froxel history 1", history_bytes, none),
             ],
             centre,
+            nearest_slice: storage(gpu, "froxel nearest surface", nearest_bytes, none),
+            surface_distance: &renderer.distance_view,
             volume: &volume_view,
             medium: &medium,
         };
@@ -192,6 +198,7 @@ impl State {
             slice_quadrature: falloff == "quadrature",
             particles: is_particles,
             shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
+            surface_bound,
         };
         let volume_passes = VolumePasses::new(gpu, &renderer, buffers, modes);
         let particles = is_particles

@@ -52,7 +52,7 @@ fn previous_grid_coord(p: vec3<f32>) -> vec3<f32> {
     let w = p - froxel.prev_position.xyz;
     let t = length(w);
     let far_t = froxel.prev_position.w / dot(w / t, froxel.prev_forward.xyz);
-    let s = f32(froxel.slices) * pow(clamp(t / far_t, 0.0, 1.0), 1.0 / froxel.depth_exponent);
+    let s = slice_coordinate(froxel, t, far_t);
     return vec3<f32>(px / froxel.pixel_size, select(-1.0, s, c.w > 0.0 && t <= far_t));
 }
 

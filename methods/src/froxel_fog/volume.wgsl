@@ -42,9 +42,11 @@ fn froxel_rotation(p: vec3<u32>) -> vec3<f32> {
 }
 
 // This frame's sample position within froxel id, in cell units: its centre without temporal
-// accumulation; else a Halton point over the cell (jitter 2) or along the centre ray (jitter 1).
+// accumulation; else a Halton point over the cell (jitter 2) or along the centre ray (jitter 1),
+// in depth within the slice's share in front of the column's nearest surface (surface_bound.wgsl).
 fn sample_offset(id: vec3<u32>) -> vec3<f32> {
-    let o = fract(froxel.offset.xyz + froxel_rotation(id));
+    var o = fract(froxel.offset.xyz + froxel_rotation(id));
+    o.z *= front_share(id.x, id.y, id.z);
     let centre = vec3<f32>(0.5);
     return select(select(centre, vec3<f32>(0.5, 0.5, o.z), froxel.jitter == 1u), o, froxel.jitter == 2u);
 }
