@@ -27,6 +27,10 @@ pub struct Options {
     pub unorm8: bool,
     /// Knob `spot_panels` (the spot quadrature of `lit_between`).
     pub spot_panels: u32,
+    /// Knob `spot_panel_width` = `per-ray` (per-pixel resolve): a spot's lit intervals get
+    /// panels no wider than `spot_panels` panels over the ray's whole reach, instead of
+    /// `spot_panels` each.
+    pub spot_per_ray: bool,
 }
 
 /// One light's planes in the vertex buffer and the eye's shadow count.
