@@ -182,9 +182,10 @@ impl Method for BiriShadowVolumes {
                 .sweep([1, 2, 4, 16, 64])
                 .unit("panels")
                 .meaning("spot lights (modernised): two-node Gauss-Legendre panels of each lit interval's quadrature, in the angle seen from the light, over the stretch inside the cone"),
-            Knob::choice("spot_panel_width", "per-ray", &["per-ray", "per-interval"])
-                .sweep(["per-interval"])
-                .meaning("resolve=per-pixel, spot lights: per-ray: each lit interval gets ⌈its angle / the panel width of spot_panels panels over the ray's whole lit reach⌉ panels (1 to spot_panels; a ray lit throughout gets exactly spot_panels); per-interval: spot_panels panels per lit interval"),
+            Knob::int("spot_ray_panels", 64, 0..=4096)
+                .sweep([0, 8, 16, 32])
+                .unit("panels per ray")
+                .meaning("resolve=per-pixel, spot lights: a lit interval's panels are no wider (in the angle seen from the light) than 1/spot_ray_panels of the ray's lit reach (eye to visible surface, inside the cone), at most spot_panels per interval; ≥ spot_panels leaves a ray lit throughout as it was; 0: spot_panels per lit interval"),
             knobs::pattern_res(512),
             Knob::choice("silhouettes", "per-piece", &["per-piece", "whole-mesh"])
                 .sweep(["whole-mesh"])
@@ -292,7 +293,7 @@ impl State {
             rules: p.knob("stencil_rules")?,
             unorm8,
             spot_panels: p.knob("spot_panels")?,
-            spot_per_ray: p.knob::<String>("spot_panel_width")? == "per-ray",
+            spot_ray_panels: p.knob("spot_ray_panels")?,
             split: match p.knob::<String>("silhouettes")?.as_str() {
                 "whole-mesh" => Split::WholeMesh,
                 _ => Split::Components,

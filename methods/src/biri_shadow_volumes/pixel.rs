@@ -17,7 +17,6 @@ use crate::common::layouts::{
 };
 use crate::common::pipeline::{ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
-use crate::common::specialize::flag;
 use crate::common::stencil::{DEPTH_STENCIL, PLANE_LAYOUT};
 
 use super::planes::{VOLUMES, WALK};
@@ -47,15 +46,13 @@ pub struct Draw<'a> {
 }
 
 impl PixelPass {
-    /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights;
-    /// `spot_per_ray`: knob `spot_panel_width` = `per-ray` (baked as `SPOT_PER_RAY`).
+    /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights.
     pub fn new(
         gpu: &Gpu,
         renderer: &SceneRenderer,
         module: &wgpu::ShaderModule,
         (width, height): (u32, u32),
         lights: u32,
-        spot_per_ray: bool,
     ) -> PixelPass {
         let vis = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let layout = gpu
@@ -98,9 +95,7 @@ impl PixelPass {
             &gpu.device,
             &pl,
             module,
-            &renderer
-                .specialization
-                .with(&[("SPOT_PER_RAY", flag(spot_per_ray))]),
+            renderer.specialization.constants(),
         );
         PixelPass {
             layout,

@@ -10,17 +10,14 @@
 @group(1) @binding(5) var<storage, read_write> inscatter_sum: array<vec4<f32>>;
 @group(1) @binding(6) var inscatter_out: texture_storage_2d<rgba32float, write>;
 
-// Knob `spot_panel_width` (baked): 1 `per-ray` — a spot's lit intervals get panels no wider than
-// `spot_panels` panels over the ray's whole reach (`spot_between_on_ray`); 0 `per-interval` —
-// `spot_panels` panels each (`lit_between`).
-override SPOT_PER_RAY: bool = true;
-
-// This pixel's spot geometry (`spot_ray`), set by `cs_walk` before the walk when light
-// cfg.light.x is a spot and SPOT_PER_RAY.
+// This pixel's spot geometry (`spot_ray`: panels by knobs `spot_panels`, cfg.light.w, and
+// `spot_ray_panels`, cfg.light.z), set by `cs_walk` before the walk when light cfg.light.x is a
+// spot; its lit intervals go through `spot_between_on_ray` (with `spot_ray_panels` = 0 the same
+// sums as `lit_between`'s).
 var<private> walk_spot: SpotRay;
 
 fn walk_spot_per_ray(k: u32) -> bool {
-    return SPOT_PER_RAY && scene_has_light_kind(LIGHT_SPOT) && light_kind(k) == LIGHT_SPOT;
+    return scene_has_light_kind(LIGHT_SPOT) && light_kind(k) == LIGHT_SPOT;
 }
 
 // Eq. 7 on pixel px's ray between distances a and b (the walk's lit intervals).
@@ -43,7 +40,7 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(gid.xy), 0).r);
     let k = cfg.light.x;
     if (walk_spot_per_ray(k)) {
-        walk_spot = spot_ray(k, dir, end, cfg.light.w);
+        walk_spot = spot_ray(k, dir, end, cfg.light.w, cfg.light.z);
     }
     var acc = vec4<f32>(crossing_walk(gid.xy, end), 0.0);
     if (k > 0u) {

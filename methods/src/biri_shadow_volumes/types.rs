@@ -27,10 +27,9 @@ pub struct Options {
     pub unorm8: bool,
     /// Knob `spot_panels` (the spot quadrature of `lit_between`).
     pub spot_panels: u32,
-    /// Knob `spot_panel_width` = `per-ray` (per-pixel resolve): a spot's lit intervals get
-    /// panels no wider than `spot_panels` panels over the ray's whole reach, instead of
-    /// `spot_panels` each.
-    pub spot_per_ray: bool,
+    /// Knob `spot_ray_panels` (per-pixel resolve; 0: off): a spot's lit intervals get panels no
+    /// wider than 1/`spot_ray_panels` of the ray's lit reach, at most `spot_panels` each.
+    pub spot_ray_panels: u32,
 }
 
 /// One light's planes in the vertex buffer and the eye's shadow count.
@@ -43,7 +42,7 @@ pub struct LightRange {
 
 /// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
 pub const SLOT: u64 = 256;
-/// The bytes of a slot the passes read: [light, eye count, _, spot panels].
+/// The bytes of a slot the passes read: [light, eye count, spot ray panels, spot panels].
 pub const SLOT_BYTES: u64 = 16;
 
 /// Light k's dynamic offset into the per-light uniform slots.
