@@ -141,8 +141,8 @@ fn config(ctx: &PrepareContext) -> Result<Config> {
         _ => Resolve::PerPixel,
     };
     let walk = match p.knob::<String>("walk")?.as_str() {
-        "fragment" => Walk::Fragment,
-        _ => Walk::Compute,
+        "compute" => Walk::Compute,
+        _ => Walk::Fragment,
     };
     if resolve == Resolve::PerPixel && eval == Eval::Vertex {
         anyhow::bail!(
@@ -206,8 +206,8 @@ impl Method for BiriPolynomial {
             Knob::choice("resolve", "per-pixel", &["per-pixel", "planes"])
                 .sweep(["planes"])
                 .meaning("per-pixel: crossing lists sorted and walked per pixel, Γ over the lit intervals (modern, exact shadow in shadow); planes: the paper's eq. 13/14 front-to-back plane order under §4.4's stencil rules"),
-            Knob::choice("walk", "compute", &["compute", "fragment"])
-                .sweep(["fragment"])
+            Knob::choice("walk", "fragment", &["fragment", "compute"])
+                .sweep(["compute"])
                 .meaning("resolve=per-pixel: the walk of the crossing lists as a compute pass over 8×8 tiles writing the sum over lights, or a full-screen fragment pass blended into the accumulation target (same image)"),
             Knob::choice("eval", "fragment", &["fragment", "vertex"])
                 .requires("vertex", "resolve", "planes")

@@ -5,9 +5,9 @@
 //! §4.4's stencil rules, which drop crossings where shadow wedges cross (the fence-spot band,
 //! README); `resolve: planes` keeps the paper's.
 //!
-//! The walk (knob `walk`): `compute` (default) dispatches `cs_walk` over 8×8 tiles, which adds
-//! each light's sum to the running sum over lights (a storage buffer) and stores it into the
-//! accumulation target; `fragment` draws `fs_walk` full-screen, blended additively into it.
+//! The walk (knob `walk`): `fragment` (default) draws `fs_walk` full-screen, blended additively
+//! into the accumulation target; `compute` dispatches `cs_walk` over 8×8 tiles, which adds each
+//! light's sum to the running sum over lights (a storage buffer) and stores it into the target.
 //! The same per-pixel function and the same sums in the same order: the same image.
 
 use harness::Gpu;

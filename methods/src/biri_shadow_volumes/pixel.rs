@@ -46,13 +46,15 @@ pub struct Draw<'a> {
 }
 
 impl PixelPass {
-    /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights.
+    /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights;
+    /// `spot_ray_panels`: the knob, baked into the walk as `SPOT_RAY_PANELS`.
     pub fn new(
         gpu: &Gpu,
         renderer: &SceneRenderer,
         module: &wgpu::ShaderModule,
         (width, height): (u32, u32),
         lights: u32,
+        spot_ray_panels: u32,
     ) -> PixelPass {
         let vis = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let layout = gpu
@@ -95,7 +97,9 @@ impl PixelPass {
             &gpu.device,
             &pl,
             module,
-            renderer.specialization.constants(),
+            &renderer
+                .specialization
+                .with(&[("SPOT_RAY_PANELS", spot_ray_panels as f64)]),
         );
         PixelPass {
             layout,

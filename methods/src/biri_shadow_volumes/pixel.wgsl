@@ -10,14 +10,17 @@
 @group(1) @binding(5) var<storage, read_write> inscatter_sum: array<vec4<f32>>;
 @group(1) @binding(6) var inscatter_out: texture_storage_2d<rgba32float, write>;
 
-// This pixel's spot geometry (`spot_ray`: panels by knobs `spot_panels`, cfg.light.w, and
-// `spot_ray_panels`, cfg.light.z), set by `cs_walk` before the walk when light cfg.light.x is a
-// spot; its lit intervals go through `spot_between_on_ray` (with `spot_ray_panels` = 0 the same
-// sums as `lit_between`'s).
+// Knob `spot_ray_panels` (baked, pixel.rs): > 0 — a spot's lit intervals get panels in
+// proportion to their angle (`spot_between_on_ray`, at most `spot_panels` = cfg.light.w each);
+// 0 — `spot_panels` each (`lit_between`, as the stencil resolve).
+override SPOT_RAY_PANELS: u32 = 64u;
+
+// This pixel's spot geometry (`spot_ray`), set by `cs_walk` before the walk when
+// `walk_spot_per_ray`.
 var<private> walk_spot: SpotRay;
 
 fn walk_spot_per_ray(k: u32) -> bool {
-    return scene_has_light_kind(LIGHT_SPOT) && light_kind(k) == LIGHT_SPOT;
+    return SPOT_RAY_PANELS > 0u && scene_has_light_kind(LIGHT_SPOT) && light_kind(k) == LIGHT_SPOT;
 }
 
 // Eq. 7 on pixel px's ray between distances a and b (the walk's lit intervals).
@@ -40,7 +43,7 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(gid.xy), 0).r);
     let k = cfg.light.x;
     if (walk_spot_per_ray(k)) {
-        walk_spot = spot_ray(k, dir, end, cfg.light.w, cfg.light.z);
+        walk_spot = spot_ray(k, dir, end, cfg.light.w, SPOT_RAY_PANELS);
     }
     var acc = vec4<f32>(crossing_walk(gid.xy, end), 0.0);
     if (k > 0u) {

@@ -132,6 +132,7 @@ impl Planes {
                 &module,
                 (ctx.width, ctx.height),
                 ctx.scene.features().lights as u32,
+                opts.spot_ray_panels,
             )
         });
         Planes {
@@ -188,12 +189,7 @@ impl Planes {
                 end: verts.len() as u32,
                 eye_count: light.eye_count,
             });
-            let cfg = [
-                k as u32,
-                light.eye_count,
-                self.opts.spot_ray_panels,
-                self.opts.spot_panels,
-            ];
+            let cfg = [k as u32, light.eye_count, 0, self.opts.spot_panels];
             slots[k * SLOT as usize..][..SLOT_BYTES as usize]
                 .copy_from_slice(bytemuck::cast_slice(&cfg));
         }

@@ -7,7 +7,7 @@
 // paper's reverse-subtract blending on 8-bit targets. Needs PRELUDE, FULLSCREEN and ldss.wgsl.
 
 struct PlaneCfg {
-    // x: light index; y: the eye's shadow count; z: `spot_ray_panels`; w: `spot_panels`
+    // x: light index; y: the eye's shadow count; z: per-pixel list capacity; w: `spot_panels`
     light: vec4<u32>,
 };
 @group(1) @binding(0) var gamma_table: texture_2d<f32>;

@@ -42,7 +42,7 @@ pub struct LightRange {
 
 /// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
 pub const SLOT: u64 = 256;
-/// The bytes of a slot the passes read: [light, eye count, spot ray panels, spot panels].
+/// The bytes of a slot the passes read: [light, eye count, _, spot panels].
 pub const SLOT_BYTES: u64 = 16;
 
 /// Light k's dynamic offset into the per-light uniform slots.
