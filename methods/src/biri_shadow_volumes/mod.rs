@@ -50,7 +50,8 @@
 //! the ray; the paper: directional lights "are easier to handle ... and will not be a problem"),
 //! its shadow planes extruded along the direction; spot lights (falloff and projected pattern)
 //! by `spot_panels` two-node Gauss–Legendre panels in the angle seen from the light over the
-//! interval's stretch inside the outer cone. The closed form and the quadrature are shared with
+//! interval's stretch inside the outer cone (the per-pixel walk: in proportion to the interval's
+//! angle, knob `spot_ray_panels`, README). The closed form and the quadrature are shared with
 //! polygonal-light-volumes (`common/wgsl/light_segments.wgsl`). The stencil resolve adds
 //! `crossing_term`, an antiderivative of `lit_between` (0 at the eye for the new kinds).
 //! GPU time per phase (Table 1) via `harness::gpu::PhaseTimer`: counters
