@@ -27,9 +27,9 @@ fn fs_walk(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(walk_pixel(vec2<u32>(frag.xy)), 0.0);
 }
 
-// `walk = compute` (pixel.rs): the running sum over lights (light 0 starts it) and the target.
-@group(3) @binding(0) var<storage, read_write> walk_sum: array<vec4<f32>>;
-@group(3) @binding(1) var walk_out: texture_storage_2d<rgba32float, write>;
+// `walk = compute` (pixel.rs): the running sum over lights and the target (`crossing_accumulate`).
+@group(3) @binding(0) var<storage, read_write> crossing_sum: array<vec4<f32>>;
+@group(3) @binding(1) var crossing_out: texture_storage_2d<rgba32float, write>;
 
 @compute @workgroup_size(8, 8)
 fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -37,11 +37,5 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= dims.x || gid.y >= dims.y) {
         return;
     }
-    let i = gid.y * dims.x + gid.x;
-    var acc = vec4<f32>(walk_pixel(gid.xy), 0.0);
-    if (poly.light > 0u) {
-        acc += walk_sum[i];
-    }
-    walk_sum[i] = acc;
-    textureStore(walk_out, vec2<i32>(gid.xy), acc);
+    crossing_accumulate(gid.xy, gid.y * dims.x + gid.x, poly.light, walk_pixel(gid.xy));
 }

@@ -7,8 +7,9 @@
 // intervals up to the visible surface; the light's sum is added to the running total of earlier
 // lights. Composed after planes.wgsl (group 1 bindings 0–2: Γ table, cfg, ray distance).
 
-@group(1) @binding(5) var<storage, read_write> inscatter_sum: array<vec4<f32>>;
-@group(1) @binding(6) var inscatter_out: texture_storage_2d<rgba32float, write>;
+// The running sum over lights and the in-scatter target (`crossing_accumulate`).
+@group(1) @binding(5) var<storage, read_write> crossing_sum: array<vec4<f32>>;
+@group(1) @binding(6) var crossing_out: texture_storage_2d<rgba32float, write>;
 
 // Knob `spot_ray_panels` (baked, pixel.rs): > 0 — a spot's lit intervals get panels in
 // proportion to their angle (`spot_between_on_ray`, at most `spot_panels` = cfg.light.w each);
@@ -38,17 +39,11 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= dims.x || gid.y >= dims.y) {
         return;
     }
-    let i = gid.y * dims.x + gid.x;
     let dir = camera_ray_dir(camera, vec2<f32>(gid.xy) + 0.5);
     let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(gid.xy), 0).r);
     let k = cfg.light.x;
     if (walk_spot_per_ray(k)) {
         walk_spot = spot_ray(k, dir, end, cfg.light.w, SPOT_RAY_PANELS);
     }
-    var acc = vec4<f32>(crossing_walk(gid.xy, end), 0.0);
-    if (k > 0u) {
-        acc += inscatter_sum[i];
-    }
-    inscatter_sum[i] = acc;
-    textureStore(inscatter_out, vec2<i32>(gid.xy), acc);
+    crossing_accumulate(gid.xy, gid.y * dims.x + gid.x, k, crossing_walk(gid.xy, end));
 }
