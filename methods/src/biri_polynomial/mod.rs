@@ -101,7 +101,7 @@ mod types;
 
 pub use shaders::{KERNEL_WGSL, passes_source, resolve_source};
 use types::Config;
-pub use types::{Accumulate, Eval, Resolve};
+pub use types::{Accumulate, Eval, Resolve, Walk};
 
 /// `mode` in resolve.wgsl, field for field.
 #[repr(C)]
@@ -140,6 +140,10 @@ fn config(ctx: &PrepareContext) -> Result<Config> {
         "planes" => Resolve::Planes,
         _ => Resolve::PerPixel,
     };
+    let walk = match p.knob::<String>("walk")?.as_str() {
+        "compute" => Walk::Compute,
+        _ => Walk::Fragment,
+    };
     if resolve == Resolve::PerPixel && eval == Eval::Vertex {
         anyhow::bail!(
             "eval = vertex is the paper's per-vertex Γ on its plane draws: it needs resolve = planes (resolve = per-pixel evaluates Γ per pixel)"
@@ -165,6 +169,7 @@ fn config(ctx: &PrepareContext) -> Result<Config> {
     }
     Ok(Config {
         resolve,
+        walk,
         eval,
         accumulate,
         tessellation: p.knob("tessellation")?,
@@ -201,6 +206,9 @@ impl Method for BiriPolynomial {
             Knob::choice("resolve", "per-pixel", &["per-pixel", "planes"])
                 .sweep(["planes"])
                 .meaning("per-pixel: crossing lists sorted and walked per pixel, Γ over the lit intervals (modern, exact shadow in shadow); planes: the paper's eq. 13/14 front-to-back plane order under §4.4's stencil rules"),
+            Knob::choice("walk", "fragment", &["fragment", "compute"])
+                .sweep(["compute"])
+                .meaning("resolve=per-pixel: the walk of the crossing lists as a compute pass over 8×8 tiles writing the sum over lights, or a full-screen fragment pass blended into the accumulation target (same image)"),
             Knob::choice("eval", "fragment", &["fragment", "vertex"])
                 .requires("vertex", "resolve", "planes")
                 .meaning("where Γ is evaluated: per fragment (modern), or per vertex with Gouraud interpolation (the paper; needs resolve = planes)"),

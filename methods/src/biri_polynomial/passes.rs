@@ -13,14 +13,12 @@ use scenes::{FrameState, Scene};
 
 use super::geometry::{faces_eye, far_grid, light_order_key, mesh_quad};
 use super::pipelines::Pipelines;
-use super::pixel::PixelPass;
+use super::pixel::{Inputs as PixelInputs, PixelPass};
 use super::shaders::passes_source;
 use super::spot_rays::{self, SpotRays};
 use super::types::{Accumulate, Config, Eval, PolyUniform, Resolve, SLOT};
 use crate::common::gpu_scene::{GpuScene, write_vertices};
-use crate::common::layouts::{
-    dynamic_uniform, float_texture_array, fragment_texture, storage_buffer,
-};
+use crate::common::layouts::{dynamic_uniform, float_texture, float_texture_array, storage_buffer};
 use crate::common::renderer::SceneRenderer;
 use crate::common::shadow_planes::{Order, ShadowCasters};
 use crate::common::stencil::{DEPTH_STENCIL, PlaneVertex};
@@ -96,7 +94,10 @@ impl Passes {
         let acc = tex(
             "biri-poly accumulation",
             acc_format,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                // The compute walk (`walk = compute`) stores into it.
+                | wgpu::TextureUsages::STORAGE_BINDING,
         );
         let layout = bind_group_layout(&gpu.device);
         let spots = super::spot_tables::build(ctx.scene, cfg.half_circles);
@@ -136,15 +137,16 @@ impl Passes {
         // Without volumetric shadow casters both resolves are the one +Γ(P) pass of the lit
         // surfaces: the lists (and their mid-frame sync) are not built.
         let shadowed = ctx.scene.features().volumetric_occluders;
+        let acc_view = acc.create_view(&Default::default());
         let pixel = (cfg.resolve == Resolve::PerPixel && shadowed).then(|| {
-            PixelPass::new(
-                gpu,
-                [&renderer.frame_layout, &layout],
-                &module,
-                &constants,
+            let inputs = PixelInputs {
+                layouts: [&renderer.frame_layout, &layout],
+                module: &module,
+                constants: &constants,
+                acc: &acc_view,
                 size,
-                ctx.scene.features().lights as u32,
-            )
+            };
+            PixelPass::new(gpu, inputs, ctx.scene.features().lights as u32, cfg.walk)
         });
         Passes {
             cfg,
@@ -152,7 +154,7 @@ impl Passes {
             tess,
             grid,
             depth_view: depth.create_view(&Default::default()),
-            acc_view: acc.create_view(&Default::default()),
+            acc_view,
             layout,
             uniform,
             delta,
@@ -249,16 +251,18 @@ fn specialization(
 
 /// Group 1's layout (see `Passes::bind_group`).
 fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    // COMPUTE: the per-pixel resolve's compute walk (`walk = compute`) reads them too.
+    let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    let pixel = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
     let slot = std::mem::size_of::<PolyUniform>() as u64;
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("biri-poly passes"),
         entries: &[
-            fragment_texture(0),
-            dynamic_uniform(1, both, slot),
-            fragment_texture(2),
-            storage_buffer(3, both, true),
-            float_texture_array(4, wgpu::ShaderStages::FRAGMENT),
+            float_texture(0, pixel),
+            dynamic_uniform(1, all, slot),
+            float_texture(2, pixel),
+            storage_buffer(3, all, true),
+            float_texture_array(4, pixel),
         ],
     })
 }

@@ -14,9 +14,28 @@ fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32> {
     return biri_gamma_frag(frag, b) - biri_gamma_frag(frag, a);
 }
 
+// Light poly.light's in-scatter on pixel px: its list walked up to the visible surface.
+fn walk_pixel(px: vec2<u32>) -> vec3<f32> {
+    let dir = camera_ray_dir(camera, vec2<f32>(px) + 0.5);
+    let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(px), 0).r);
+    return crossing_walk(px, end);
+}
+
+// `walk = fragment`: full-screen, blended additively into the accumulation target.
 @fragment
 fn fs_walk(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let dir = camera_ray_dir(camera, frag.xy);
-    let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(frag.xy), 0).r);
-    return vec4<f32>(crossing_walk(vec2<u32>(frag.xy), end), 0.0);
+    return vec4<f32>(walk_pixel(vec2<u32>(frag.xy)), 0.0);
+}
+
+// `walk = compute` (pixel.rs): the running sum over lights and the target (`crossing_accumulate`).
+@group(3) @binding(0) var<storage, read_write> crossing_sum: array<vec4<f32>>;
+@group(3) @binding(1) var crossing_out: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let dims = textureDimensions(ray_distance);
+    if (gid.x >= dims.x || gid.y >= dims.y) {
+        return;
+    }
+    crossing_accumulate(gid.xy, gid.y * dims.x + gid.x, poly.light, walk_pixel(gid.xy));
 }

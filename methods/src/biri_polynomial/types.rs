@@ -19,6 +19,15 @@ pub enum Resolve {
     Planes,
 }
 
+/// Where the per-pixel resolve walks its crossing lists (knob `walk`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walk {
+    /// A full-screen fragment pass blended into the accumulation target.
+    Fragment,
+    /// A compute pass over 8×8 tiles writing the running sum over lights (`cs_walk`).
+    Compute,
+}
+
 /// The accumulation target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Accumulate {
@@ -33,6 +42,8 @@ pub enum Accumulate {
 #[derive(Clone, Copy, Debug)]
 pub struct Config {
     pub resolve: Resolve,
+    /// Knob `walk` (resolve = per-pixel).
+    pub walk: Walk,
     pub eval: Eval,
     pub accumulate: Accumulate,
     /// Subdivision levels of the surfaces (vertex evaluation only).

@@ -50,7 +50,8 @@
 //! the ray; the paper: directional lights "are easier to handle ... and will not be a problem"),
 //! its shadow planes extruded along the direction; spot lights (falloff and projected pattern)
 //! by `spot_panels` two-node Gauss–Legendre panels in the angle seen from the light over the
-//! interval's stretch inside the outer cone. The closed form and the quadrature are shared with
+//! interval's stretch inside the outer cone (the per-pixel walk: in proportion to the interval's
+//! angle, knob `spot_ray_panels`, README). The closed form and the quadrature are shared with
 //! polygonal-light-volumes (`common/wgsl/light_segments.wgsl`). The stencil resolve adds
 //! `crossing_term`, an antiderivative of `lit_between` (0 at the eye for the new kinds).
 //! GPU time per phase (Table 1) via `harness::gpu::PhaseTimer`: counters
@@ -182,6 +183,10 @@ impl Method for BiriShadowVolumes {
                 .sweep([1, 2, 4, 16, 64])
                 .unit("panels")
                 .meaning("spot lights (modernised): two-node Gauss-Legendre panels of each lit interval's quadrature, in the angle seen from the light, over the stretch inside the cone"),
+            Knob::int("spot_ray_panels", 64, 0..=4096)
+                .sweep([0, 8, 16, 32])
+                .unit("panels per ray")
+                .meaning("resolve=per-pixel, spot lights: a lit interval's panels are no wider (in the angle seen from the light) than 1/spot_ray_panels of the ray's lit reach (eye to visible surface, inside the cone), at most spot_panels per interval; ≥ spot_panels leaves a ray lit throughout as it was; 0: spot_panels per lit interval"),
             knobs::pattern_res(512),
             Knob::choice("silhouettes", "per-piece", &["per-piece", "whole-mesh"])
                 .sweep(["whole-mesh"])
@@ -289,6 +294,7 @@ impl State {
             rules: p.knob("stencil_rules")?,
             unorm8,
             spot_panels: p.knob("spot_panels")?,
+            spot_ray_panels: p.knob("spot_ray_panels")?,
             split: match p.knob::<String>("silhouettes")?.as_str() {
                 "whole-mesh" => Split::WholeMesh,
                 _ => Split::Components,

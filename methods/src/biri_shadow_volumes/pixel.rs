@@ -7,7 +7,7 @@
 //! Counters (from the shared lists): `max_crossings` (the longest list), `crossing_pool`
 //! (crossings stored), `crossing_overflows` (0 by construction; a frame late).
 
-use harness::gpu::depth_stencil_attachment;
+use harness::gpu::{PhaseTimer, depth_stencil_attachment, phases};
 use harness::{FrameReport, Gpu};
 
 use crate::common::crossing_lists::{CrossingLists, GROUP};
@@ -19,6 +19,7 @@ use crate::common::pipeline::{ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::stencil::{DEPTH_STENCIL, PLANE_LAYOUT};
 
+use super::planes::{VOLUMES, WALK};
 use super::types::{LightRange, SLOT_BYTES, slot_offset};
 
 pub struct PixelPass {
@@ -45,13 +46,15 @@ pub struct Draw<'a> {
 }
 
 impl PixelPass {
-    /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights.
+    /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights;
+    /// `spot_ray_panels`: the knob, baked into the walk as `SPOT_RAY_PANELS`.
     pub fn new(
         gpu: &Gpu,
         renderer: &SceneRenderer,
         module: &wgpu::ShaderModule,
         (width, height): (u32, u32),
         lights: u32,
+        spot_ray_panels: u32,
     ) -> PixelPass {
         let vis = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let layout = gpu
@@ -94,7 +97,9 @@ impl PixelPass {
             &gpu.device,
             &pl,
             module,
-            renderer.specialization.constants(),
+            &renderer
+                .specialization
+                .with(&[("SPOT_RAY_PANELS", spot_ray_panels as f64)]),
         );
         PixelPass {
             layout,
@@ -154,6 +159,7 @@ impl PixelPass {
         enc: &mut wgpu::CommandEncoder,
         draw: Draw,
         report: &mut FrameReport,
+        timer: &mut Option<PhaseTimer>,
     ) -> anyhow::Result<()> {
         let gpu = draw.gpu;
         for k in 0..draw.ranges.len() {
@@ -161,7 +167,9 @@ impl PixelPass {
         }
         self.lists.size_pool(gpu, pre, report)?;
         for k in 0..draw.ranges.len() {
+            phases::mark(timer, enc, VOLUMES);
             self.draw_planes(enc, &draw, k, &self.gather);
+            phases::mark(timer, enc, WALK);
             let mut pass = gpu.compute_pass(
                 enc,
                 &wgpu::ComputePassDescriptor {

@@ -24,9 +24,11 @@ use super::stencil_pipes::{StencilPipes, depth_pipe};
 use super::types::{LightRange, Options, Resolve, SLOT, SLOT_BYTES, slot_offset};
 
 /// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
-/// need), and the shadow planes (stencil count and plane passes, or the per-pixel passes).
+/// need), and the shadow planes (stencil count and plane passes, or the per-pixel gather); the
+/// per-pixel resolve's sort and walk of the crossing lists on their own (not in the paper).
 pub const SURFACES: &str = "second_pass_surfaces";
 pub const VOLUMES: &str = "second_pass_volumes";
+pub const WALK: &str = "second_pass_walk";
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
@@ -130,6 +132,7 @@ impl Planes {
                 &module,
                 (ctx.width, ctx.height),
                 ctx.scene.features().lights as u32,
+                opts.spot_ray_panels,
             )
         });
         Planes {
@@ -332,7 +335,6 @@ impl Planes {
         let pixel = self.pixel.as_mut().expect("resolve = per-pixel");
         let mut pre = pixel.begin(f.gpu, &self.ranges, report);
         encode_depth(&self.depth_pipe, f, &mut pre, &self.depth_view);
-        phases::mark(timer, enc, VOLUMES);
         let pixel_bind = pixel.bind_group(f.gpu, f.renderer, table, &self.uniform, &self.acc_view);
         let draw = Draw {
             gpu: f.gpu,
@@ -342,7 +344,7 @@ impl Planes {
             bind: &pixel_bind,
             depth: &self.depth_view,
         };
-        pixel.encode(pre, enc, draw, report)
+        pixel.encode(pre, enc, draw, report, timer)
     }
 
     /// A pass over the accumulation target (`load`: cleared or kept) and the depth-stencil

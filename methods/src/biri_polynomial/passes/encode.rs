@@ -7,6 +7,7 @@ use harness::gpu::{Counted, color_attachment, depth_stencil_attachment};
 use harness::{FrameReport, Gpu};
 
 use super::{LightDraws, Passes, PixelPass};
+use crate::biri_polynomial::pixel::WalkPass;
 use crate::biri_polynomial::types::{Accumulate, PolyUniform, SLOT};
 use crate::common::crossing_lists::GROUP;
 use crate::common::gpu_scene::GpuScene;
@@ -362,7 +363,7 @@ impl Passes {
     }
 
     /// resolve = per-pixel: light k's lists sorted and walked, its lit intervals' Γ added to the
-    /// target (`first` clears it).
+    /// target (`first` clears it; the compute walk's light 0 overwrites it).
     fn encode_walk(
         &self,
         f: &Encoding,
@@ -371,10 +372,33 @@ impl Passes {
         first: bool,
         pixel: &PixelPass,
     ) {
-        let mut pass = self.accumulate_pass(f, enc, "biri-poly crossing walk", k, first);
-        pass.set_pipeline(&pixel.walk);
+        let (pipeline, out, tiles) = match &pixel.walk {
+            WalkPass::Fragment(pipe) => {
+                let mut pass = self.accumulate_pass(f, enc, "biri-poly crossing walk", k, first);
+                pass.set_pipeline(pipe);
+                pass.set_bind_group(GROUP, pixel.lists.bind_group(), &pixel.lists.slot(k));
+                pass.draw(0..3, 0..1);
+                return;
+            }
+            WalkPass::Compute {
+                pipeline,
+                out,
+                tiles,
+            } => (pipeline, out, tiles),
+        };
+        let mut pass = f.gpu.compute_pass(
+            enc,
+            &wgpu::ComputePassDescriptor {
+                label: Some("biri-poly crossing walk"),
+                timestamp_writes: None,
+            },
+        );
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &f.renderer.frame_bind, &[]);
+        pass.set_bind_group(1, f.bind, &slot(k));
         pass.set_bind_group(GROUP, pixel.lists.bind_group(), &pixel.lists.slot(k));
-        pass.draw(0..3, 0..1);
+        pass.set_bind_group(3, out, &[]);
+        pass.dispatch_workgroups(tiles.0, tiles.1, 1);
     }
 }
 

@@ -56,6 +56,19 @@ fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
     return sum;
 }
 
+// A compute walk's output for pixel px (index i): light `light`'s `walked` in-scatter added to
+// the running sum over lights (light 0 starts it), stored into the sum and the target. The
+// including module declares `crossing_sum` (array<vec4<f32>>, read_write) and `crossing_out`
+// (texture_storage_2d<rgba32float, write>).
+fn crossing_accumulate(px: vec2<u32>, i: u32, light: u32, walked: vec3<f32>) {
+    var acc = vec4<f32>(walked, 0.0);
+    if (light > 0u) {
+        acc += crossing_sum[i];
+    }
+    crossing_sum[i] = acc;
+    textureStore(crossing_out, vec2<i32>(px), acc);
+}
+
 // Bound j of `crossing_walk`'s lit intervals: 0 (the eye, when lit), a toggle, or `end`.
 fn crossing_bound(base: u32, j: u32, eye_lit: u32, toggles: u32, end: f32) -> f32 {
     if (j < eye_lit) {
