@@ -14,6 +14,7 @@ pub mod particle_trace;
 pub mod patterns;
 pub mod pipeline;
 pub mod quadrature;
+pub mod rectification;
 pub mod renderer;
 pub mod resolve;
 pub mod shadow_maps;

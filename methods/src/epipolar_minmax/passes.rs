@@ -8,6 +8,7 @@ use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
+use crate::common::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::wgsl;
@@ -21,7 +22,10 @@ pub const UNWARP_WGSL: &str = include_str!("unwarp.wgsl");
 /// The compute passes' composed WGSL (every entry point of the method but the resolve).
 pub fn compute_source() -> String {
     let own = [SAMPLING_WGSL, TREES_WGSL, MARCH_WGSL, UNWARP_WGSL].join("\n");
-    wgsl::compose(&[wgsl::PRELUDE, &[EPIPOLAR_WGSL]].concat(), &own)
+    wgsl::compose(
+        &[wgsl::PRELUDE, &[EPIPOLAR_SLICES, EPIPOLAR_WGSL]].concat(),
+        &own,
+    )
 }
 
 /// `Epi` in epipolar.wgsl, field for field.
@@ -140,7 +144,12 @@ impl Scratch {
         let tree_size = 16 * sizes.slices as u64 * sizes.leaves as u64;
         let copies = wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
         Scratch {
-            slices: buffer(gpu, "epipolar slices", 48 * sizes.slices as u64, storage),
+            slices: buffer(
+                gpu,
+                "epipolar slices",
+                SLICE_BYTES * sizes.slices as u64,
+                storage,
+            ),
             samples: buffer(gpu, "epipolar samples", 32 * per_sample, storage),
             work: buffer(
                 gpu,
