@@ -13,6 +13,7 @@ pub mod particle_surfaces;
 pub mod particle_trace;
 pub mod patterns;
 pub mod pipeline;
+pub mod published;
 pub mod quadrature;
 pub mod rectification;
 pub mod renderer;
