@@ -17,6 +17,12 @@ const MAX_CHANNELS: u32 = 16u;
 
 // 0: moments, 1: Fourier
 override BASIS: u32 = 0u;
+// Moments: the caster and ray values are moved into [MOMENT_MARGIN, 1 − MOMENT_MARGIN] first.
+// Peters & Klein's bias mixes in the moments of half a unit mass at 0 and half at 1; a row
+// interval whose casters all sit at 0 or 1 (clamped below the slice's angles, or no caster at
+// all) would then have moments of only two points, a singular Hankel matrix (NaN).
+const MOMENT_MARGIN: f32 = 0.0625;
+
 // Fourier terms M (even); vec4 channels per row entry (moments: 2, the double-float sum; Fourier: M / 2)
 override TERMS: u32 = 16u;
 override CHANNELS: u32 = 2u;
@@ -32,11 +38,17 @@ fn fourier_frequency(k: u32) -> f32 {
     return BASIS_PI * f32(2u * k + 1u);
 }
 
+// A value of [0, 1] moved into the moments' interior range.
+fn moment_value(z: f32) -> f32 {
+    return mix(MOMENT_MARGIN, 1.0 - MOMENT_MARGIN, z);
+}
+
 // Channel c of the basis coefficients of caster value z_c ∈ [0, 1].
 fn basis_coefficients(zc: f32, c: u32) -> vec4<f32> {
     if (BASIS == BASIS_MOMENTS) {
-        let z2 = zc * zc;
-        return select(vec4<f32>(0.0), vec4<f32>(zc, z2, z2 * zc, z2 * z2), c == 0u);
+        let zm = moment_value(zc);
+        let z2 = zm * zm;
+        return select(vec4<f32>(0.0), vec4<f32>(zm, z2, z2 * zm, z2 * z2), c == 0u);
     }
     let a = fourier_frequency(2u * c) * zc;
     let b = fourier_frequency(2u * c + 1u) * zc;
@@ -79,7 +91,8 @@ fn support_weight(b: vec4<f32>, x: f32, y: f32, w: f32) -> f32 {
 // the roots z₁ ≤ z₂ of c₀ + c₁ x + c₂ x² with z complete the distribution of least mass below z
 // that has these moments, and the shadow is its mass strictly below z — a lower bound, so the
 // lit fraction is an upper bound (light leaks; exact for one caster value per interval).
-fn moment_lit(b_in: vec4<f32>, z: f32) -> f32 {
+fn moment_lit(b_in: vec4<f32>, z_in: f32) -> f32 {
+    let z = moment_value(z_in);
     let b = mix(b_in, vec4<f32>(0.5), MOMENT_BIAS);
     let d1 = b.y - b.x * b.x;
     let l21d1 = b.z - b.x * b.y;
