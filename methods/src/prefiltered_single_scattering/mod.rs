@@ -222,8 +222,8 @@ impl Method for PrefilteredSingleScattering {
                 .sweep([128, 256, 1024])
                 .unit("texels")
                 .meaning("texels of a rectified row"),
-            Knob::int("segments", 8, 1..=64)
-                .sweep([1, 2, 4, 16])
+            Knob::int("segments", 16, 1..=64)
+                .sweep([1, 4, 8, 32])
                 .unit("pieces")
                 .meaning("pieces of a camera ray in the rectified coordinate, each its own filtered visibility times its unshadowed in-scatter; 1 = the papers' one lookup per ray"),
             Knob::int("panels", 2, 1..=64)
