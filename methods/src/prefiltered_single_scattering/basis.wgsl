@@ -55,6 +55,15 @@ fn basis_coefficients(zc: f32, c: u32) -> vec4<f32> {
     return vec4<f32>(cos(a), sin(a), cos(b), sin(b));
 }
 
+// Whether every caster value behind mean channel 0 is 1 (no caster: the row's default), where
+// the interval is lit whatever the basis would reconstruct (the moments' bias and the series'
+// ringing would darken it slightly). Channel 0's first component is the mean of z_c
+// (moments, moved) or of cos(π z_c) (Fourier), at its extreme only if every z_c is 1.
+fn all_uncast(mean0: vec4<f32>) -> bool {
+    if (BASIS == BASIS_MOMENTS) { return mean0.x >= moment_value(1.0) - 1e-5; }
+    return mean0.x <= -1.0 + 1e-5;
+}
+
 // Weight of term k's Lanczos σ factor (1 without LANCZOS).
 fn fourier_window(k: u32) -> f32 {
     if (!LANCZOS) { return 1.0; }

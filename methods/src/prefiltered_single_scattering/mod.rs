@@ -271,9 +271,10 @@ impl Method for PrefilteredSingleScattering {
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {
+        // Measured in-scatter rel RMSE at 48²: 0.0023 moments, 0.0054 Fourier; bounds ~2×.
         vec![
-            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.1),
-            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.1).knob("basis", "fourier"),
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.005),
+            ConformanceCase::new("sphere-point", 48, Aov::Inscatter, 0.01).knob("basis", "fourier"),
         ]
     }
 }

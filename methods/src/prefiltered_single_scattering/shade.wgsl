@@ -81,12 +81,13 @@ fn slice_visibility(i: u32, u0: f32, u1: f32, alpha: f32) -> f32 {
     let x1 = clamp(u1 / du, 0.0, k);
     let r = angle_range[i];
     let z = clamp((alpha - r.x) / (r.y - r.x), 0.0, 1.0);
-    if (BASIS == BASIS_MOMENTS) {
-        // The double-float sums: high parts' difference plus low parts'.
-        return moment_lit(mean_channel(i, x0, x1, 0u) + mean_channel(i, x0, x1, 1u), z);
-    }
-    var sum = 0.0;
-    for (var c = 0u; c < CHANNELS; c++) {
+    // Moments: the double-float sums, high parts' difference plus low parts'.
+    var mean0 = mean_channel(i, x0, x1, 0u);
+    if (BASIS == BASIS_MOMENTS) { mean0 += mean_channel(i, x0, x1, 1u); }
+    if (all_uncast(mean0)) { return 1.0; }
+    if (BASIS == BASIS_MOMENTS) { return moment_lit(mean0, z); }
+    var sum = fourier_channel(mean0, 0u, z);
+    for (var c = 1u; c < CHANNELS; c++) {
         sum += fourier_channel(mean_channel(i, x0, x1, c), c, z);
     }
     return fourier_lit(sum);
