@@ -10,6 +10,7 @@ use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
+use crate::common::published::{published_texture, scratch_buffer as buffer};
 use crate::common::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
@@ -109,15 +110,6 @@ pub struct Passes {
     shadowed: bool,
 }
 
-fn buffer(gpu: &Gpu, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    gpu.buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: size.max(16),
-        usage,
-        mapped_at_creation: false,
-    })
-}
-
 /// Group 1 of every compute pass (rows.wgsl's bindings).
 fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     let cs = wgpu::ShaderStages::COMPUTE;
@@ -157,15 +149,12 @@ impl Scratch {
             angle_range: buffer(gpu, "prefiltered angle ranges", 8 * n, storage),
             sums: buffer(gpu, "prefiltered rows", rows_bytes(sizes), storage),
             accum: buffer(gpu, "prefiltered accumulator", 16 * pixels, storage),
-            published_view: gpu
-                .texture_2d(
-                    "prefiltered in-scatter",
-                    sizes.width,
-                    sizes.height,
-                    wgpu::TextureFormat::Rgba32Float,
-                    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
-                )
-                .create_view(&Default::default()),
+            published_view: published_texture(
+                gpu,
+                "prefiltered in-scatter",
+                sizes.width,
+                sizes.height,
+            ),
         }
     }
 }
