@@ -16,6 +16,7 @@ pub mod froxel_fog;
 pub mod no_scatter;
 pub mod particle_march;
 pub mod polygonal_light_volumes;
+pub mod prefiltered_single_scattering;
 pub mod raymarch_brute;
 pub mod umenhoffer_particle_blocks;
 pub mod wyman_hybrid;
@@ -33,6 +34,7 @@ pub static REGISTRY: &[&dyn Method] = &[
     &biri_shadow_volumes::BiriShadowVolumes,
     &biri_polynomial::BiriPolynomial,
     &polygonal_light_volumes::PolygonalLightVolumes,
+    &prefiltered_single_scattering::PrefilteredSingleScattering,
     &umenhoffer_particle_blocks::UmenhofferParticleBlocks,
     &umenhoffer_particle_blocks::ParticleSplat,
     &no_scatter::NoScatter,

@@ -140,6 +140,7 @@ fn support_on_height_fog_is_by_capability() {
         "polygonal-light-volumes",
         "biri-polynomial",
         "wyman-hybrid",
+        "prefiltered-single-scattering",
     ];
     for m in methods::REGISTRY {
         let s = m.support(&features, wgpu::Features::all());

@@ -8,6 +8,8 @@ use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
+use crate::common::published::{published_texture, scratch_buffer as buffer};
+use crate::common::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::wgsl;
@@ -21,7 +23,10 @@ pub const UNWARP_WGSL: &str = include_str!("unwarp.wgsl");
 /// The compute passes' composed WGSL (every entry point of the method but the resolve).
 pub fn compute_source() -> String {
     let own = [SAMPLING_WGSL, TREES_WGSL, MARCH_WGSL, UNWARP_WGSL].join("\n");
-    wgsl::compose(&[wgsl::PRELUDE, &[EPIPOLAR_WGSL]].concat(), &own)
+    wgsl::compose(
+        &[wgsl::PRELUDE, &[EPIPOLAR_SLICES, EPIPOLAR_WGSL]].concat(),
+        &own,
+    )
 }
 
 /// `Epi` in epipolar.wgsl, field for field.
@@ -97,15 +102,6 @@ pub struct Passes {
     shadowed: bool,
 }
 
-fn buffer(gpu: &Gpu, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    gpu.buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: size.max(16),
-        usage,
-        mapped_at_creation: false,
-    })
-}
-
 /// Group 1 of every compute pass (epipolar.wgsl's bindings).
 fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     let cs = wgpu::ShaderStages::COMPUTE;
@@ -140,7 +136,12 @@ impl Scratch {
         let tree_size = 16 * sizes.slices as u64 * sizes.leaves as u64;
         let copies = wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
         Scratch {
-            slices: buffer(gpu, "epipolar slices", 48 * sizes.slices as u64, storage),
+            slices: buffer(
+                gpu,
+                "epipolar slices",
+                SLICE_BYTES * sizes.slices as u64,
+                storage,
+            ),
             samples: buffer(gpu, "epipolar samples", 32 * per_sample, storage),
             work: buffer(
                 gpu,
@@ -156,15 +157,12 @@ impl Scratch {
                 storage | copies,
             ),
             accum: buffer(gpu, "epipolar accumulator", 16 * pixels, storage),
-            published_view: gpu
-                .texture_2d(
-                    "epipolar in-scatter",
-                    sizes.width,
-                    sizes.height,
-                    wgpu::TextureFormat::Rgba32Float,
-                    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
-                )
-                .create_view(&Default::default()),
+            published_view: published_texture(
+                gpu,
+                "epipolar in-scatter",
+                sizes.width,
+                sizes.height,
+            ),
         }
     }
 }

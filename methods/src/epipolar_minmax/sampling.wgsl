@@ -1,52 +1,13 @@
 // Epipolar sampling (Engelhardt & Dachsbacher 2010, §4; Yusov 2013): slice end points on the
 // screen border, samples along each slice, and the refinement that marks which samples are
-// marched. Needs PRELUDE and epipolar.wgsl.
+// marched. Needs PRELUDE, EPIPOLAR_SLICES and epipolar.wgsl.
 
-// A ray's far-plane point's rectified coordinate in the plane (o, e1, e2): the angle about the
-// light (local light), or the distance across the light direction (directional).
-fn far_coordinate(o: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>, uv: vec2<f32>, directional: bool) -> f32 {
-    let dir = camera_ray_dir(camera, uv * camera.viewport.xy);
-    let x = camera.position.xyz + dir * camera_far_distance(camera, dir) - o;
-    if (directional) { return max(dot(x, e2), 0.0); }
-    return atan2(max(dot(x, e2), 0.0), dot(x, e1));
-}
-
-// Slice i: its exit at perimeter parameter (i + 0.5) / N, its entry where the line from the
-// epipole enters the screen (the epipole itself when it is on screen); invalid when the exit is
-// not where that line leaves the screen. Then the epipolar plane through the eye and the light.
+// Slice i of light epi.light (common epipolar_slices.wgsl).
 @compute @workgroup_size(64)
 fn slice_ends(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if (i >= epi.slices) { return; }
-    let k = epi.light;
-    let ep = epipole_uv(k);
-    let exit = border_point((f32(i) + 0.5) / f32(epi.slices));
-    let v = exit - ep;
-    let s = screen_span(ep, v);
-    var valid = dot(v, v) > 1e-12 && s.x < s.y - 1e-4 && abs(s.y - 1.0) < 1e-3;
-    let entry = ep + max(s.x, 0.0) * v;
-    let directional = light_kind(k) == LIGHT_DIRECTIONAL;
-    let eye = camera.position.xyz;
-    var o = lights.lights[k].position.xyz;
-    var e1 = -normalize(eye_to_light(k));
-    if (directional) {
-        o = eye;
-        e1 = lights.lights[k].direction.xyz;
-    }
-    let d = camera_ray_dir(camera, exit * camera.viewport.xy);
-    let perp = d - e1 * dot(d, e1);
-    valid = valid && dot(perp, perp) > 1e-12;
-    let e2 = perp * inverseSqrt(max(dot(perp, perp), 1e-30));
-    let mid = 0.5 * (entry + exit);
-    let u_max = max(
-        far_coordinate(o, e1, e2, entry, directional),
-        max(far_coordinate(o, e1, e2, mid, directional), far_coordinate(o, e1, e2, exit, directional)),
-    );
-    slices[i] = Slice(
-        vec4<f32>(entry, exit),
-        vec4<f32>(e1, select(0.0, 1.0, valid)),
-        vec4<f32>(e2, max(u_max * 1.001, 1e-6)),
-    );
+    slices[i] = epipolar_slice(epi.light, i, epi.slices);
 }
 
 // Sample m of slice i, evenly spaced from entry to exit, with its camera ray's length.

@@ -10,15 +10,6 @@ fn tree_node(i: u32, l: u32, n: u32) -> u32 {
     return i * two_k + two_k - (two_k >> l) + n;
 }
 
-// World point on the light ray of slice sl at rectified coordinate u (any point of that ray
-// projects to the same shadow-map texel).
-fn rectified_point(k: u32, sl: Slice, u: f32) -> vec3<f32> {
-    if (light_kind(k) == LIGHT_DIRECTIONAL) {
-        return camera.position.xyz + u * sl.e2.xyz;
-    }
-    return lights.lights[k].position.xyz + cos(u) * sl.e1.xyz + sin(u) * sl.e2.xyz;
-}
-
 // Leaf j of slice i: the shadow map's stored depth at the leaf's centre.
 @compute @workgroup_size(64)
 fn rectify(@builtin(global_invocation_id) id: vec3<u32>) {

@@ -46,7 +46,7 @@ fn unwarp(@builtin(global_invocation_id) id: vec3<u32>) {
     let q = (vec2<f32>(id.xy) + 0.5) * camera.viewport.zw;
     let ray = camera_ray(q);
     let dist = ray.w;
-    let c = slice_coordinate(epipole_uv(epi.light), q);
+    let c = slice_coordinate(epipole_uv(epi.light), q, epi.slices);
     let n = epi.slices;
     let c0 = floor(c);
     let f = c - c0;

@@ -1,5 +1,6 @@
-// epipolar-minmax's resolve: the published in-scatter plus the surface and ambient terms.
-// Needs the resolve prelude.
+// The resolve of a method whose compute passes publish the summed in-scatter to a texture
+// (epipolar-minmax, prefiltered-single-scattering): that texture plus the surface and ambient
+// terms. Needs the resolve prelude (common::resolve).
 
 @group(1) @binding(3) var inscatter: texture_2d<f32>;
 
