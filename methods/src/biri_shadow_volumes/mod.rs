@@ -51,7 +51,7 @@
 //! its shadow planes extruded along the direction; spot lights (falloff and projected pattern)
 //! by `spot_panels` two-node Gauss–Legendre panels in the angle seen from the light over the
 //! interval's stretch inside the outer cone (the per-pixel walk: in proportion to the interval's
-//! angle, knob `spot_ray_panels`, README). The closed form and the quadrature are shared with
+//! angle with knob `spot_ray_panels`, off by default: slower on lavapipe, README). The closed form and the quadrature are shared with
 //! polygonal-light-volumes (`common/wgsl/light_segments.wgsl`). The stencil resolve adds
 //! `crossing_term`, an antiderivative of `lit_between` (0 at the eye for the new kinds).
 //! GPU time per phase (Table 1) via `harness::gpu::PhaseTimer`: counters
@@ -183,8 +183,9 @@ impl Method for BiriShadowVolumes {
                 .sweep([1, 2, 4, 16, 64])
                 .unit("panels")
                 .meaning("spot lights (modernised): two-node Gauss-Legendre panels of each lit interval's quadrature, in the angle seen from the light, over the stretch inside the cone"),
-            Knob::int("spot_ray_panels", 64, 0..=4096)
-                .sweep([0, 8, 16, 32])
+            // 0 by default: measured idle, 64 made the walk slower (README, issue 33).
+            Knob::int("spot_ray_panels", 0, 0..=4096)
+                .sweep([8, 16, 32, 64])
                 .unit("panels per ray")
                 .meaning("resolve=per-pixel, spot lights: a lit interval's panels are no wider (in the angle seen from the light) than 1/spot_ray_panels of the ray's lit reach (eye to visible surface, inside the cone), at most spot_panels per interval; ≥ spot_panels leaves a ray lit throughout as it was; 0: spot_panels per lit interval"),
             knobs::pattern_res(512),
