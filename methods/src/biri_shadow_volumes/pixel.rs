@@ -19,8 +19,7 @@ use crate::common::pipeline::{ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
 use crate::common::stencil::{DEPTH_STENCIL, PLANE_LAYOUT};
 
-use super::planes::{VOLUMES, WALK};
-use super::types::{LightRange, SLOT_BYTES, slot_offset};
+use super::types::{LightRange, SLOT_BYTES, VOLUMES, WALK, slot_offset};
 
 pub struct PixelPass {
     layout: wgpu::BindGroupLayout,

@@ -21,14 +21,9 @@ use crate::common::wgsl;
 
 use super::pixel::{Draw, PixelPass};
 use super::stencil_pipes::{StencilPipes, depth_pipe};
-use super::types::{LightRange, Options, Resolve, SLOT, SLOT_BYTES, slot_offset};
-
-/// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
-/// need), and the shadow planes (stencil count and plane passes, or the per-pixel gather); the
-/// per-pixel resolve's sort and walk of the crossing lists on their own (not in the paper).
-pub const SURFACES: &str = "second_pass_surfaces";
-pub const VOLUMES: &str = "second_pass_volumes";
-pub const WALK: &str = "second_pass_walk";
+use super::types::{
+    LightRange, Options, Resolve, SLOT, SLOT_BYTES, SURFACES, VOLUMES, slot_offset,
+};
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");

@@ -40,6 +40,13 @@ pub struct LightRange {
     pub eye_count: u32,
 }
 
+/// Phase-timer names (Biri et al.'s Table 1): step 3's lit surfaces (and the scene depth they
+/// need), and the shadow planes (stencil count and plane passes, or the per-pixel gather); the
+/// per-pixel resolve's sort and walk of the crossing lists on their own (not in the paper).
+pub const SURFACES: &str = "second_pass_surfaces";
+pub const VOLUMES: &str = "second_pass_volumes";
+pub const WALK: &str = "second_pass_walk";
+
 /// Uniform slot stride (the minimum dynamic-offset alignment wgpu guarantees).
 pub const SLOT: u64 = 256;
 /// The bytes of a slot the passes read: [light, eye count, _, spot panels].
