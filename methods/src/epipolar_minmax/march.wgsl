@@ -139,7 +139,7 @@ fn leaf(r: Ray, ua: f32, ub: f32, stored: f32, du: f32) -> vec3<f32> {
 // highest aligned node of the tree that lies inside the ray's span and is wholly lit or wholly
 // shadowed settles 2^l leaves at once; a mixed leaf is split exactly.
 fn march_slice(r: Ray, i: u32) -> vec3<f32> {
-    let du = slices[i].e2.w / f32(epi.leaves);
+    let du = texel_width(slices[i], epi.leaves);
     if (!SHADOWED) { return lit(r, 0.0, r.u_end, du); }
     let b = shadow_bound(LIGHT);
     let j_end = u32(clamp(r.u_end / du, 0.0, f32(epi.leaves - 1u)));

@@ -19,7 +19,7 @@ fn place_samples(@builtin(global_invocation_id) id: vec3<u32>) {
     let sl = slices[i];
     let uv = mix(sl.ends.xy, sl.ends.zw, f32(m) / f32(epi.samples - 1u));
     var dist = -1.0;
-    if (sl.e1.w > 0.5) { dist = camera_ray(uv).w; }
+    if (slice_valid(sl)) { dist = camera_ray(uv).w; }
     samples[i * epi.samples + m] = Sample(uv, dist, 0u, vec4<f32>(0.0));
 }
 

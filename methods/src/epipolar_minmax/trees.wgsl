@@ -18,8 +18,8 @@ fn rectify(@builtin(global_invocation_id) id: vec3<u32>) {
     if (j >= epi.leaves || i >= epi.slices) { return; }
     let sl = slices[i];
     var stored = SHADOW_NONE;
-    if (sl.e1.w > 0.5) {
-        let u = (f32(j) + 0.5) * sl.e2.w / f32(epi.leaves);
+    if (slice_valid(sl)) {
+        let u = texel_centre(sl, j, epi.leaves);
         stored = shadow_stored(epi.light, rectified_point(epi.light, sl, u));
     }
     tree[tree_node(i, 0u, j)] = vec2<f32>(stored);

@@ -90,8 +90,8 @@ fn rectify(@builtin(global_invocation_id) id: vec3<u32>) {
     if (j >= pss.texels || i >= pss.slices) { return; }
     let sl = slices[i];
     var z = 1.0;
-    if (sl.e1.w > 0.5) {
-        let u = (f32(j) + 0.5) * sl.e2.w / f32(pss.texels);
+    if (slice_valid(sl)) {
+        let u = texel_centre(sl, j, pss.texels);
         let r = angle_range[i];
         z = clamp((caster_angle(pss.light, sl, u) - r.x) / (r.y - r.x), 0.0, 1.0);
     }

@@ -76,7 +76,7 @@ fn mean_channel(i: u32, x0: f32, x1: f32, c: u32) -> vec4<f32> {
 // slice i's row.
 fn slice_visibility(i: u32, u0: f32, u1: f32, alpha: f32) -> f32 {
     let k = f32(pss.texels);
-    let du = slices[i].e2.w / k;
+    let du = texel_width(slices[i], pss.texels);
     let x0 = clamp(u0 / du, 0.0, k);
     let x1 = clamp(u1 / du, 0.0, k);
     let r = angle_range[i];
@@ -106,8 +106,8 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
     let c0 = floor(c);
     let i0 = u32(i32(c0) + i32(n)) % n;
     let i1 = (i0 + 1u) % n;
-    var w0 = select(0.0, 1.0 - (c - c0), slices[i0].e1.w > 0.5);
-    var w1 = select(0.0, c - c0, slices[i1].e1.w > 0.5);
+    var w0 = select(0.0, 1.0 - (c - c0), slice_valid(slices[i0]));
+    var w1 = select(0.0, c - c0, slice_valid(slices[i1]));
     let wsum = w0 + w1;
     let shadowed = SHADOWED && wsum > 0.0 && r.u_end > 1e-7;
     var l_in = vec3<f32>(0.0);

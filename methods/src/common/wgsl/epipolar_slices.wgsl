@@ -139,3 +139,18 @@ fn rectified_point(k: u32, sl: Slice, u: f32) -> vec3<f32> {
     }
     return lights.lights[k].position.xyz + cos(u) * sl.e1.xyz + sin(u) * sl.e2.xyz;
 }
+
+// The slice's segment meets the screen (e1.w: 1 valid, 0 not).
+fn slice_valid(sl: Slice) -> bool {
+    return sl.e1.w > 0.5;
+}
+
+// The width in the rectified coordinate of one texel of a row of n texels over [0, u_max].
+fn texel_width(sl: Slice, n: u32) -> f32 {
+    return sl.e2.w / f32(n);
+}
+
+// The rectified coordinate of texel j's centre in a row of n texels over [0, u_max].
+fn texel_centre(sl: Slice, j: u32, n: u32) -> f32 {
+    return (f32(j) + 0.5) * sl.e2.w / f32(n);
+}
