@@ -56,7 +56,11 @@
 //! Karis 2014's TAA clamp in 3-D (`clamp`; `none` is the engines' keep-everything); the jitter
 //! in depth kept in front of the froxel column's nearest visible surface (`jitter_bound` =
 //! surface, the default; `slice` jitters over the whole slice as Wronski and Unreal), so light
-//! behind a thin wall does not leak into the wall's pixels more than one centred sample; float32 volume; the scene's phase function; spot patterns; particles
+//! behind a thin wall does not leak into the wall's pixels more than one centred sample; each
+//! frame's jittered sample paired with its mirror image through the froxel's centre (antithetic
+//! variates, `jitter_pair`, the default; `false` is the engines' one sample a frame), a history
+//! dropped because the lighting changed restarting from that pair, so reuse does not add flicker
+//! (pen-orbit, README); float32 volume; the scene's phase function; spot patterns; particles
 //! voxelised by exact chords and a froxel with particles sampled at their mean depth.
 //! Limits: shafts thinner than a froxel are blurred across it, and light leaks across depth
 //! discontinuities within a froxel column (a surface reads the volume interpolated from its
@@ -152,6 +156,10 @@ impl Method for FroxelFog {
             Knob::choice("jitter_bound", "surface", &["surface", "slice"])
                 .sweep(Vec::<&str>::new())
                 .meaning("with temporal > 0, the depth range a froxel's jittered samples cover: its whole slice (slice, as Wronski, Hillaire and Unreal jitter), or only the slice's part in front of the nearest visible surface of its froxel column (surface: a surface inside the slice reads only that part, so light behind a thin wall no longer leaks into it; one pass over the pixels per frame)"),
+            // No sweep: inert at the default temporal 0 (README: with temporal on).
+            Knob::boolean("jitter_pair", true)
+                .sweep(Vec::<bool>::new())
+                .meaning("with temporal > 0: each frame injects its jittered sample and its mirror image through the froxel's centre (antithetic variates: the pair's mean has no first-order jitter error), and a history dropped by reject, range or revisit restarts from this frame's pair; false: one jittered sample a frame, as Wronski, Hillaire and Unreal, and a dropped history restarts from the centre sample alone (true costs one more light evaluation per froxel and frame)"),
             // No sweep: inert at the default temporal 0 (README: each mode with temporal on).
             Knob::choice("history", "range", &HISTORY_MODES)
                 .sweep(Vec::<&str>::new())
@@ -226,7 +234,11 @@ impl Method for FroxelFog {
             ShaderCheck::combinations(
                 "froxel-fog/volume",
                 &volume_source(),
-                &[("TEMPORAL", &[1.0]), ("HISTORY", &[1.0, 2.0, 3.0, 4.0])],
+                &[
+                    ("TEMPORAL", &[1.0]),
+                    ("HISTORY", &[1.0, 2.0, 3.0, 4.0]),
+                    ("JITTER_PAIR", &[0.0, 1.0]),
+                ],
             ),
             // The jitter bounded in front of the nearest surface (jitter_bound = surface).
             ShaderCheck::combinations(

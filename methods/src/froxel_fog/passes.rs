@@ -70,6 +70,9 @@ pub struct Modes {
     /// With `temporal`, `jitter_bound` = surface: the jitter in depth stays in front of the
     /// column's nearest surface (surface_bound.wgsl).
     pub surface_bound: bool,
+    /// With `temporal`, `jitter_pair`: each frame injects its jittered sample and its mirror
+    /// image, and a dropped history restarts from that pair (volume.wgsl `JITTER_PAIR`).
+    pub jitter_pair: bool,
 }
 
 pub struct VolumePasses {
@@ -123,6 +126,7 @@ impl VolumePasses {
                         ("TEMPORAL", flag(modes.temporal)),
                         ("HISTORY", modes.history as f64),
                         ("SURFACE_BOUND", flag(modes.surface_bound)),
+                        ("JITTER_PAIR", flag(modes.jitter_pair)),
                     ];
                     pipeline("inject", &own)
                 })
@@ -135,6 +139,7 @@ impl VolumePasses {
                 let own = [
                     ("HISTORY", modes.history as f64),
                     ("REJECT_CHANGE", modes.reject_change as f64),
+                    ("JITTER_PAIR", flag(modes.jitter_pair)),
                 ];
                 pipeline("temporal", &own)
             }),

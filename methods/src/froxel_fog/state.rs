@@ -199,6 +199,7 @@ impl State {
             particles: is_particles,
             shadow_pcf: p.knob::<String>("shadow_filter")? == "pcf",
             surface_bound,
+            jitter_pair: temporal > 0 && p.knob("jitter_pair")?,
         };
         let volume_passes = VolumePasses::new(gpu, &renderer, buffers, modes);
         let particles = is_particles
