@@ -297,14 +297,6 @@ fn spot_integral_per_ray_keeps_the_error() {
         per_ray < 0.5 * per_interval,
         "per ray {per_ray} vs per interval {per_interval}"
     );
-    assert!(
-        open_interval < 1e-3,
-        "unshadowed per interval: {open_interval}"
-    );
-    assert!(
-        open_ray <= 1.02 * open_interval,
-        "unshadowed per ray {open_ray} vs per interval {open_interval}"
-    );
     assert_eq!(
         glass_ray, glass_interval,
         "a patterned spot stays per interval"
