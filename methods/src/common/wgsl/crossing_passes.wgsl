@@ -29,7 +29,9 @@ fn fs_crossing_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
 // SIMD rasteriser (lavapipe) runs a branch for a group of pixels whenever one of them takes it,
 // so calling it from inside the crossing loop cost one call per crossing of the group's longest
 // list. The first loop writes the distances where the lit state toggles over the sorted list
-// (in place: one write per crossing read at most), the second pairs them up.
+// (in place: one write per crossing read at most), the second pairs them up. A method that needs
+// the lit bounds before it integrates (biri-shadow-volumes' per-ray spot fit) calls the two
+// halves, `crossing_lit_bounds` and `crossing_lit_sum`, itself.
 fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
     return crossing_lit_sum(px, crossing_lit_bounds(px, end), end);
 }
