@@ -17,11 +17,11 @@
 // (6 nodes: 1e-3 on rays that only graze the rim), where one fit over the whole span would need
 // 32 nodes for 2e-5. Not for patterned spots (a pattern edge is not smooth): `spot_fit_applies`.
 //
-// Written out for 8 nodes, with no array: the coefficients live in struct fields, so lavapipe
-// keeps them in registers (measured: loops over private arrays cost more than the evaluations
-// they save, the arrays living in per-lane scratch memory).
+// Written out for 8 nodes, with no array: the coefficients live in struct fields (measured on
+// lavapipe: with them in private arrays indexed in loops the walk was no faster than the
+// panels; such arrays presumably live in per-lane memory rather than registers).
 
-// Knob `spot_integral` (baked): 1 per ray, 0 per interval (every interval by `spot_panels`).
+// Knob `spot_integral` (baked): true per ray, false per interval (`spot_panels` each).
 override SPOT_INTEGRAL_PER_RAY: bool = false;
 const SPOT_FIT_NODES: u32 = 8u;
 
