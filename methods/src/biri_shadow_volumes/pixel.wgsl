@@ -11,15 +11,8 @@
 @group(1) @binding(5) var<storage, read_write> crossing_sum: array<vec4<f32>>;
 @group(1) @binding(6) var crossing_out: texture_storage_2d<rgba32float, write>;
 
-// This pixel's spot fit (`spot_fit`, spot_fit.wgsl), set by `cs_walk` before the lit intervals
-// are summed when `spot_fit_applies`.
-var<private> walk_fit: SpotFit;
-
 // Eq. 7 on pixel px's ray between distances a and b (the walk's lit intervals).
 fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32> {
-    if (spot_fit_applies(cfg.light.x)) {
-        return spot_fit_between(walk_fit, a, b);
-    }
     let dir = camera_ray_dir(camera, vec2<f32>(px) + 0.5);
     return lit_between(gamma_table, cfg.light.x, dir, a, b, cfg.light.w);
 }
@@ -35,13 +28,18 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = cfg.light.x;
     var walked = vec3<f32>(0.0);
     if (spot_fit_applies(k)) {
-        // The fit needs the ray's lit span: the list is walked first, then fitted, then summed.
+        // The fit needs the ray's lit span: the list is walked first, then fitted, then the lit
+        // intervals summed from the fit (here, not through `crossing_lit`, so that the fit is a
+        // local value rather than a private variable every invocation would zero-fill).
         let lit = crossing_lit_bounds(gid.xy, end);
         if (lit.bounds >= 2u) {
             let first = crossing_lit_bound(lit, 0u, end);
-            walk_fit = spot_fit(k, dir, first, crossing_lit_bound(lit, lit.bounds - 1u, end));
+            let fit = spot_fit(k, dir, first, crossing_lit_bound(lit, lit.bounds - 1u, end));
+            for (var j = 0u; j + 1u < lit.bounds; j += 2u) {
+                let a = crossing_lit_bound(lit, j, end);
+                walked += spot_fit_between(fit, a, crossing_lit_bound(lit, j + 1u, end));
+            }
         }
-        walked = crossing_lit_sum(gid.xy, lit, end);
     } else {
         walked = crossing_walk(gid.xy, end);
     }
