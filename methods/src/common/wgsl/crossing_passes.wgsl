@@ -30,8 +30,8 @@ fn fs_crossing_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
 // so calling it from inside the crossing loop cost one call per crossing of the group's longest
 // list. The first loop writes the distances where the lit state toggles over the sorted list
 // (in place: one write per crossing read at most), the second pairs them up. A method that needs
-// the lit bounds before it integrates (biri-shadow-volumes' per-ray spot fit) calls the two
-// halves, `crossing_lit_bounds` and `crossing_lit_sum`, itself.
+// the lit bounds before it integrates (biri-shadow-volumes' per-ray spot fit) calls the first
+// half, `crossing_lit_bounds`, and pairs the bounds itself (`crossing_lit_bound`).
 fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
     return crossing_lit_sum(px, crossing_lit_bounds(px, end), end);
 }
