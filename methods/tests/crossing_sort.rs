@@ -55,7 +55,7 @@ fn lists(lengths: &[usize]) -> Vec<Vec<f32>> {
 fn crossing_lists_sort_stably_by_distance_on_both_paths() {
     let Some(gpu) = gpu_or_skip() else { return };
     let lengths = [
-        0, 1, 2, 3, 5, 16, 17, 64, 100, 163, 255, 256, 257, 300, 7, 128,
+        0, 1, 2, 3, 5, 16, 17, 64, 65, 100, 163, 255, 256, 257, 300, 7, 128,
     ];
     let mut input = lists(&lengths);
     // Nearly sorted lists (0, 1 and 2 descents, under the cap: the insertion-sort path), as

@@ -50,8 +50,9 @@
 //! the ray; the paper: directional lights "are easier to handle ... and will not be a problem"),
 //! its shadow planes extruded along the direction; spot lights (falloff and projected pattern)
 //! by `spot_panels` two-node Gauss–Legendre panels in the angle seen from the light over the
-//! interval's stretch inside the outer cone (the per-pixel walk: in proportion to the interval's
-//! angle with knob `spot_ray_panels`, off by default: slower on lavapipe, README). The closed form and the quadrature are shared with
+//! interval's stretch inside the outer cone (the per-pixel walk, spots without a pattern: an
+//! antiderivative fitted once per ray, knob `spot_integral = per-ray`, the default;
+//! `spot_fit.wgsl`, README). The closed form and the quadrature are shared with
 //! polygonal-light-volumes (`common/wgsl/light_segments.wgsl`). The stencil resolve adds
 //! `crossing_term`, an antiderivative of `lit_between` (0 at the eye for the new kinds).
 //! GPU time per phase (Table 1) via `harness::gpu::PhaseTimer`: counters
@@ -183,11 +184,11 @@ impl Method for BiriShadowVolumes {
                 .sweep([1, 2, 4, 16, 64])
                 .unit("panels")
                 .meaning("spot lights (modernised): two-node Gauss-Legendre panels of each lit interval's quadrature, in the angle seen from the light, over the stretch inside the cone"),
-            // 0 by default: measured idle, 64 made the walk slower (README, issue 33).
-            Knob::int("spot_ray_panels", 0, 0..=4096)
-                .sweep([8, 16, 32, 64])
-                .unit("panels per ray")
-                .meaning("resolve=per-pixel, spot lights: a lit interval's panels are no wider (in the angle seen from the light) than 1/spot_ray_panels of the ray's lit reach (eye to visible surface, inside the cone), at most spot_panels per interval; ≥ spot_panels leaves a ray lit throughout as it was; 0: spot_panels per lit interval"),
+            // per-ray by default: measured on fence-spot 256² (README, issue 33), faster and
+            // more accurate than spot_panels per lit interval.
+            Knob::choice("spot_integral", "per-ray", &["per-ray", "per-interval"])
+                .sweep(["per-interval"])
+                .meaning("resolve=per-pixel, spot lights without a pattern: per-ray fits the ray once (8 Chebyshev nodes per piece, cut at the inner cone) and takes each lit interval from its antiderivative; per-interval integrates each lit interval by spot_panels panels (as the stencil resolve and patterned spots)"),
             knobs::pattern_res(512),
             Knob::choice("silhouettes", "per-piece", &["per-piece", "whole-mesh"])
                 .sweep(["whole-mesh"])
@@ -295,7 +296,7 @@ impl State {
             rules: p.knob("stencil_rules")?,
             unorm8,
             spot_panels: p.knob("spot_panels")?,
-            spot_ray_panels: p.knob("spot_ray_panels")?,
+            spot_per_ray: p.knob::<String>("spot_integral")? == "per-ray",
             split: match p.knob::<String>("silhouettes")?.as_str() {
                 "whole-mesh" => Split::WholeMesh,
                 _ => Split::Components,

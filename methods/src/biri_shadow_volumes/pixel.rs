@@ -46,14 +46,14 @@ pub struct Draw<'a> {
 
 impl PixelPass {
     /// `module`: the composed plane module (`planes::source`); `lights`: the scene's lights;
-    /// `spot_ray_panels`: the knob, baked into the walk as `SPOT_RAY_PANELS`.
+    /// `spot_per_ray`: knob `spot_integral`, baked into the walk as `SPOT_INTEGRAL_PER_RAY`.
     pub fn new(
         gpu: &Gpu,
         renderer: &SceneRenderer,
         module: &wgpu::ShaderModule,
         (width, height): (u32, u32),
         lights: u32,
-        spot_ray_panels: u32,
+        spot_per_ray: bool,
     ) -> PixelPass {
         let vis = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let layout = gpu
@@ -98,7 +98,7 @@ impl PixelPass {
             module,
             &renderer
                 .specialization
-                .with(&[("SPOT_RAY_PANELS", spot_ray_panels as f64)]),
+                .with(&[("SPOT_INTEGRAL_PER_RAY", f64::from(u8::from(spot_per_ray)))]),
         );
         PixelPass {
             layout,

@@ -11,25 +11,9 @@
 @group(1) @binding(5) var<storage, read_write> crossing_sum: array<vec4<f32>>;
 @group(1) @binding(6) var crossing_out: texture_storage_2d<rgba32float, write>;
 
-// Knob `spot_ray_panels` (baked, pixel.rs): > 0 — a spot's lit intervals get panels in
-// proportion to their angle (`spot_between_on_ray`, at most `spot_panels` = cfg.light.w each);
-// 0 — `spot_panels` each (`lit_between`, as the stencil resolve).
-override SPOT_RAY_PANELS: u32 = 64u;
-
-// This pixel's spot geometry (`spot_ray`), set by `cs_walk` before the walk when
-// `walk_spot_per_ray`.
-var<private> walk_spot: SpotRay;
-
-fn walk_spot_per_ray(k: u32) -> bool {
-    return SPOT_RAY_PANELS > 0u && scene_has_light_kind(LIGHT_SPOT) && light_kind(k) == LIGHT_SPOT;
-}
-
 // Eq. 7 on pixel px's ray between distances a and b (the walk's lit intervals).
 fn crossing_lit(px: vec2<u32>, a: f32, b: f32) -> vec3<f32> {
     let dir = camera_ray_dir(camera, vec2<f32>(px) + 0.5);
-    if (walk_spot_per_ray(cfg.light.x)) {
-        return spot_between_on_ray(cfg.light.x, dir, walk_spot, a, b);
-    }
     return lit_between(gamma_table, cfg.light.x, dir, a, b, cfg.light.w);
 }
 
@@ -42,8 +26,22 @@ fn cs_walk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dir = camera_ray_dir(camera, vec2<f32>(gid.xy) + 0.5);
     let end = camera_ray_length(camera, dir, textureLoad(ray_distance, vec2<i32>(gid.xy), 0).r);
     let k = cfg.light.x;
-    if (walk_spot_per_ray(k)) {
-        walk_spot = spot_ray(k, dir, end, cfg.light.w, SPOT_RAY_PANELS);
+    var walked = vec3<f32>(0.0);
+    if (spot_fit_applies(k)) {
+        // The fit needs the ray's lit span: the list is walked first, then fitted, then the lit
+        // intervals summed from the fit (here, not through `crossing_lit`, so that the fit is a
+        // local value rather than a private variable every invocation would zero-fill).
+        let lit = crossing_lit_bounds(gid.xy, end);
+        if (lit.bounds >= 2u) {
+            let first = crossing_lit_bound(lit, 0u, end);
+            let fit = spot_fit(k, dir, first, crossing_lit_bound(lit, lit.bounds - 1u, end));
+            for (var j = 0u; j + 1u < lit.bounds; j += 2u) {
+                let a = crossing_lit_bound(lit, j, end);
+                walked += spot_fit_between(fit, a, crossing_lit_bound(lit, j + 1u, end));
+            }
+        }
+    } else {
+        walked = crossing_walk(gid.xy, end);
     }
-    crossing_accumulate(gid.xy, gid.y * dims.x + gid.x, k, crossing_walk(gid.xy, end));
+    crossing_accumulate(gid.xy, gid.y * dims.x + gid.x, k, walked);
 }

@@ -27,6 +27,7 @@ use super::types::{
 
 pub const PLANES_WGSL: &str = include_str!("planes.wgsl");
 pub const PIXEL_WGSL: &str = include_str!("pixel.wgsl");
+pub const SPOT_FIT_WGSL: &str = include_str!("spot_fit.wgsl");
 
 /// The composed WGSL of the plane passes (stencil and per-pixel); `early_depth_test`: see
 /// [`crossing_lists::passes_wgsl`].
@@ -34,7 +35,7 @@ pub fn source(early_depth_test: bool) -> String {
     wgsl::compose(
         &[wgsl::PRELUDE, &[wgsl::FULLSCREEN]].concat(),
         &format!(
-            "{}\n{}\n{}\n{}\n{PLANES_WGSL}\n{PIXEL_WGSL}",
+            "{}\n{}\n{}\n{}\n{PLANES_WGSL}\n{SPOT_FIT_WGSL}\n{PIXEL_WGSL}",
             wgsl::LDSS,
             crate::common::stencil::PLANE_WGSL,
             crossing_lists::WGSL,
@@ -127,7 +128,7 @@ impl Planes {
                 &module,
                 (ctx.width, ctx.height),
                 ctx.scene.features().lights as u32,
-                opts.spot_ray_panels,
+                opts.spot_per_ray,
             )
         });
         Planes {

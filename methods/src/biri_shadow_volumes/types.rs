@@ -27,9 +27,9 @@ pub struct Options {
     pub unorm8: bool,
     /// Knob `spot_panels` (the spot quadrature of `lit_between`).
     pub spot_panels: u32,
-    /// Knob `spot_ray_panels` (per-pixel resolve; 0: off): a spot's lit intervals get panels no
-    /// wider than 1/`spot_ray_panels` of the ray's lit reach, at most `spot_panels` each.
-    pub spot_ray_panels: u32,
+    /// Knob `spot_integral = per-ray` (per-pixel resolve, spots without a pattern): each ray's
+    /// spot in-scatter fitted once (`spot_fit.wgsl`), each lit interval from its antiderivative.
+    pub spot_per_ray: bool,
 }
 
 /// One light's planes in the vertex buffer and the eye's shadow count.

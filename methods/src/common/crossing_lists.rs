@@ -14,7 +14,7 @@
 //!    `crossing_append` into the harness's encoder;
 //! 5. walk: `crossing_sorted` sorts one list by distance (an insertion sort where the list has
 //!    at most 2 descents — nearly sorted, as planes drawn near to far leave it — else a merge
-//!    sort in private memory up to 256 crossings, an insertion sort in the pool beyond;
+//!    sort in private memory up to 64 crossings, an insertion sort in the pool beyond;
 //!    tests/crossing_sort.rs), `crossing_walk` (`wgsl/crossing_passes.wgsl`) walks it from the
 //!    eye's shadow count, writing where the lit state toggles, and sums the method's
 //!    `crossing_lit(px, a, b)` over the lit intervals in a second loop.

@@ -29,8 +29,24 @@ fn fs_crossing_gather(v: PlaneFrag, @builtin(front_facing) front: bool) {
 // SIMD rasteriser (lavapipe) runs a branch for a group of pixels whenever one of them takes it,
 // so calling it from inside the crossing loop cost one call per crossing of the group's longest
 // list. The first loop writes the distances where the lit state toggles over the sorted list
-// (in place: one write per crossing read at most), the second pairs them up.
+// (in place: one write per crossing read at most), the second pairs them up. A method that needs
+// the lit bounds before it integrates (biri-shadow-volumes' per-ray spot fit) calls the first
+// half, `crossing_lit_bounds`, and pairs the bounds itself (`crossing_lit_bound`).
 fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
+    return crossing_lit_sum(px, crossing_lit_bounds(px, end), end);
+}
+
+// The lit intervals of a walked list: their bounds are [0 if the eye is lit] ++ the toggles
+// (stored from pool index `base`) ++ [end if the ray ends lit], `bounds` of them (even).
+struct CrossingLit {
+    base: u32,
+    eye_lit: u32,
+    toggles: u32,
+    bounds: u32,
+};
+
+// `crossing_walk`'s first loop: sorts pixel px's list and writes the toggles over it.
+fn crossing_lit_bounds(px: vec2<u32>, end: f32) -> CrossingLit {
     let list = crossing_sorted(px);
     var count = i32(crossing_cfg.eye_count);
     var toggles = 0u;
@@ -43,14 +59,16 @@ fn crossing_walk(px: vec2<u32>, end: f32) -> vec3<f32> {
             toggles += 1u;
         }
     }
-    // Bounds of the lit intervals: [0 if the eye is lit] ++ toggles ++ [end if the ray ends lit],
-    // an even count, taken in pairs.
     let eye_lit = select(0u, 1u, crossing_cfg.eye_count == 0u);
-    let bounds = eye_lit + toggles + select(0u, 1u, count <= 0);
+    return CrossingLit(list.x, eye_lit, toggles, eye_lit + toggles + select(0u, 1u, count <= 0));
+}
+
+// `crossing_walk`'s second loop: `crossing_lit` over the lit intervals, the bounds in pairs.
+fn crossing_lit_sum(px: vec2<u32>, lit: CrossingLit, end: f32) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
-    for (var j = 0u; j + 1u < bounds; j += 2u) {
-        let a = crossing_bound(list.x, j, eye_lit, toggles, end);
-        let b = crossing_bound(list.x, j + 1u, eye_lit, toggles, end);
+    for (var j = 0u; j + 1u < lit.bounds; j += 2u) {
+        let a = crossing_lit_bound(lit, j, end);
+        let b = crossing_lit_bound(lit, j + 1u, end);
         sum += crossing_lit(px, a, b);
     }
     return sum;
@@ -69,13 +87,13 @@ fn crossing_accumulate(px: vec2<u32>, i: u32, light: u32, walked: vec3<f32>) {
     textureStore(crossing_out, vec2<i32>(px), acc);
 }
 
-// Bound j of `crossing_walk`'s lit intervals: 0 (the eye, when lit), a toggle, or `end`.
-fn crossing_bound(base: u32, j: u32, eye_lit: u32, toggles: u32, end: f32) -> f32 {
-    if (j < eye_lit) {
+// Bound j of the lit intervals: 0 (the eye, when lit), a toggle, or `end`.
+fn crossing_lit_bound(lit: CrossingLit, j: u32, end: f32) -> f32 {
+    if (j < lit.eye_lit) {
         return 0.0;
     }
-    if (j - eye_lit < toggles) {
-        return crossing_pool[base + j - eye_lit];
+    if (j - lit.eye_lit < lit.toggles) {
+        return crossing_pool[lit.base + j - lit.eye_lit];
     }
     return end;
 }

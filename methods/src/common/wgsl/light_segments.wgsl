@@ -55,8 +55,14 @@ fn angular_panels(k: u32, dir: vec3<f32>, x0: f32, h: f32, pa: f32, dphi: f32, p
 // The stretch [near, far] of the ray inside spot k's outer cone (empty: near ≥ far). Points
 // x = eye + t·dir with (w·axis)² ≥ cos²·|w|² and w·axis ≥ 0, w = x − light: a quadratic in t.
 fn cone_stretch(k: u32, dir: vec3<f32>) -> vec2<f32> {
+    return cone_stretch_at(k, dir, lights.lights[k].intensity.w);
+}
+
+// `cone_stretch` for the cone of half-angle cosine `cos_half` around spot k's axis (the inner
+// cone: lights[k].direction.w).
+fn cone_stretch_at(k: u32, dir: vec3<f32>, cos_half: f32) -> vec2<f32> {
     let axis = lights.lights[k].direction.xyz;
-    let cos2 = lights.lights[k].intensity.w * lights.lights[k].intensity.w;
+    let cos2 = cos_half * cos_half;
     let w0 = camera.position.xyz - lights.lights[k].position.xyz;
     let da = dot(dir, axis);
     let wa = dot(w0, axis);
@@ -87,41 +93,4 @@ fn cone_stretch(k: u32, dir: vec3<f32>) -> vec2<f32> {
 fn spot_between(k: u32, dir: vec3<f32>, a: f32, b: f32, panels: u32) -> vec3<f32> {
     let cone = cone_stretch(k, dir);
     return local_quadrature(k, dir, max(a, cone.x), min(b, cone.y), panels);
-}
-
-// Spot k seen along one view ray, for the many lit intervals of that ray (the per-pixel walk of
-// a crossing list): what `spot_between` recomputes per interval, once per ray, and the widest
-// panel (in φ) an interval may have: 1/`ray_panels` of the ray's reach [0, end] ∩ the cone.
-struct SpotRay {
-    x0: f32,           // the ray's closest approach to the light (distance from the eye)
-    h: f32,            // the light's distance from the ray there
-    cone: vec2<f32>,   // the ray's stretch inside the outer cone (`cone_stretch`)
-    width: f32,        // the widest panel; 0 with ray_panels = 0 (`panels` per interval)
-    panels: u32,       // the most panels per interval
-};
-
-fn spot_ray(k: u32, dir: vec3<f32>, end: f32, panels: u32, ray_panels: u32) -> SpotRay {
-    let to_light = lights.lights[k].position.xyz - camera.position.xyz;
-    let x0 = dot(to_light, dir);
-    let h = max(length(to_light - dir * x0), 1e-6);
-    let cone = cone_stretch(k, dir);
-    let reach = atan((min(end, cone.y) - x0) / h) - atan((max(0.0, cone.x) - x0) / h);
-    let width = select(max(reach, 0.0) / f32(max(ray_panels, 1u)), 0.0, ray_panels == 0u);
-    return SpotRay(x0, h, cone, width, panels);
-}
-
-// `spot_between` over [a, b] with panels in proportion to the interval's angle: ⌈Δφ / width⌉
-// of them, 1 to `ray.panels` (all `ray.panels` where width = 0: then the very sums of
-// `spot_between`). The integrand is smooth in φ (dx/r² = dφ/h), so the panel width sets the
-// error: a short lit interval between two shadows (a fence's slit) gets 1–2 narrow panels where
-// it took `panels`, and with ray_panels ≥ panels a ray lit throughout keeps its `panels`.
-fn spot_between_on_ray(k: u32, dir: vec3<f32>, ray: SpotRay, a: f32, b: f32) -> vec3<f32> {
-    let lo = max(a, ray.cone.x);
-    let hi = min(b, ray.cone.y);
-    if (hi <= lo) { return vec3<f32>(0.0); }
-    let pa = atan((lo - ray.x0) / ray.h);
-    let span = atan((hi - ray.x0) / ray.h) - pa;
-    let most = f32(ray.panels);
-    let n = u32(select(clamp(ceil(span / ray.width), 1.0, most), most, ray.width <= 0.0));
-    return angular_panels(k, dir, ray.x0, ray.h, pa, span / f32(n), n);
 }
