@@ -42,6 +42,12 @@ const MAX_TRIANGLES: u64 = 1 << 25;
 /// the reference's 64-bit unprojection of a pixel ray divides by zero).
 pub const MAX_FAR_OVER_NEAR: f32 = 1e6;
 
+/// The largest magnitude (m) of a position's coordinate (camera, camera keys, lights, light
+/// keys, object translations): ±1000 km. f32 leaves 6 cm of precision there, and a camera far
+/// beyond it overflows the view and clip matrices to a non-finite pixel ray (found by the
+/// loader fuzz test: a camera at x = 9.2e18, a finite f32).
+pub const MAX_COORDINATE: f32 = 1e6;
+
 /// An upper bound on the triangles a procedural shape builds (None: an OBJ file).
 fn triangle_estimate(s: &Shape) -> Option<u64> {
     let n = |x: u32| x as u64;
@@ -87,6 +93,20 @@ impl Checker {
     fn finite3(&mut self, path: &str, v: Vec3) -> bool {
         if !v.is_finite() {
             self.push(path, format!("must be finite, got {v}"));
+            return false;
+        }
+        true
+    }
+    /// A position: finite, every coordinate within ±MAX_COORDINATE.
+    fn point3(&mut self, path: &str, v: Vec3) -> bool {
+        if !self.finite3(path, v) {
+            return false;
+        }
+        if v.abs().max_element() > MAX_COORDINATE {
+            self.push(
+                path,
+                format!("must be within ±{MAX_COORDINATE:e} m on every axis, got {v}"),
+            );
             return false;
         }
         true
@@ -175,7 +195,7 @@ pub fn validate(d: &SceneDesc, base: &Path) -> Vec<Problem> {
 
 fn camera(c: &mut Checker, d: &SceneDesc) {
     let cam = &d.camera;
-    let ok = c.finite3("camera.position", cam.position) & c.finite3("camera.look_at", cam.look_at);
+    let ok = c.point3("camera.position", cam.position) & c.point3("camera.look_at", cam.look_at);
     if ok && (cam.look_at - cam.position).length_squared() < 1e-12 {
         c.push("camera.look_at", "must differ from camera.position");
     }
@@ -223,8 +243,8 @@ fn camera(c: &mut Checker, d: &SceneDesc) {
     for (k, key) in cam.keyframes.iter().enumerate() {
         let p = format!("camera.keyframes[{k}]");
         keys_ok &= c.finite(&format!("{p}.frame"), key.frame);
-        let finite = c.finite3(&format!("{p}.position"), key.position)
-            & c.finite3(&format!("{p}.look_at"), key.look_at);
+        let finite = c.point3(&format!("{p}.position"), key.position)
+            & c.point3(&format!("{p}.look_at"), key.look_at);
         keys_ok &= finite;
         if finite && (key.look_at - key.position).length_squared() < 1e-12 {
             c.push(
@@ -466,7 +486,7 @@ fn light(c: &mut Checker, p: &str, l: &LightDesc) {
             intensity,
             keyframes,
         } => {
-            c.finite3(&format!("{p}.position"), *position);
+            c.point3(&format!("{p}.position"), *position);
             c.non_negative3(&format!("{p}.intensity"), *intensity);
             light_keys(c, p, keyframes, false);
         }
@@ -480,7 +500,7 @@ fn light(c: &mut Checker, p: &str, l: &LightDesc) {
             keyframes,
             attached_to_camera,
         } => {
-            c.finite3(&format!("{p}.position"), *position);
+            c.point3(&format!("{p}.position"), *position);
             c.nonzero3(&format!("{p}.direction"), *direction);
             if *attached_to_camera {
                 flashlight(c, p, *position, keyframes);
@@ -624,7 +644,7 @@ fn light_keys(c: &mut Checker, p: &str, keys: &[LightKey], has_direction: bool) 
         let kp = format!("{p}.keyframes[{k}]");
         c.finite(&format!("{kp}.frame"), key.frame);
         if let Some(pos) = key.position {
-            c.finite3(&format!("{kp}.position"), pos);
+            c.point3(&format!("{kp}.position"), pos);
         }
         match (key.direction, has_direction) {
             (Some(d), true) => c.nonzero3(&format!("{kp}.direction"), d),
@@ -640,7 +660,7 @@ fn light_keys(c: &mut Checker, p: &str, keys: &[LightKey], has_direction: bool) 
 }
 
 fn transform(c: &mut Checker, p: &str, t: &Transform) {
-    c.finite3(&format!("{p}.translation"), t.translation);
+    c.point3(&format!("{p}.translation"), t.translation);
     c.finite3(&format!("{p}.rotation_deg"), t.rotation_deg);
     if c.finite3(&format!("{p}.scale"), t.scale) && t.scale.min_element() <= 0.0 {
         c.push(
