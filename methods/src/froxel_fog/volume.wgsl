@@ -41,33 +41,30 @@ fn froxel_rotation(p: vec3<u32>) -> vec3<f32> {
     return out;
 }
 
-// This frame's sample position within froxel id, in cell units: its centre without temporal
-// accumulation; else a Halton point over the cell (jitter 2) or along the centre ray (jitter 1),
-// in depth within the slice's share in front of the column's nearest surface (surface_bound.wgsl).
-fn sample_offset(id: vec3<u32>) -> vec3<f32> {
-    return jitter_point(id, fract(froxel.offset.xyz + froxel_rotation(id)));
-}
-
-// Knob `jitter_pair` (with temporal accumulation): each frame also injects `sample_offset`'s
-// mirror image through the froxel's centre and takes the pair's mean (antithetic variates): where
-// the source varies linearly across the froxel the pair's mean is the froxel's mean exactly, so a
-// frame's estimate carries only the source's curvature, not the jitter's first-order error — the
-// frame-to-frame change a single jittered sample adds (flicker) is gone, and a history dropped by
-// reject, range or revisit can restart from this frame's pair (temporal.wgsl).
-override JITTER_PAIR: bool = false;
-
-// The mirror image of this frame's `sample_offset` through the centre of the jittered range.
-fn mirrored_offset(id: vec3<u32>) -> vec3<f32> {
-    return jitter_point(id, 1.0 - fract(froxel.offset.xyz + froxel_rotation(id)));
-}
-
-// The sample position (cell units) of a point u in [0, 1]³ of froxel id's jittered range.
-fn jitter_point(id: vec3<u32>, u: vec3<f32>) -> vec3<f32> {
+// The sample position within froxel id, in cell units, of point u of its jittered range
+// (`jitter_unit`): its centre without temporal accumulation; else u over the cell (jitter 2) or
+// along the centre ray (jitter 1), in depth within the slice's share in front of the column's
+// nearest surface (surface_bound.wgsl).
+fn sample_offset(id: vec3<u32>, u: vec3<f32>) -> vec3<f32> {
     var o = u;
     o.z *= front_share(id.x, id.y, id.z);
     let centre = vec3<f32>(0.5);
     return select(select(centre, vec3<f32>(0.5, 0.5, o.z), froxel.jitter == 1u), o, froxel.jitter == 2u);
 }
+
+// This frame's jittered point u in [0, 1)³ of froxel id (Halton, rotated per froxel).
+fn jitter_unit(id: vec3<u32>) -> vec3<f32> {
+    return fract(froxel.offset.xyz + froxel_rotation(id));
+}
+
+// Knob `jitter_pair` (with temporal accumulation): each frame also injects the mirror image
+// 1 − u of its jittered point u through the froxel's centre and takes the pair's mean
+// (antithetic variates): where the source varies linearly across the froxel the pair's mean is
+// the froxel's mean exactly, so a frame's estimate carries only the source's curvature, not the jitter's first-order error — the
+// frame-to-frame change a single jittered sample adds (flicker) is gone, and a history dropped by
+// reject, range or revisit can restart from this frame's pair (temporal.wgsl).
+override JITTER_PAIR: bool = false;
+
 
 // The ray through screen position (x + o.x, y + o.y) · pixel_size of the grid, clamped to the
 // viewport (o = ½: the froxel column's centre).
@@ -225,9 +222,10 @@ fn inject(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let i = froxel_index(id.x, id.y, id.z);
-    var s = froxel_source(id, sample_offset(id));
+    let u = jitter_unit(id);
+    var s = froxel_source(id, sample_offset(id, u));
     if (TEMPORAL && JITTER_PAIR) {
-        s = 0.5 * (s + froxel_source(id, mirrored_offset(id)));
+        s = 0.5 * (s + froxel_source(id, sample_offset(id, 1.0 - u)));
     }
     if (!FIRST) {
         s += source[i].rgb;
