@@ -315,7 +315,7 @@ pub fn compare(test: &Image, reference: &Image, tone: &ToneMap) -> Result<ErrorM
     // `tone.to_srgb8`, without paying for the sRGB `powf` twice).
     let srgb8 =
         |img: &Image| -> Vec<u8> { img.pixels.iter().flat_map(|p| p.map(quantize_u8)).collect() };
-    m.flip_mean = flip_mean(&srgb8(&test_ldr), &srgb8(&ref_ldr), w as u32, h as u32);
+    m.flip_mean = super::flip::flip_mean(&srgb8(&test_ldr), &srgb8(&ref_ldr), w, h);
     Ok(m)
 }
 
@@ -439,19 +439,6 @@ fn ssim_luma(a: &[f64], b: &[f64], w: usize, h: usize) -> f64 {
         .iter()
         .sum();
     sum / (w * h) as f64
-}
-
-/// Mean of the FLIP (LDR) error map of two tightly packed 8-bit sRGB images,
-/// at the default 67 pixels per degree (0.7 m from a 0.7 m wide 4K monitor).
-///
-/// The mean is taken over the error map directly rather than via
-/// `FlipPool`, whose statistics are histogram-based.
-fn flip_mean(test_srgb8: &[u8], ref_srgb8: &[u8], w: u32, h: u32) -> f64 {
-    let reference = nv_flip::FlipImageRgb8::with_data(w, h, ref_srgb8);
-    let test = nv_flip::FlipImageRgb8::with_data(w, h, test_srgb8);
-    let err = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    let values = err.to_vec();
-    values.iter().map(|&e| e as f64).sum::<f64>() / values.len() as f64
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@
 //! happens only in [`metrics::ToneMap`] and in the PNG writers in [`io`].
 
 pub mod colormap;
+pub mod flip;
 pub mod headline;
 pub mod io;
 pub mod lag;

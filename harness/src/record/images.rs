@@ -4,6 +4,8 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use rayon::prelude::*;
+
 use crate::image::metrics::ToneMap;
 use crate::image::{Image, io};
 use crate::method::Params;
@@ -62,22 +64,24 @@ pub fn write_aovs(
     total: &Image,
     tone: &ToneMap,
 ) -> Result<BTreeMap<String, String>, String> {
-    let mut paths = BTreeMap::new();
-    for (name, img) in [
+    std::fs::create_dir_all(out.join(rel_dir))
+        .map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
+    // Encoding is independent per AOV: on the cores, beside the scoring (score.rs).
+    let written = [
         ("inscatter", inscatter),
         ("surface", surface),
         ("total", total),
-    ] {
+    ]
+    .par_iter()
+    .map(|&(name, img)| {
         let exr = format!("{rel_dir}/{name}.exr");
         let png = format!("{rel_dir}/{name}.png");
-        std::fs::create_dir_all(out.join(rel_dir))
-            .map_err(|e| format!("{}: {e}", out.join(rel_dir).display()))?;
         io::write_exr(&out.join(&exr), img)?;
         io::write_png(&out.join(&png), img, tone)?;
-        paths.insert(name.to_string(), exr);
-        paths.insert(format!("{name}_png"), png);
-    }
-    Ok(paths)
+        Ok([(name.to_string(), exr), (format!("{name}_png"), png)])
+    })
+    .collect::<Result<Vec<_>, String>>()?;
+    Ok(written.into_iter().flatten().collect())
 }
 
 #[cfg(test)]
