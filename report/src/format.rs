@@ -16,6 +16,36 @@ pub fn params_text(r: &Record) -> String {
     knobs_text(&r.params)
 }
 
+/// The knobs that tell `r` apart from the other records of its method in `peers` (any
+/// records; those of other methods are ignored): each knob whose value is not the one a
+/// strict majority of the method's records share, as `k=v k=v`, or "defaults" where every
+/// knob has the majority's value. In a sweep (one knob at a time) the majority's values are
+/// the method's defaults, so a configuration reads as what was changed (`slices=32`), as the
+/// run's log prints it; in a run of a few hand-picked configurations the knobs they differ in
+/// are shown on each.
+pub fn distinguishing_knobs(r: &Record, peers: &[&Record]) -> String {
+    let mine: Vec<&Record> = peers
+        .iter()
+        .copied()
+        .filter(|p| p.method == r.method)
+        .collect();
+    let differs = |(k, v): &(&String, &harness::method::ParamValue)| {
+        let same = mine.iter().filter(|p| p.params.get(*k) == Some(*v)).count();
+        2 * same <= mine.len()
+    };
+    let p: Vec<String> = r
+        .params
+        .iter()
+        .filter(differs)
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    if p.is_empty() {
+        "defaults".into()
+    } else {
+        p.join(" ")
+    }
+}
+
 /// Parameters as `k=v k=v`, sorted by knob name; "(none)" for none.
 pub fn knobs_text(params: &harness::method::Params) -> String {
     let p: Vec<String> = params.iter().map(|(k, v)| format!("{k}={v}")).collect();

@@ -263,4 +263,53 @@ mod tests {
             "{md}"
         );
     }
+
+    /// A winner is named by the knobs its sweep changed: the values most of its method's
+    /// records share (a sweep's defaults) are left out, and the default configuration reads
+    /// "defaults". Two configurations that differ in one knob each show that knob.
+    #[test]
+    fn winners_are_named_by_the_knobs_that_set_them_apart() {
+        use harness::method::ParamValue::Int;
+        let knobs = |slices: i64, columns: i64| -> Params {
+            [
+                ("columns".to_string(), Int(columns)),
+                ("slices".to_string(), Int(slices)),
+            ]
+            .into()
+        };
+        let mut results = run("lavapipe", 512);
+        let sweep = [
+            (knobs(64, 64), 6.0, 0.005),
+            (knobs(32, 64), 3.0, 0.008),
+            (knobs(128, 64), 9.0, 0.004),
+            (knobs(64, 32), 4.0, 0.02),
+        ];
+        for (params, time_ms, headline) in sweep {
+            let measured = Some(Measured { time_ms, headline });
+            results.records.push(record("a", "fog", &params, measured));
+        }
+        for (params, time_ms, headline) in [(knobs(8, 8), 2.0, 0.009), (knobs(8, 16), 1.0, 0.3)] {
+            let measured = Some(Measured { time_ms, headline });
+            results.records.push(record("b", "fog", &params, measured));
+        }
+        let md = markdown(&results, None);
+        let row = |scene: &str| {
+            md.lines()
+                .find(|l| l.starts_with(&format!("| {scene} |")))
+                .unwrap()
+                .to_string()
+        };
+        // a: slices=32 (3 ms, 0.8 %) is the cheapest under 1 % and under 5 %.
+        assert!(row("a").contains("fog `slices=32` · 3.00 ms"), "{md}");
+        assert!(!row("a").contains("columns="), "{md}");
+        // b: two configurations differing in columns: the winner shows columns, not slices.
+        assert!(row("b").contains("fog `columns=8` · 2.00 ms"), "{md}");
+        // The defaults, when they win, read as such.
+        let mut defaults_win = results.clone();
+        defaults_win
+            .records
+            .retain(|r| r.scene == "a" && r.params != knobs(32, 64));
+        let md = markdown(&defaults_win, None);
+        assert!(md.contains("fog `defaults` · 6.00 ms"), "{md}");
+    }
 }

@@ -8,7 +8,7 @@ use harness::results::{Record, Results};
 use serde::Serialize;
 
 use crate::analysis::{self, BUDGETS, TimeBasis, ordered, scene_names};
-use crate::format::{ms, params_text, rel};
+use crate::format::{distinguishing_knobs, ms, rel};
 use crate::metric::Metric;
 
 #[derive(Serialize)]
@@ -91,7 +91,7 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
                     time: format!("{} ms", ms(p.time)),
                     error: rel(p.error),
                     params: if several(&r.method) {
-                        params_text(r)
+                        distinguishing_knobs(r, &records)
                     } else {
                         String::new()
                     },
