@@ -177,6 +177,40 @@ fn summary(out: &mut String, columns: &[Column]) {
             );
         }
     }
+    for c in columns {
+        below_floor(out, c);
+    }
+}
+
+/// A warning per run where some winner is faster than the floor: the floor is then not a
+/// lower bound of a frame on that scene (a drifting clock, a floor that does more work than
+/// the winner), so that run's ratios there do not say what accuracy costs.
+fn below_floor(out: &mut String, column: &Column) {
+    let scenes: Vec<&str> = column
+        .rows
+        .iter()
+        .flatten()
+        .filter(|r| {
+            FRONTIER_BUDGETS.iter().any(|&b| {
+                winner(r, b)
+                    .and_then(|w| w.floor_ratio_value)
+                    .is_some_and(|x| x < 1.0)
+            })
+        })
+        .map(|r| r.scene.as_str())
+        .collect();
+    if !scenes.is_empty() {
+        let _ = writeln!(
+            out,
+            "- {}: a winner runs below the floor on {} of {} scenes ({}): the floor is no lower \
+             bound of a frame there, so those ratios do not measure what accuracy costs \
+             (ARCHITECTURE §4.5)",
+            column.name,
+            scenes.len(),
+            column.rows.iter().flatten().count(),
+            scenes.join(", ")
+        );
+    }
 }
 
 #[cfg(test)]
@@ -311,5 +345,24 @@ mod tests {
             .retain(|r| r.scene == "a" && r.params != knobs(32, 64));
         let md = markdown(&defaults_win, None);
         assert!(md.contains("fog `defaults` · 6.00 ms"), "{md}");
+    }
+
+    /// A winner faster than the floor is flagged per run and scene; a run without one is not.
+    #[test]
+    fn winners_below_the_floor_are_flagged() {
+        let flagged = with(&[
+            ("a", FLOOR_METHOD, 10.0, 1.0),
+            ("a", "fast", 4.0, 0.005),
+            ("b", FLOOR_METHOD, 2.0, 1.0),
+            ("b", "slow", 3.0, 0.005),
+        ]);
+        let md = markdown(&flagged, None);
+        assert!(
+            md.contains("- after: a winner runs below the floor on 1 of 2 scenes (a):"),
+            "{md}"
+        );
+        let honest = with(&[("b", FLOOR_METHOD, 2.0, 1.0), ("b", "slow", 3.0, 0.005)]);
+        let md = markdown(&honest, None);
+        assert!(!md.contains("below the floor"), "{md}");
     }
 }
