@@ -240,6 +240,23 @@ pub struct Timing {
     /// reference and writing images (not the method's cost; 0 in results from before it existed).
     #[serde(default)]
     pub score_ms: f64,
+    /// With `--paired-floor`: the floor (no-scatter at its defaults) timed right after this
+    /// record's own frames, on the same frames and in the same worker, so that a record's floor
+    /// ratio does not depend on where in the run it was measured (ARCHITECTURE §4.5). Absent
+    /// otherwise, on the floor's own records, and where the floor could not be prepared.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor: Option<FloorTiming>,
+}
+
+/// The paired floor's frames ([`Timing::floor`]), timed like the record's own.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct FloorTiming {
+    pub wall_ms: Stat,
+    pub gpu_ms: Option<Stat>,
+    /// Timed frames.
+    pub frames: u32,
+    /// The passes the floor ran (its last timed frame's): what was timed.
+    pub passes: Vec<String>,
 }
 
 impl Record {

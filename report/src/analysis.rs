@@ -78,6 +78,23 @@ pub fn floor_ratio(time_ms: f64, floor_ms: Option<f64>) -> Option<f64> {
     floor_ms.map(|f| time_ms / f)
 }
 
+/// The floor a record's time is divided by (ARCHITECTURE §4.5): its paired floor on `basis`
+/// where the record has one (`run --paired-floor`), else the scene's (`scene_floor_ms`, from
+/// [`floor_ms`]).
+pub fn record_floor_ms(r: &Record, basis: TimeBasis, scene_floor_ms: Option<f64>) -> Option<f64> {
+    let paired = r
+        .timing
+        .as_ref()
+        .and_then(|t| t.floor.as_ref())
+        .and_then(|f| match basis {
+            TimeBasis::Gpu => f.gpu_ms.map(|g| g.median),
+            TimeBasis::Wall => Some(f.wall_ms.median),
+        });
+    paired
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .or(scene_floor_ms)
+}
+
 /// One configuration's cost and error; `index` points back into the caller's list.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {

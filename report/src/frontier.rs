@@ -365,4 +365,36 @@ mod tests {
         let md = markdown(&honest, None);
         assert!(!md.contains("below the floor"), "{md}");
     }
+
+    /// With `--paired-floor`, a record's ratio divides by its own paired floor; a record
+    /// without one falls back on the scene's floor record. By hand: the scene's floor is
+    /// 10 ms, "drifted" (4 ms) was timed beside a floor of 2 ms → 2.00×, "plain" (6 ms) has
+    /// none → 0.600×.
+    #[test]
+    fn a_paired_floor_sets_the_ratio_of_its_record() {
+        use harness::results::{FloorTiming, Stat};
+        let mut results = with(&[
+            ("a", FLOOR_METHOD, 10.0, 1.0),
+            ("a", "drifted", 4.0, 0.005),
+            ("b", FLOOR_METHOD, 10.0, 1.0),
+            ("b", "plain", 6.0, 0.005),
+        ]);
+        let stat = |median: f64| Stat {
+            median,
+            p90: median,
+        };
+        for r in &mut results.records {
+            if r.method == "drifted" {
+                r.timing.as_mut().unwrap().floor = Some(FloorTiming {
+                    wall_ms: stat(2.2),
+                    gpu_ms: Some(stat(2.0)),
+                    frames: 3,
+                    passes: vec!["surface".into()],
+                });
+            }
+        }
+        let md = markdown(&results, None);
+        assert!(md.contains("drifted · 4.00 ms · 2.00×"), "{md}");
+        assert!(md.contains("plain · 6.00 ms · 0.600×"), "{md}");
+    }
 }

@@ -85,7 +85,8 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
         .map(|&b| {
             analysis::cheapest_under_budget(&points, b).map(|p| {
                 let r = records[p.index];
-                let ratio = analysis::floor_ratio(p.time, floor_ms);
+                let ratio =
+                    analysis::floor_ratio(p.time, analysis::record_floor_ms(r, basis, floor_ms));
                 BudgetWinner {
                     method: r.method.clone(),
                     time: format!("{} ms", ms(p.time)),

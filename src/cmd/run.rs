@@ -41,6 +41,12 @@ pub struct RunArgs {
     /// Run every pass even where the scene does not need it.
     #[arg(long)]
     pub no_skip: bool,
+    /// Time the floor (no-scatter at its defaults) within every record, right after the
+    /// record's own frames, and take each record's floor ratio from that pair (ARCHITECTURE
+    /// §4.5): ratios that do not depend on where in the run a record was measured (a GPU's
+    /// drifting clock, a shared machine's load). no-scatter must be among --methods.
+    #[arg(long)]
+    pub paired_floor: bool,
     #[command(flatten)]
     pub resume: Resume,
     #[command(flatten)]
@@ -57,6 +63,13 @@ pub fn run(a: RunArgs, registry: Registry) -> Result<()> {
     let chosen = args::pick_methods(&a.methods.methods, registry)?;
     let scenes = args::pick_scenes(&a.scenes)?;
     let overrides = args::parse_overrides(&a.params, &chosen, registry)?;
+    let floor = report::analysis::FLOOR_METHOD;
+    if a.paired_floor && !chosen.iter().any(|m| m.id() == floor) {
+        return args::refuse(format!(
+            "--paired-floor times the floor ({floor}) in every record and needs it among \
+             --methods (it is also the scenes' floor record); add {floor} to --methods"
+        ));
+    }
     let run_id = harness::results::run_id_now();
     let shard = a.shard.unwrap_or(Shard::WHOLE);
     let out: PathBuf = a.output.dir(&if shard.is_whole() {
@@ -71,6 +84,9 @@ pub fn run(a: RunArgs, registry: Registry) -> Result<()> {
             no_skip: a.no_skip,
             cache_dir: Some(a.output.cache.clone()),
             budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
+            paired_floor: a
+                .paired_floor
+                .then(|| report::analysis::FLOOR_METHOD.to_string()),
             ..RecordSettings::new(
                 &out,
                 (a.size.res.width, a.size.res.height),

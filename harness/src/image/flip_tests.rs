@@ -35,6 +35,14 @@ fn whole(test: &[u8], reference: &[u8], w: usize, h: usize) -> Vec<f32> {
     .to_vec()
 }
 
+/// How many values of `a` differ from `b`'s in any bit.
+fn bitwise_differences(a: &[f32], b: &[f32]) -> usize {
+    a.iter()
+        .zip(b)
+        .filter(|(x, y)| x.to_bits() != y.to_bits())
+        .count()
+}
+
 #[test]
 fn strips_reproduce_the_whole_image_bit_for_bit() {
     let (test, reference, w, h) = pair();
@@ -46,11 +54,7 @@ fn strips_reproduce_the_whole_image_bit_for_bit() {
     for strips in [1, 2, 3, 5, 8, 13] {
         let got = flip_map(&test, &reference, w, h, strips);
         assert_eq!(got.len(), expected.len());
-        let differing = got
-            .iter()
-            .zip(&expected)
-            .filter(|(a, b)| a.to_bits() != b.to_bits())
-            .count();
+        let differing = bitwise_differences(&got, &expected);
         assert_eq!(
             differing, 0,
             "{strips} strips: {differing} pixels differ from the whole image"
@@ -67,11 +71,7 @@ fn a_halo_short_of_the_filters_changes_rows_at_strip_edges() {
     let reach = spatial_radius(PIXELS_PER_DEGREE).max(feature_radius(PIXELS_PER_DEGREE));
     assert_eq!(halo(PIXELS_PER_DEGREE), reach + 1);
     let short = strip_map(&test, &reference, (w, h), 4, reach - 1);
-    let differing = short
-        .iter()
-        .zip(&expected)
-        .filter(|(a, b)| a.to_bits() != b.to_bits())
-        .count();
+    let differing = bitwise_differences(&short, &expected);
     assert!(
         differing > 0,
         "a halo of {} rows should not be enough",

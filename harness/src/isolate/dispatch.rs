@@ -19,11 +19,20 @@ pub struct Dispatch<'a> {
     gpu: &'a Gpu,
     settings: &'a RecordSettings,
     pool: Option<Pool>,
+    /// The paired floor's method in process (`settings.paired_floor`); a worker finds it in
+    /// its own registry by the id.
+    floor: Option<&'a dyn Method>,
 }
 
 impl<'a> Dispatch<'a> {
-    /// Records measured with `settings`, in workers when `isolation` names a worker command.
-    pub fn new(gpu: &'a Gpu, settings: &'a RecordSettings, isolation: &Isolation) -> Dispatch<'a> {
+    /// Records measured with `settings`, in workers when `isolation` names a worker command;
+    /// `floor` is the method `settings.paired_floor` names, for records run in process.
+    pub fn new(
+        gpu: &'a Gpu,
+        settings: &'a RecordSettings,
+        isolation: &Isolation,
+        floor: Option<&'a dyn Method>,
+    ) -> Dispatch<'a> {
         let pool = isolation.worker.clone().map(|cmd| {
             let s = settings;
             let timeout = isolation
@@ -35,6 +44,7 @@ impl<'a> Dispatch<'a> {
             gpu,
             settings,
             pool,
+            floor,
         }
     }
 
@@ -76,8 +86,8 @@ impl<'a> Dispatch<'a> {
                     entry,
                     params,
                     self.settings,
-                    reference,
-                    tone,
+                    (reference, tone),
+                    self.floor,
                 )
             }));
         };

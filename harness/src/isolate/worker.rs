@@ -91,13 +91,19 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
                 let entry = registry.iter().find(|m| m.id() == method).ok_or_else(|| {
                     format!("unknown method '{method}' in this worker's registry")
                 })?;
+                let floor = match settings.paired_floor.as_deref() {
+                    None => None,
+                    Some(id) => Some(*registry.iter().find(|m| m.id() == id).ok_or_else(|| {
+                        format!("unknown paired floor '{id}' in this worker's registry")
+                    })?),
+                };
                 let out = Rc::clone(&proto);
                 let record: Record = phase::with_hook(
                     move |p: Phase| {
                         // A parent that cannot hear the phase will see the record or the exit.
                         let _ = write_line(&mut *out.borrow_mut(), &FromWorker::Phase(p));
                     },
-                    || run_one(&gpu, s, *entry, &params, &settings, r, tone),
+                    || run_one(&gpu, s, *entry, &params, &settings, (r, tone), floor),
                 );
                 send(
                     &mut proto.borrow_mut(),

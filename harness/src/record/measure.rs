@@ -13,7 +13,7 @@ use super::settings::RecordSettings;
 use crate::gpu::{Gpu, GpuTimer, WORK_COUNTERS};
 use crate::image::Image;
 use crate::method::{FrameReport, Method, Params, PrepareContext, Prepared};
-use crate::results::{Passes, Record, Stat, Status, Timing};
+use crate::results::{FloorTiming, Passes, Record, Stat, Status, Timing};
 use crate::sequence::FrameScorer;
 
 /// Fewest timed frames a record gets under a time budget (a median needs a few samples).
@@ -53,6 +53,7 @@ pub(super) fn measure(
     params: &Params,
     settings: &RecordSettings,
     scorer: &mut FrameScorer,
+    floor: Option<&dyn Method>,
 ) -> Result<(Record, [Image; 3]), String> {
     phase::enter(Phase::Prepare);
     gpu.reset_allocated();
@@ -100,6 +101,12 @@ pub(super) fn measure(
         Some(render_frame(gpu, method.as_mut(), scene, 0, &aovs, None)?.report)
     };
     let images = aovs.read(gpu)?;
+    // The paired floor reuses the AOV targets once the method's are read; the method's own
+    // resources go first, so the floor is timed with the memory it would have on its own.
+    drop(method);
+    let floor = floor
+        .filter(|f| f.id() != entry.id())
+        .and_then(|f| paired_floor(gpu, f, scene, settings, &aovs));
     let report = if settings.frames > 0 {
         frames.report
     } else {
@@ -118,6 +125,7 @@ pub(super) fn measure(
             gpu_ms: (!frames.gpu.is_empty()).then(|| Stat::of(&frames.gpu)),
             cpu_ms: Stat::of(&frames.cpu),
             score_ms: 0.0,
+            floor,
         }),
         memory_bytes: Some(memory),
         passes: Some(Passes {
@@ -131,6 +139,61 @@ pub(super) fn measure(
         validation: Vec::new(),
     };
     Ok((record, images))
+}
+
+/// The floor method at its defaults, prepared and timed like a record's frames (warm-up and
+/// timed frames under the budget, cycling through the scene's frames) but neither scored nor
+/// read back. None where it cannot be prepared or rendered: the record then falls back on the
+/// run's floor record (ARCHITECTURE §4.5), and its own measurement stands.
+fn paired_floor(
+    gpu: &Gpu,
+    floor: &dyn Method,
+    scene: &Scene,
+    settings: &RecordSettings,
+    aovs: &AovTargets,
+) -> Option<FloorTiming> {
+    let defaults: Params = floor
+        .knobs()
+        .into_iter()
+        .map(|k| (k.name.to_string(), k.default))
+        .collect();
+    let mut prepared = floor
+        .prepare(&PrepareContext {
+            gpu,
+            scene,
+            params: &defaults,
+            width: settings.width,
+            height: settings.height,
+            no_skip: settings.no_skip,
+        })
+        .ok()?;
+    gpu.wait().ok()?;
+    let timer = GpuTimer::new(gpu);
+    let (mut wall, mut gpu_ms, mut passes) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut f, mut used) = (0u32, 0.0);
+    while f < settings.warmup && another_frame(settings.budget_ms, true, f, used) {
+        used += render_frame(gpu, prepared.as_mut(), scene, f, aovs, timer.as_ref())
+            .ok()?
+            .wall_ms;
+        f += 1;
+    }
+    let (warmed, mut used) = (f, 0.0);
+    while f - warmed < settings.frames && another_frame(settings.budget_ms, false, f - warmed, used)
+    {
+        let t = render_frame(gpu, prepared.as_mut(), scene, f, aovs, timer.as_ref()).ok()?;
+        used += t.wall_ms;
+        wall.push(t.wall_ms);
+        gpu_ms.extend(t.gpu_ms);
+        passes = t.report.run;
+        f += 1;
+    }
+    let errors = gpu.take_errors();
+    (errors.is_empty() && !wall.is_empty()).then(|| FloorTiming {
+        wall_ms: Stat::of(&wall),
+        gpu_ms: (gpu_ms.len() == wall.len()).then(|| Stat::of(&gpu_ms)),
+        frames: wall.len() as u32,
+        passes,
+    })
 }
 
 /// The warm-up and timed frames under the budget, cycling through the scene's frames; each

@@ -26,7 +26,8 @@ use crate::sequence::{AOV_NAMES, FrameScorer, finite, shown_frames};
 use crate::verdict::light_core_mask;
 
 /// Measures and scores one record of `entry` with `params` on `scene` against `reference`
-/// (frame 0's, tone-mapped with `tone`). Never fails: what goes wrong — a panic, the method's
+/// (frame 0's, tone-mapped with `tone`); with `floor` (`--paired-floor`), times the floor
+/// after it ([`super::measure`]). Never fails: what goes wrong — a panic, the method's
 /// error, a wgpu error, non-finite pixels, an image that cannot be written — is the record's
 /// `failed` status and reason. Announces its phases ([`phase::enter`]). Under validation the
 /// layer's messages go into the record ([`super::validation`]).
@@ -36,21 +37,30 @@ pub fn run_one(
     entry: &dyn Method,
     params: &Params,
     settings: &RecordSettings,
-    reference: &ReferenceImages,
-    tone: &ToneMap,
+    (reference, tone): (&ReferenceImages, &ToneMap),
+    floor: Option<&dyn Method>,
 ) -> Record {
     let _ = gpu.take_validation();
-    let mut rec = measure_and_score(gpu, scene, entry, params, settings, reference, tone);
+    let mut rec = measure_and_score(
+        gpu,
+        scene,
+        (entry, floor),
+        params,
+        settings,
+        reference,
+        tone,
+    );
     if gpu.choice.validate {
         add_validation(&mut rec, gpu.take_validation());
     }
     rec
 }
 
+/// `entry` measured with `params`, and the paired floor (if any) after it.
 fn measure_and_score(
     gpu: &Gpu,
     scene: &Scene,
-    entry: &dyn Method,
+    (entry, floor): (&dyn Method, Option<&dyn Method>),
     params: &Params,
     settings: &RecordSettings,
     reference: &ReferenceImages,
@@ -76,7 +86,7 @@ fn measure_and_score(
         }
     };
     let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
-        measure(gpu, scene, entry, params, settings, &mut scorer)
+        measure(gpu, scene, entry, params, settings, &mut scorer, floor)
     }));
     let errors = gpu.take_errors();
     phase::enter(Phase::Score);

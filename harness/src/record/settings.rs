@@ -28,6 +28,11 @@ pub struct RecordSettings {
     pub reference: Settings,
     /// Where references are cached (None: rendered, not cached), per-frame ones included.
     pub cache_dir: Option<PathBuf>,
+    /// `--paired-floor`: the floor method's id (`no-scatter`). Each record of another method
+    /// then also times the floor at its defaults, right after its own frames and on the same
+    /// frames, into `timing.floor` (ARCHITECTURE §4.5). None: off.
+    #[serde(default)]
+    pub paired_floor: Option<String>,
 }
 
 impl RecordSettings {
@@ -48,6 +53,7 @@ impl RecordSettings {
             budget_ms: None,
             reference: Settings::default(),
             cache_dir: None,
+            paired_floor: None,
         }
     }
 }

@@ -58,7 +58,8 @@ pub fn run_items(
     let resume = marker::resume(&mut results, out, cfg.isolation.retry_failed)?;
     let (done, mut retry) = (resume.done, resume.retry);
     results.save(&results_path)?;
-    let mut dispatch = Dispatch::new(gpu, &cfg.record, &cfg.isolation);
+    let floor = paired_floor(work, &cfg.record)?;
+    let mut dispatch = Dispatch::new(gpu, &cfg.record, &cfg.isolation, floor);
     // The reference of the scene being worked on (the list is grouped by scene).
     let mut reference: Option<(usize, ReferenceImages, ToneMap)> = None;
     for item in work {
@@ -100,6 +101,27 @@ pub fn run_items(
         marker::clear(out)?;
     }
     Ok(results)
+}
+
+/// The method `record.paired_floor` names, found among the work list's methods (the floor
+/// must run in the run: its records are the scenes' floor too). Err where it is not there.
+fn paired_floor<'a>(
+    work: &[WorkItem<'a>],
+    record: &RecordSettings,
+) -> Result<Option<&'a dyn Method>, String> {
+    let Some(id) = record.paired_floor.as_deref() else {
+        return Ok(None);
+    };
+    work.iter()
+        .map(|i| i.entry)
+        .find(|m| m.id() == id)
+        .map(Some)
+        .ok_or_else(|| {
+            format!(
+                "--paired-floor: the floor method '{id}' is not in this run's work list \
+                 (add it to --methods, in every shard)"
+            )
+        })
 }
 
 /// The run's results: those in the output directory when resuming (of the same shard), else a

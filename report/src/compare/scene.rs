@@ -37,7 +37,11 @@ pub fn compare(runs: &[Run], scene: &str, common: &BTreeSet<String>) -> SceneCom
     let tau = pairs(runs.len())
         .map(|(a, b)| pair_tau(&rows, a, b))
         .collect();
-    let verdicts: Vec<Verdict> = per_run.iter().map(|rs| verdict(rs, basis)).collect();
+    let verdicts: Vec<Verdict> = per_run
+        .iter()
+        .zip(&floor_ms)
+        .map(|(rs, &floor)| verdict(rs, basis, floor))
+        .collect();
     SceneComparison {
         scene: scene.to_string(),
         time_basis: match basis {
@@ -93,7 +97,8 @@ fn cell(r: &Record, basis: TimeBasis, floor: Option<f64>) -> Cell {
         status: r.status,
         reason: r.reason.clone(),
         time_ms,
-        ratio: time_ms.and_then(|t| analysis::floor_ratio(t, floor)),
+        ratio: time_ms
+            .and_then(|t| analysis::floor_ratio(t, analysis::record_floor_ms(r, basis, floor))),
         headline: verdict_error(r).filter(|_| ok),
     }
 }
@@ -112,8 +117,9 @@ fn pair_tau(rows: &[Row], a: usize, b: usize) -> PairTau {
     }
 }
 
-/// The run's verdict among the contenders (every configuration but the floor's).
-fn verdict(records: &[&Record], basis: TimeBasis) -> Verdict {
+/// The run's verdict among the contenders (every configuration but the floor's); `floor` is
+/// the run's floor on the scene.
+fn verdict(records: &[&Record], basis: TimeBasis, floor: Option<f64>) -> Verdict {
     let contenders = analysis::contenders(records);
     let points = analysis::points_by(&contenders, basis, Metric::Verdict);
     let pick = |p: analysis::Point| {
@@ -124,6 +130,7 @@ fn verdict(records: &[&Record], basis: TimeBasis) -> Verdict {
             params: r.params.clone(),
             time_ms: p.time,
             error: p.error,
+            floor_ms: analysis::record_floor_ms(r, basis, floor),
         }
     };
     Verdict {

@@ -4,12 +4,12 @@
 use super::model::{Comparison, Pick, SceneComparison};
 use super::page::percent;
 
-/// "biri-polynomial (7.75× floor)"; the ratio is left out where the run has no floor.
-fn pick_text(p: Option<&Pick>, floor_ms: Option<f64>) -> String {
+/// "biri-polynomial (7.75× floor)"; the ratio is left out where the pick has no floor.
+fn pick_text(p: Option<&Pick>) -> String {
     let Some(p) = p else {
         return "none".into();
     };
-    match crate::analysis::floor_ratio(p.time_ms, floor_ms) {
+    match crate::analysis::floor_ratio(p.time_ms, p.floor_ms) {
         Some(r) => format!("{} ({} floor)", p.method, crate::verdict::times_floor(r)),
         None => p.method.clone(),
     }
@@ -46,7 +46,7 @@ fn changed_lines(s: &SceneComparison, labels: &[&str], budgets: &[f64]) -> Vec<S
                 "{}: fastest ≤ {}: {}",
                 s.scene,
                 crate::verdict::pct(*budget),
-                per_run(&|i| pick_text(s.verdicts[i].budgets[b].as_ref(), s.floor_ms[i]))
+                per_run(&|i| pick_text(s.verdicts[i].budgets[b].as_ref()))
             ));
         }
     }

@@ -1,0 +1,133 @@
+//! `run --paired-floor` (ARCHITECTURE §4.5): every record but the floor's also times the floor
+//! (no-scatter at its defaults) on the same frames, in process and in a worker; the floor it
+//! times is the floor's work (its passes are those of the run's no-scatter record on the same
+//! scene); and a run without the floor among its methods is refused before any work.
+
+use harness::results::{Results, Status};
+use harness::testing::{gpu_or_skip, temp_dir};
+
+mod common;
+use common::{cli, scatterbench};
+
+const FLOOR: &str = "no-scatter";
+
+/// `run` of froxel-fog and the floor on two scenes at 32², 2 timed frames; its results.
+fn paired_run(name: &str, extra: &[&str]) -> Results {
+    let out = temp_dir(name);
+    let out_arg = out.to_string_lossy().into_owned();
+    let mut args = vec![
+        "run",
+        "--scenes",
+        "clear-fog,sphere-point",
+        "--methods",
+        "froxel-fog,no-scatter",
+        "--res",
+        "32",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--time-budget",
+        "0",
+        "--out",
+        &out_arg,
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, err) = scatterbench(&args);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    Results::load(&out.join("results.json")).expect("results.json loads")
+}
+
+/// Every ok record but the floor's carries a paired floor of 2 timed frames, with GPU time
+/// exactly where the record has it, that ran the passes of the floor's own record on that
+/// scene; the floor's records carry none.
+fn assert_paired(results: &Results) {
+    assert_eq!(results.records.len(), 4);
+    for r in &results.records {
+        assert_eq!(
+            r.status,
+            Status::Ok,
+            "{} {}: {:?}",
+            r.scene,
+            r.method,
+            r.reason
+        );
+        let timing = r.timing.as_ref().expect("an ok record is timed");
+        if r.method == FLOOR {
+            assert!(
+                timing.floor.is_none(),
+                "{}: the floor paired with itself",
+                r.scene
+            );
+            continue;
+        }
+        let floor = timing
+            .floor
+            .as_ref()
+            .unwrap_or_else(|| panic!("{}: no paired floor", r.scene));
+        assert_eq!(floor.frames, 2, "{}", r.scene);
+        assert_eq!(
+            floor.gpu_ms.is_some(),
+            timing.gpu_ms.is_some(),
+            "{}",
+            r.scene
+        );
+        let own = results
+            .records
+            .iter()
+            .find(|o| o.scene == r.scene && o.method == FLOOR)
+            .and_then(|o| o.passes.as_ref())
+            .expect("the floor's record on the scene");
+        assert_eq!(
+            floor.passes, own.run,
+            "{}: the paired floor ran other passes",
+            r.scene
+        );
+        let mine = r.passes.as_ref().expect("passes").run.clone();
+        assert_ne!(
+            floor.passes, mine,
+            "{}: the paired floor timed the method",
+            r.scene
+        );
+    }
+}
+
+#[test]
+fn every_record_times_the_floor_beside_it_in_a_worker_and_in_process() {
+    if gpu_or_skip().is_none() {
+        return;
+    }
+    assert_paired(&paired_run("paired-worker", &["--paired-floor"]));
+    assert_paired(&paired_run(
+        "paired-in-process",
+        &["--paired-floor", "--isolate", "off"],
+    ));
+    let unpaired = paired_run("unpaired", &[]);
+    assert!(
+        unpaired
+            .records
+            .iter()
+            .all(|r| r.timing.as_ref().is_some_and(|t| t.floor.is_none())),
+        "a run without --paired-floor timed a paired floor"
+    );
+}
+
+#[test]
+fn paired_floor_without_the_floor_method_is_refused() {
+    let (code, err) = cli(&[
+        "run",
+        "--scenes",
+        "clear-fog",
+        "--methods",
+        "froxel-fog",
+        "--paired-floor",
+        "--res",
+        "16",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--paired-floor") && err.contains(FLOOR),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
