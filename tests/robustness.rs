@@ -395,3 +395,33 @@ fn validation_errors_and_device_loss_are_recorded_as_failed() {
     );
     assert_eq!(Results::load(&out.join("results.json")).unwrap(), r);
 }
+
+/// With `--paired-floor`, the floor timed after a record does not take the record's own wgpu
+/// errors with it: the faulty method's record still fails with the validation message, and
+/// the floor's own record is ok.
+#[test]
+fn a_paired_floor_leaves_the_methods_validation_error_in_its_record() {
+    let Some(gpu) = have_gpu() else { return };
+    let mut record = harness::record::RecordSettings::new(tmp("faulty-paired"), (16, 16), (1, 0));
+    record.paired_floor = Some("no-scatter".into());
+    let cfg = harness::runner::RunConfig::new(record, "test");
+    let scene = scenes::library::resolve("clear-fog").expect("library scene");
+    let no_scatter = methods::find("no-scatter").unwrap();
+    let r = harness::runner::run(
+        &gpu,
+        &[scene],
+        &[&VALIDATION, no_scatter],
+        &cfg,
+        &mut |_| {},
+    )
+    .unwrap();
+    let by = |id: &str| r.records.iter().find(|x| x.method == id).unwrap();
+    let v = by("test-validation");
+    assert_eq!(v.status, Status::Failed, "{:?}", v.timing);
+    assert!(
+        v.reason.as_deref().unwrap().contains("Validation"),
+        "{:?}",
+        v.reason
+    );
+    assert_eq!(by("no-scatter").status, Status::Ok);
+}

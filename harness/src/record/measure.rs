@@ -101,12 +101,23 @@ pub(super) fn measure(
         Some(render_frame(gpu, method.as_mut(), scene, 0, &aovs, None)?.report)
     };
     let images = aovs.read(gpu)?;
+    // The method's own wgpu errors are its record's: taken (and failing it, as `settle` words
+    // it) before the paired floor runs and takes the floor's.
+    let pending = gpu.take_errors();
+    if !pending.is_empty() {
+        return Err(format!("wgpu error: {}", pending.join("; ")));
+    }
     // The paired floor reuses the AOV targets once the method's are read; the method's own
-    // resources go first, so the floor is timed with the memory it would have on its own.
+    // resources go first, so the floor is timed with the memory it would have on its own. A
+    // panic in the floor costs the pairing, not the method's record.
     drop(method);
-    let floor = floor
-        .filter(|f| f.id() != entry.id())
-        .and_then(|f| paired_floor(gpu, f, scene, settings, &aovs));
+    let floor = floor.filter(|f| f.id() != entry.id()).and_then(|f| {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            paired_floor(gpu, f, scene, settings, &aovs)
+        }))
+        .ok()
+        .flatten()
+    });
     let report = if settings.frames > 0 {
         frames.report
     } else {
