@@ -24,7 +24,9 @@ fi
 command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=timestamp,pstate,clocks.sm,clocks.mem,power.draw,utilization.gpu \
   --format=csv -lms 500 > $OUT/clocks.csv 2>&1 &
 # before (d13288c) has no --adapter: both binaries take the adapter from WGPU_ADAPTER_NAME.
-A="--res ${RES:-512} --frames 3 --warmup 1 --sweep --methods all --scenes ${SCENES:-$(cat $D/scenes)} --record-timeout 60"
+# EXTRA: more `run` arguments for both binaries, e.g. EXTRA=--paired-floor once the before
+# binary has it too (it is not in before-scorer.patch; ARCHITECTURE §4.5).
+A="--res ${RES:-512} --frames 3 --warmup 1 --sweep --methods all --scenes ${SCENES:-$(cat $D/scenes)} --record-timeout 60 ${EXTRA:-}"
 left() { echo $(( LIMIT - ($(date +%s) - T0) )); }
 one() { # name binary cache workdir commit
   local n=$1 b=$2 c=$3 wd=$4 res=""
