@@ -33,16 +33,7 @@ pub fn params_text(registry: &[&dyn Method], method: &str, params: &Params) -> S
                 .collect()
         })
         .unwrap_or_default();
-    let v: Vec<String> = params
-        .iter()
-        .filter(|(k, v)| defaults.get(*k) != Some(*v))
-        .map(|(k, v)| format!("{k}={v}"))
-        .collect();
-    if v.is_empty() {
-        "defaults".into()
-    } else {
-        v.join(" ")
-    }
+    report::format::knobs_or_defaults(params.iter().filter(|(k, v)| defaults.get(*k) != Some(*v)))
 }
 
 /// The runner configuration of an experiment: its records measured as `record` says, run

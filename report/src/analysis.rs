@@ -4,7 +4,7 @@
 //! These are plain functions on plain data so they can be tested with hand-made points;
 //! the page and the plots only display what they return.
 
-use harness::results::{Record, Status};
+use harness::results::{Record, Stat, Status};
 pub use harness::verdict::FLOOR_METHOD;
 
 use crate::metric::Metric;
@@ -46,9 +46,15 @@ impl TimeBasis {
     /// The record's median frame time in ms on this basis, if it was timed.
     pub fn time_ms(self, r: &Record) -> Option<f64> {
         let t = r.timing.as_ref()?;
+        self.median(t.wall_ms, t.gpu_ms)
+    }
+
+    /// The median of whichever of a measurement's wall and GPU times this basis reads (a
+    /// record's own, or its paired floor's).
+    pub fn median(self, wall_ms: Stat, gpu_ms: Option<Stat>) -> Option<f64> {
         match self {
-            TimeBasis::Gpu => t.gpu_ms.map(|g| g.median),
-            TimeBasis::Wall => Some(t.wall_ms.median),
+            TimeBasis::Gpu => gpu_ms.map(|g| g.median),
+            TimeBasis::Wall => Some(wall_ms.median),
         }
     }
 }
@@ -86,10 +92,7 @@ pub fn record_floor_ms(r: &Record, basis: TimeBasis, scene_floor_ms: Option<f64>
         .timing
         .as_ref()
         .and_then(|t| t.floor.as_ref())
-        .and_then(|f| match basis {
-            TimeBasis::Gpu => f.gpu_ms.map(|g| g.median),
-            TimeBasis::Wall => Some(f.wall_ms.median),
-        });
+        .and_then(|f| basis.median(f.wall_ms, f.gpu_ms));
     paired
         .filter(|t| t.is_finite() && *t > 0.0)
         .or(scene_floor_ms)

@@ -33,12 +33,15 @@ pub fn distinguishing_knobs(r: &Record, peers: &[&Record]) -> String {
         let same = mine.iter().filter(|p| p.params.get(*k) == Some(*v)).count();
         2 * same <= mine.len()
     };
-    let p: Vec<String> = r
-        .params
-        .iter()
-        .filter(differs)
-        .map(|(k, v)| format!("{k}={v}"))
-        .collect();
+    knobs_or_defaults(r.params.iter().filter(differs))
+}
+
+/// Knobs as `k=v k=v` in the order given, or "defaults" for none: how a configuration that
+/// differs from its method's defaults in those knobs is named.
+pub fn knobs_or_defaults<'a>(
+    knobs: impl Iterator<Item = (&'a String, &'a harness::method::ParamValue)>,
+) -> String {
+    let p: Vec<String> = knobs.map(|(k, v)| format!("{k}={v}")).collect();
     if p.is_empty() {
         "defaults".into()
     } else {

@@ -142,6 +142,11 @@ fn winner(row: &VerdictRow, budget: f64) -> Option<&BudgetWinner> {
     row.budgets.get(i)?.as_ref()
 }
 
+/// The floor ratio of the row's winner of `budget`, where it has a winner and a floor.
+fn winner_ratio(row: &VerdictRow, budget: f64) -> Option<f64> {
+    winner(row, budget)?.floor_ratio_value
+}
+
 /// Per run and budget: on how many of the scenes the winner is within [`AFFORDABLE_RATIO`]
 /// of the floor, and which scenes have no winner at all.
 fn summary(out: &mut String, columns: &[Column]) {
@@ -151,11 +156,7 @@ fn summary(out: &mut String, columns: &[Column]) {
             let rows: Vec<&VerdictRow> = c.rows.iter().flatten().collect();
             let affordable = rows
                 .iter()
-                .filter(|r| {
-                    winner(r, b)
-                        .and_then(|w| w.floor_ratio_value)
-                        .is_some_and(|x| x <= AFFORDABLE_RATIO)
-                })
+                .filter(|r| winner_ratio(r, b).is_some_and(|x| x <= AFFORDABLE_RATIO))
                 .count();
             let missed: Vec<&str> = rows
                 .iter()
@@ -191,11 +192,9 @@ fn below_floor(out: &mut String, column: &Column) {
         .iter()
         .flatten()
         .filter(|r| {
-            FRONTIER_BUDGETS.iter().any(|&b| {
-                winner(r, b)
-                    .and_then(|w| w.floor_ratio_value)
-                    .is_some_and(|x| x < 1.0)
-            })
+            FRONTIER_BUDGETS
+                .iter()
+                .any(|&b| winner_ratio(r, b).is_some_and(|x| x < 1.0))
         })
         .map(|r| r.scene.as_str())
         .collect();

@@ -88,14 +88,17 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
                 settings,
             } => {
                 let (s, r, tone) = scene.as_ref().ok_or("a job before any scene")?;
-                let entry = registry.iter().find(|m| m.id() == method).ok_or_else(|| {
-                    format!("unknown method '{method}' in this worker's registry")
-                })?;
+                let find = |id: &str, what: &str| {
+                    registry
+                        .iter()
+                        .copied()
+                        .find(|m| m.id() == id)
+                        .ok_or_else(|| format!("unknown {what} '{id}' in this worker's registry"))
+                };
+                let entry = find(&method, "method")?;
                 let floor = match settings.paired_floor.as_deref() {
                     None => None,
-                    Some(id) => Some(*registry.iter().find(|m| m.id() == id).ok_or_else(|| {
-                        format!("unknown paired floor '{id}' in this worker's registry")
-                    })?),
+                    Some(id) => Some(find(id, "paired floor")?),
                 };
                 let out = Rc::clone(&proto);
                 let record: Record = phase::with_hook(
@@ -103,7 +106,7 @@ fn serve_on(registry: &[&dyn Method], proto: &mut File) -> Result<(), String> {
                         // A parent that cannot hear the phase will see the record or the exit.
                         let _ = write_line(&mut *out.borrow_mut(), &FromWorker::Phase(p));
                     },
-                    || run_one(&gpu, s, *entry, &params, &settings, (r, tone), floor),
+                    || run_one(&gpu, s, entry, &params, &settings, (r, tone), floor),
                 );
                 send(
                     &mut proto.borrow_mut(),

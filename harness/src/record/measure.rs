@@ -77,7 +77,7 @@ pub(super) fn measure(
     }
     let aovs = AovTargets::new(gpu, settings.width, settings.height);
     phase::enter(Phase::Render);
-    let mut frames = timed_frames(gpu, method.as_mut(), scene, settings, &aovs, scorer)?;
+    let mut frames = timed_frames(gpu, method.as_mut(), scene, settings, &aovs, Some(scorer))?;
     // An accumulating method converges over `converge` frames: on a static scene the scored
     // frame is the converge-th rendered since prepare, or later.
     let converge = entry.converge_frames(params);
@@ -152,10 +152,10 @@ pub(super) fn measure(
     Ok((record, images))
 }
 
-/// The floor method at its defaults, prepared and timed like a record's frames (warm-up and
-/// timed frames under the budget, cycling through the scene's frames) but neither scored nor
-/// read back. None where it cannot be prepared or rendered: the record then falls back on the
-/// run's floor record (ARCHITECTURE §4.5), and its own measurement stands.
+/// The floor method at its defaults, prepared and timed like a record's frames
+/// ([`timed_frames`], without a scorer: nothing read back or scored). None where it cannot be
+/// prepared or rendered: the record then falls back on the run's floor record (ARCHITECTURE
+/// §4.5), and its own measurement stands.
 fn paired_floor(
     gpu: &Gpu,
     floor: &dyn Method,
@@ -163,11 +163,7 @@ fn paired_floor(
     settings: &RecordSettings,
     aovs: &AovTargets,
 ) -> Option<FloorTiming> {
-    let defaults: Params = floor
-        .knobs()
-        .into_iter()
-        .map(|k| (k.name.to_string(), k.default))
-        .collect();
+    let defaults = crate::knobs::resolve(floor.id(), &floor.knobs(), &Params::new()).ok()?;
     let mut prepared = floor
         .prepare(&PrepareContext {
             gpu,
@@ -179,43 +175,25 @@ fn paired_floor(
         })
         .ok()?;
     gpu.wait().ok()?;
-    let timer = GpuTimer::new(gpu);
-    let (mut wall, mut gpu_ms, mut passes) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut f, mut used) = (0u32, 0.0);
-    while f < settings.warmup && another_frame(settings.budget_ms, true, f, used) {
-        used += render_frame(gpu, prepared.as_mut(), scene, f, aovs, timer.as_ref())
-            .ok()?
-            .wall_ms;
-        f += 1;
-    }
-    let (warmed, mut used) = (f, 0.0);
-    while f - warmed < settings.frames && another_frame(settings.budget_ms, false, f - warmed, used)
-    {
-        let t = render_frame(gpu, prepared.as_mut(), scene, f, aovs, timer.as_ref()).ok()?;
-        used += t.wall_ms;
-        wall.push(t.wall_ms);
-        gpu_ms.extend(t.gpu_ms);
-        passes = t.report.run;
-        f += 1;
-    }
+    let frames = timed_frames(gpu, prepared.as_mut(), scene, settings, aovs, None).ok()?;
     let errors = gpu.take_errors();
-    (errors.is_empty() && !wall.is_empty()).then(|| FloorTiming {
-        wall_ms: Stat::of(&wall),
-        gpu_ms: (gpu_ms.len() == wall.len()).then(|| Stat::of(&gpu_ms)),
-        frames: wall.len() as u32,
-        passes,
+    (errors.is_empty() && !frames.wall.is_empty()).then(|| FloorTiming {
+        wall_ms: Stat::of(&frames.wall),
+        gpu_ms: (!frames.gpu.is_empty()).then(|| Stat::of(&frames.gpu)),
+        frames: frames.wall.len() as u32,
+        passes: frames.report.run,
     })
 }
 
-/// The warm-up and timed frames under the budget, cycling through the scene's frames; each
-/// timed frame is read back and scored outside its timed region.
+/// The warm-up and timed frames under the budget, cycling through the scene's frames; with a
+/// `scorer`, each timed frame is read back and scored outside its timed region.
 fn timed_frames(
     gpu: &Gpu,
     method: &mut dyn Prepared,
     scene: &Scene,
     settings: &RecordSettings,
     aovs: &AovTargets,
-    scorer: &mut FrameScorer,
+    mut scorer: Option<&mut FrameScorer>,
 ) -> Result<Frames, String> {
     let timer = GpuTimer::new(gpu);
     let budget = settings.budget_ms;
@@ -243,8 +221,10 @@ fn timed_frames(
         out.report = t.report;
         // Read back and score outside the timed region (the next frame's clock starts after
         // its own clear and wait).
-        scorer.timed_frame(f, &aovs.read(gpu)?)?;
-        scorer.time_last_frame(t.wall_ms, t.gpu_ms);
+        if let Some(scorer) = scorer.as_deref_mut() {
+            scorer.timed_frame(f, &aovs.read(gpu)?)?;
+            scorer.time_last_frame(t.wall_ms, t.gpu_ms);
+        }
         f += 1;
     }
     // Work counts are per frame, median over the timed frames (an animated scene's frames differ).
