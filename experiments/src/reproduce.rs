@@ -520,7 +520,8 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
         let _ = match floor_ms {
             Some(f) => writeln!(
                 t,
-                "Floor ({}, no in-scatter): {f:.2} ms; each time below is also given as a multiple of it.\n",
+                "Floor ({}, no in-scatter): {f:.2} ms; each time below is also given as a multiple of it \
+                 (of the record's own paired floor where it has one: --paired-floor).\n",
                 analysis::FLOOR_METHOD
             ),
             None => writeln!(t, "No floor in this run: floor ratios are undefined.\n"),
@@ -540,9 +541,12 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
                     Some(p) => format!(
                         "{:.2} ms{} ({}, {:.2} %)",
                         p.time,
-                        analysis::floor_ratio(p.time, floor_ms)
-                            .map(|r| format!(" = {r:.2}× floor"))
-                            .unwrap_or_default(),
+                        analysis::floor_ratio(
+                            p.time,
+                            analysis::record_floor_ms(mine[p.index], basis, floor_ms)
+                        )
+                        .map(|r| format!(" = {r:.2}× floor"))
+                        .unwrap_or_default(),
                         crate::params_text(registry, id, &mine[p.index].params),
                         p.error * 100.0
                     ),
@@ -554,4 +558,53 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
         let _ = writeln!(t);
     }
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use harness::results::{FloorTiming, Stat};
+    use report::fixture::synthetic::{Measured, record, run};
+
+    /// A record's equal-error time is divided by its own paired floor where it has one
+    /// (`--paired-floor`), else by the scene's floor record: 6 / 3 and 8 / 4 by hand.
+    #[test]
+    fn equal_error_ratios_use_a_records_paired_floor() {
+        let none = Params::new();
+        let mut results = run("lavapipe", 64);
+        let m = |time_ms, headline| Some(Measured { time_ms, headline });
+        results
+            .records
+            .push(record("s", analysis::FLOOR_METHOD, &none, m(4.0, 1.0)));
+        let mut paired = record("s", "m-paired", &none, m(6.0, 0.001));
+        paired.timing.as_mut().expect("measured").floor = Some(FloorTiming {
+            wall_ms: Stat {
+                median: 3.3,
+                p90: 3.3,
+            },
+            gpu_ms: Some(Stat {
+                median: 3.0,
+                p90: 3.0,
+            }),
+            frames: 3,
+            passes: vec!["surface".into()],
+        });
+        results.records.push(paired);
+        results
+            .records
+            .push(record("s", "m-alone", &none, m(8.0, 0.001)));
+        let text = equal_error_text(&[], &results);
+        let line = |id: &str| {
+            text.lines()
+                .find(|l| l.starts_with(&format!("| {id} |")))
+                .unwrap_or_else(|| panic!("no row for {id} in\n{text}"))
+                .to_string()
+        };
+        assert!(line("m-paired").contains("6.00 ms = 2.00× floor"), "{text}");
+        assert!(line("m-alone").contains("8.00 ms = 2.00× floor"), "{text}");
+        assert!(
+            !text.contains(&format!("| {} |", analysis::FLOOR_METHOD)),
+            "{text}"
+        );
+    }
 }

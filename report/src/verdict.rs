@@ -45,6 +45,9 @@ pub struct BudgetWinner {
     /// The same multiple as a number.
     #[serde(skip)]
     pub floor_ratio_value: Option<f64>,
+    /// Timed faster than the floor (ratio < 1): no method does less than the floor's work, so
+    /// the two were timed in different states of the machine (ARCHITECTURE §4.5).
+    pub below_floor: bool,
 }
 
 /// Per metric, per scene.
@@ -98,6 +101,7 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
                     },
                     floor_ratio: ratio.map(times_floor),
                     floor_ratio_value: ratio,
+                    below_floor: ratio.is_some_and(|x| x < 1.0),
                 }
             })
         })
@@ -142,7 +146,18 @@ pub fn sentence(scene: &str, budgets: &[Option<BudgetWinner>], nothing_scored: b
         match w {
             Some(w) => match parts.iter_mut().find(|(m, _, _)| *m == w.method) {
                 Some((_, _, bs)) => bs.push(pct(*b)),
-                None => parts.push((w.method.clone(), w.floor_ratio.clone(), vec![pct(*b)])),
+                None => {
+                    let below = if w.below_floor {
+                        ", below it: timed apart"
+                    } else {
+                        ""
+                    };
+                    let ratio = w
+                        .floor_ratio
+                        .as_ref()
+                        .map(|r| format!("{r} the floor{below}"));
+                    parts.push((w.method.clone(), ratio, vec![pct(*b)]))
+                }
             },
             None => missed.push(pct(*b)),
         }
@@ -153,7 +168,7 @@ pub fn sentence(scene: &str, budgets: &[Option<BudgetWinner>], nothing_scored: b
         .map(|(m, ratio, bs)| {
             let at = ratio
                 .as_ref()
-                .map(|r| format!(" ({r} the floor)"))
+                .map(|r| format!(" ({r})"))
                 .unwrap_or_default();
             format!("{m} is the fastest under {}{at}", bs.join(" and "))
         })
@@ -184,6 +199,7 @@ mod tests {
             params: String::new(),
             floor_ratio: None,
             floor_ratio_value: None,
+            below_floor: false,
         })
     }
 
@@ -241,6 +257,51 @@ mod tests {
     }
 
     const FLOOR: &str = crate::analysis::FLOOR_METHOD;
+
+    /// A winner timed faster than the floor (which does less work than any method) is marked as
+    /// such, in its cell's flag and its sentence; one above it is not.
+    #[test]
+    fn a_winner_below_the_floor_is_marked() {
+        use crate::fixture::synthetic::{Measured, record, run};
+        use harness::method::Params;
+        let none = Params::new();
+        let mut results = run("lavapipe", 128);
+        for (method, time_ms, headline) in [
+            (FLOOR, 4.0, 1.0),
+            ("m-slow", 8.0, 0.001),
+            ("m-fast", 3.0, 0.03),
+        ] {
+            let measured = Some(Measured { time_ms, headline });
+            results.records.push(record("s", method, &none, measured));
+        }
+        let row = row(&results, "s", Metric::Verdict);
+        let flags: Vec<(&str, bool)> = row
+            .budgets
+            .iter()
+            .map(|w| {
+                let w = w.as_ref().expect("every budget is won");
+                (w.method.as_str(), w.below_floor)
+            })
+            .collect();
+        // 8 / 4 = 2 (1 %); 3 / 4 = 0.75 (5 % and 10 %).
+        assert_eq!(
+            flags,
+            [("m-slow", false), ("m-fast", true), ("m-fast", true)]
+        );
+        assert!(
+            row.sentence
+                .contains("m-slow is the fastest under 1 % (2.00× the floor)"),
+            "{}",
+            row.sentence
+        );
+        assert!(
+            row.sentence.contains(
+                "m-fast is the fastest under 5 % and 10 % (0.750× the floor, below it: timed apart)"
+            ),
+            "{}",
+            row.sentence
+        );
+    }
 
     #[test]
     fn sentences_merge_budgets_and_name_the_missed_ones() {
