@@ -6,7 +6,8 @@
 #   devcarry/go.sh SECONDS        (from the checkout's root on the device; carry .gl, devcarry)
 #
 # devcarry/ holds: after, before (stripped scatterbench binaries; before = d13288c with
-# before-scorer.patch applied), cache/ (references of the ten scenes at 512², 20 mantissa bits),
+# ../lavapipe-frontier-512-sweep-2026-11-27/before.patch applied: the strip FLIP and
+# --paired-floor), cache/ (references of the ten scenes at 512², 20 mantissa bits),
 # scenes (the ten names, comma-separated), resume/{after,before}.results.json (optional: a
 # partial run to resume). .gl/ holds libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0
 # libgles2 (all seven: with libvulkan1 alone NVIDIA's ICD does not load). Starts no new work
@@ -24,8 +25,8 @@ fi
 command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=timestamp,pstate,clocks.sm,clocks.mem,power.draw,utilization.gpu \
   --format=csv -lms 500 > $OUT/clocks.csv 2>&1 &
 # before (d13288c) has no --adapter: both binaries take the adapter from WGPU_ADAPTER_NAME.
-# EXTRA: more `run` arguments for both binaries, e.g. EXTRA=--paired-floor once the before
-# binary has it too (it is not in before-scorer.patch; ARCHITECTURE §4.5).
+# EXTRA: more `run` arguments for both binaries, e.g. EXTRA=--paired-floor (ARCHITECTURE §4.5;
+# the before binary has it with before.patch, not with the older before-scorer.patch).
 A="--res ${RES:-512} --frames 3 --warmup 1 --sweep --methods all --scenes ${SCENES:-$(cat $D/scenes)} --record-timeout 60 ${EXTRA:-}"
 left() { echo $(( LIMIT - ($(date +%s) - T0) )); }
 one() { # name binary cache workdir commit
@@ -42,5 +43,5 @@ one() { # name binary cache workdir commit
 }
 one after $D/after $D/cache $here "${AFTER_COMMIT:-unknown}"
 # before renders its own references (d13288c reads no packed cache): ≈ 15 s on 16 cores.
-one before $D/before /tmp/cb /tmp/bwd "${BEFORE_COMMIT:-d13288c+before-scorer.patch}"
+one before $D/before /tmp/cb /tmp/bwd "${BEFORE_COMMIT:-d13288c+before.patch}"
 echo "total $(( $(date +%s) - T0 )) s"
