@@ -207,19 +207,12 @@ mod tests {
     /// a budget, and each winner's time reads as its multiple (worked out by hand).
     #[test]
     fn the_floor_is_no_contender_and_winners_read_as_multiples_of_it() {
-        use crate::fixture::synthetic::{Measured, record, run};
-        use harness::method::Params;
-        let none = Params::new();
-        let mut results = run("lavapipe", 128);
-        for (method, time_ms, headline) in [
+        let mut results = scene_s(&[
             (FLOOR, 4.0, 1.0),
             ("m-fast", 5.0, 0.2),
             ("m-good", 6.0, 0.04),
             ("m-exact", 10.0, 0.001),
-        ] {
-            let measured = Some(Measured { time_ms, headline });
-            results.records.push(record("s", method, &none, measured));
-        }
+        ]);
         let row = row(&results, "s", Metric::Verdict);
         assert_eq!(row.front, ["m-fast", "m-good", "m-exact"]);
         assert_eq!(row.floor.as_deref(), Some("4.00 ms"));
@@ -258,22 +251,27 @@ mod tests {
 
     const FLOOR: &str = crate::analysis::FLOOR_METHOD;
 
+    /// A synthetic run of one scene "s": per (method, GPU ms, headline), one record at defaults.
+    fn scene_s(measured: &[(&str, f64, f64)]) -> harness::results::Results {
+        use crate::fixture::synthetic::{Measured, record, run};
+        let none = harness::method::Params::new();
+        let mut results = run("lavapipe", 128);
+        for &(method, time_ms, headline) in measured {
+            let m = Some(Measured { time_ms, headline });
+            results.records.push(record("s", method, &none, m));
+        }
+        results
+    }
+
     /// A winner timed faster than the floor (which does less work than any method) is marked as
     /// such, in its cell's flag and its sentence; one above it is not.
     #[test]
     fn a_winner_below_the_floor_is_marked() {
-        use crate::fixture::synthetic::{Measured, record, run};
-        use harness::method::Params;
-        let none = Params::new();
-        let mut results = run("lavapipe", 128);
-        for (method, time_ms, headline) in [
+        let results = scene_s(&[
             (FLOOR, 4.0, 1.0),
             ("m-slow", 8.0, 0.001),
             ("m-fast", 3.0, 0.03),
-        ] {
-            let measured = Some(Measured { time_ms, headline });
-            results.records.push(record("s", method, &none, measured));
-        }
+        ]);
         let row = row(&results, "s", Metric::Verdict);
         let flags: Vec<(&str, bool)> = row
             .budgets
