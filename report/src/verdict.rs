@@ -138,28 +138,34 @@ pub fn sentence(scene: &str, budgets: &[Option<BudgetWinner>], nothing_scored: b
     if nothing_scored {
         return format!("{scene}: no method has a timed, scored record.");
     }
-    // Winners in budget order, merging consecutive budgets won by the same method.
-    // (method, its floor ratio where the first budget it won has one, budgets).
+    // Winners in budget order, merging the budgets won by the same configuration.
+    // (who: the method, and in a run with several of its configurations the knobs that set
+    // the winner apart; its floor ratio where the first budget it won has one; budgets).
     let mut parts: Vec<(String, Option<String>, Vec<String>)> = Vec::new();
     let mut missed: Vec<String> = Vec::new();
     for (b, w) in BUDGETS.iter().zip(budgets) {
-        match w {
-            Some(w) => match parts.iter_mut().find(|(m, _, _)| *m == w.method) {
-                Some((_, _, bs)) => bs.push(pct(*b)),
-                None => {
-                    let below = if w.below_floor {
-                        ", below it: timed apart"
-                    } else {
-                        ""
-                    };
-                    let ratio = w
-                        .floor_ratio
-                        .as_ref()
-                        .map(|r| format!("{r} the floor{below}"));
-                    parts.push((w.method.clone(), ratio, vec![pct(*b)]))
-                }
-            },
-            None => missed.push(pct(*b)),
+        let Some(w) = w else {
+            missed.push(pct(*b));
+            continue;
+        };
+        let who = match w.params.as_str() {
+            "" => w.method.clone(),
+            knobs => format!("{} at {knobs}", w.method),
+        };
+        match parts.iter_mut().find(|(m, _, _)| *m == who) {
+            Some((_, _, bs)) => bs.push(pct(*b)),
+            None => {
+                let below = if w.below_floor {
+                    ", below it: timed apart"
+                } else {
+                    ""
+                };
+                let ratio = w
+                    .floor_ratio
+                    .as_ref()
+                    .map(|r| format!("{r} the floor{below}"));
+                parts.push((who, ratio, vec![pct(*b)]))
+            }
         }
     }
     let mut out = format!("{scene}: ");
@@ -298,6 +304,35 @@ mod tests {
             ),
             "{}",
             row.sentence
+        );
+    }
+
+    /// Budgets won by two configurations of one method are two clauses, each naming its knobs
+    /// and its own ratio, not one clause with the first configuration's ratio.
+    #[test]
+    fn sentences_name_the_configuration_that_won() {
+        let won = |params: &str, ratio: f64| {
+            Some(BudgetWinner {
+                params: params.into(),
+                floor_ratio: Some(times_floor(ratio)),
+                floor_ratio_value: Some(ratio),
+                below_floor: ratio < 1.0,
+                ..w("froxel-fog").expect("a winner")
+            })
+        };
+        assert_eq!(
+            sentence(
+                "spring-point",
+                &[
+                    won("slices=32", 1.14),
+                    won("columns=32", 0.804),
+                    won("columns=32", 0.804)
+                ],
+                false
+            ),
+            "spring-point: froxel-fog at slices=32 is the fastest under 1 % (1.14× the floor); \
+             froxel-fog at columns=32 is the fastest under 5 % and 10 % (0.804× the floor, below \
+             it: timed apart)."
         );
     }
 
