@@ -205,6 +205,25 @@ pub struct Resume {
     pub resume: bool,
 }
 
+/// `--paired-floor` of a command that times records (ARCHITECTURE §4.5).
+#[derive(Args, Clone, Debug)]
+pub struct PairedFloor {
+    /// Time the floor (no-scatter at its defaults) within every record, right after the
+    /// record's own frames, and take each record's floor ratio from that pair (ARCHITECTURE
+    /// §4.5): ratios that do not depend on where in the run a record was measured (a GPU's
+    /// drifting clock, a shared machine's load). no-scatter must be among the methods run.
+    #[arg(long)]
+    pub paired_floor: bool,
+}
+
+impl PairedFloor {
+    /// The floor method's id for `RecordSettings::paired_floor` where the flag is given.
+    pub fn method(&self) -> Option<String> {
+        self.paired_floor
+            .then(|| report::analysis::FLOOR_METHOD.to_string())
+    }
+}
+
 /// Where a command writes its run and finds the reference cache.
 #[derive(Args, Clone, Debug)]
 pub struct Output {

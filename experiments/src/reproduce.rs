@@ -563,8 +563,7 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use harness::results::{FloorTiming, Stat};
-    use report::fixture::synthetic::{Measured, record, run};
+    use report::fixture::synthetic::{Measured, paired_floor, record, run};
 
     /// A record's equal-error time is divided by its own paired floor where it has one
     /// (`--paired-floor`), else by the scene's floor record: 6 / 3 and 8 / 4 by hand.
@@ -577,18 +576,7 @@ mod tests {
             .records
             .push(record("s", analysis::FLOOR_METHOD, &none, m(4.0, 1.0)));
         let mut paired = record("s", "m-paired", &none, m(6.0, 0.001));
-        paired.timing.as_mut().expect("measured").floor = Some(FloorTiming {
-            wall_ms: Stat {
-                median: 3.3,
-                p90: 3.3,
-            },
-            gpu_ms: Some(Stat {
-                median: 3.0,
-                p90: 3.0,
-            }),
-            frames: 3,
-            passes: vec!["surface".into()],
-        });
+        paired.timing.as_mut().expect("measured").floor = Some(paired_floor(3.0));
         results.records.push(paired);
         results
             .records

@@ -194,7 +194,7 @@ fn below_floor(out: &mut String, column: &Column) {
         .filter(|r| {
             FRONTIER_BUDGETS
                 .iter()
-                .any(|&b| winner_ratio(r, b).is_some_and(|x| x < 1.0))
+                .any(|&b| winner(r, b).is_some_and(|w| w.below_floor))
         })
         .map(|r| r.scene.as_str())
         .collect();
@@ -371,25 +371,16 @@ mod tests {
     /// none → 0.600×.
     #[test]
     fn a_paired_floor_sets_the_ratio_of_its_record() {
-        use harness::results::{FloorTiming, Stat};
         let mut results = with(&[
             ("a", FLOOR_METHOD, 10.0, 1.0),
             ("a", "drifted", 4.0, 0.005),
             ("b", FLOOR_METHOD, 10.0, 1.0),
             ("b", "plain", 6.0, 0.005),
         ]);
-        let stat = |median: f64| Stat {
-            median,
-            p90: median,
-        };
         for r in &mut results.records {
             if r.method == "drifted" {
-                r.timing.as_mut().unwrap().floor = Some(FloorTiming {
-                    wall_ms: stat(2.2),
-                    gpu_ms: Some(stat(2.0)),
-                    frames: 3,
-                    passes: vec!["surface".into()],
-                });
+                r.timing.as_mut().unwrap().floor =
+                    Some(crate::fixture::synthetic::paired_floor(2.0));
             }
         }
         let md = markdown(&results, None);

@@ -23,11 +23,8 @@ pub struct ReproduceArgs {
     pub frames: Frames,
     #[command(flatten)]
     pub output: Output,
-    /// Time the floor (no-scatter at its defaults) within every record, right after the
-    /// record's own frames, and take each equal-error time's floor ratio from that pair
-    /// (ARCHITECTURE §4.5), as `run --paired-floor` does.
-    #[arg(long)]
-    pub paired_floor: bool,
+    #[command(flatten)]
+    pub paired_floor: crate::args::PairedFloor,
     #[command(flatten)]
     pub isolate: super::worker::IsolateArgs,
 }
@@ -47,9 +44,7 @@ pub fn run(a: ReproduceArgs, registry: Registry) -> Result<()> {
     let opts = Options {
         record: RecordSettings {
             cache_dir: Some(a.output.cache.clone()),
-            paired_floor: a
-                .paired_floor
-                .then(|| report::analysis::FLOOR_METHOD.to_string()),
+            paired_floor: a.paired_floor.method(),
             ..RecordSettings::new(
                 a.output.dir(&run_id),
                 (a.size.res.width, a.size.res.height),

@@ -41,12 +41,8 @@ pub struct RunArgs {
     /// Run every pass even where the scene does not need it.
     #[arg(long)]
     pub no_skip: bool,
-    /// Time the floor (no-scatter at its defaults) within every record, right after the
-    /// record's own frames, and take each record's floor ratio from that pair (ARCHITECTURE
-    /// §4.5): ratios that do not depend on where in the run a record was measured (a GPU's
-    /// drifting clock, a shared machine's load). no-scatter must be among --methods.
-    #[arg(long)]
-    pub paired_floor: bool,
+    #[command(flatten)]
+    pub paired_floor: args::PairedFloor,
     #[command(flatten)]
     pub resume: Resume,
     #[command(flatten)]
@@ -64,7 +60,7 @@ pub fn run(a: RunArgs, registry: Registry) -> Result<()> {
     let scenes = args::pick_scenes(&a.scenes)?;
     let overrides = args::parse_overrides(&a.params, &chosen, registry)?;
     let floor = report::analysis::FLOOR_METHOD;
-    if a.paired_floor && !chosen.iter().any(|m| m.id() == floor) {
+    if a.paired_floor.paired_floor && !chosen.iter().any(|m| m.id() == floor) {
         return args::refuse(format!(
             "--paired-floor times the floor ({floor}) in every record and needs it among \
              --methods (it is also the scenes' floor record); add {floor} to --methods"
@@ -84,9 +80,7 @@ pub fn run(a: RunArgs, registry: Registry) -> Result<()> {
             no_skip: a.no_skip,
             cache_dir: Some(a.output.cache.clone()),
             budget_ms: (a.time_budget > 0.0).then_some(a.time_budget * 1e3),
-            paired_floor: a
-                .paired_floor
-                .then(|| report::analysis::FLOOR_METHOD.to_string()),
+            paired_floor: a.paired_floor.method(),
             ..RecordSettings::new(
                 &out,
                 (a.size.res.width, a.size.res.height),
