@@ -9,7 +9,9 @@ median as a multiple of three floors:
 - median: the median of every paired floor timed on the scene (one number per scene, robust to
   a single floor's luck; not what the tools use).
 
-Then, per budget and basis, how many scenes' winners are within 2x the floor.
+Then, per budget and basis, how many scenes' winners are within 2x the floor; and per scene the
+spread of its paired floors (the same work timed once per record): p10 and p90 of their GPU
+medians.
 
     python3 ratios.py RUN/results.json
 """
@@ -66,6 +68,12 @@ def main(path):
             print(f"  {scene}: {w['method']} {t:.1f} ms, {error:.3f} % | " + ", ".join(cells))
     for (budget, basis), n in sorted(within.items()):
         print(f"under {budget:.0%}, within {AFFORDABLE}x the {basis} floor: {n} of {len(by_scene)}")
+    print("paired floors per scene: count, p10-p90 GPU ms")
+    for scene, ok in by_scene.items():
+        paired = sorted(p for p in (gpu(r["timing"].get("floor")) for r in ok) if p)
+        if paired:
+            q = lambda f: paired[int(f * (len(paired) - 1))]
+            print(f"  {scene}: {len(paired)}, {q(0.1):.1f}-{q(0.9):.1f}")
 
 
 if __name__ == "__main__":
