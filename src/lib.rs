@@ -64,6 +64,10 @@ enum Command {
     /// Per scene, the cheapest configuration under 1 % and 5 % with its time as a multiple of
     /// the floor (no-scatter), as Markdown; with --before, a before/after table.
     Frontier(cmd::frontier::FrontierArgs),
+    /// Re-time a run's verdicts: per scene the few cheapest configurations under each error
+    /// budget and the floor, again with more frames and paired floors, into a run of their
+    /// own (what `frontier` then reads without the winner's curse).
+    Confirm(cmd::confirm::ConfirmArgs),
     /// Merge run directories (e.g. the shards of `run --shard i/n`) into one run with its report.
     Merge(cmd::merge::MergeArgs),
     /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
@@ -110,6 +114,7 @@ pub fn main_with(registry: Registry) -> ExitCode {
         Command::Stress(a) => cmd::stress::run(a, registry),
         Command::Merge(a) => cmd::merge::run(a),
         Command::Frontier(a) => cmd::frontier::run(a),
+        Command::Confirm(a) => cmd::confirm::run(a, registry),
         Command::Compare(a) => cmd::compare::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a, registry),
         Command::Scaling(a) => cmd::scaling::run(a, registry),

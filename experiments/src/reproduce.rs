@@ -514,14 +514,14 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
             .iter()
             .filter(|r| r.scene == scene)
             .collect();
-        let basis = TimeBasis::for_records(recs.iter().copied());
-        let floor_ms = analysis::floor_ms(&recs, basis);
-        let _ = writeln!(t, "### {scene} ({})\n", basis.label());
-        let _ = match floor_ms {
+        let clock = analysis::Clock::for_records(&recs);
+        let _ = writeln!(t, "### {scene} ({})\n", clock.label());
+        let _ = match clock.floor_ms {
             Some(f) => writeln!(
                 t,
                 "Floor ({}, no in-scatter): {f:.2} ms; each time below is also given as a multiple of it \
-                 (of the record's own paired floor where it has one: --paired-floor).\n",
+                 (of the record's own paired floor where it has one: --paired-floor; the time \
+                 is then drift-corrected to this floor, ARCHITECTURE §4.5).\n",
                 analysis::FLOOR_METHOD
             ),
             None => writeln!(t, "No floor in this run: floor ratios are undefined.\n"),
@@ -534,19 +534,17 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
         ids.dedup();
         for id in ids {
             let mine: Vec<&Record> = recs.iter().copied().filter(|r| r.method == id).collect();
-            let pts = analysis::points(&mine, basis);
+            let pts = analysis::points(&mine, clock);
             let cells: Vec<String> = BUDGETS
                 .iter()
                 .map(|&b| match analysis::cheapest_under_budget(&pts, b) {
                     Some(p) => format!(
                         "{:.2} ms{} ({}, {:.2} %)",
                         p.time,
-                        analysis::floor_ratio(
-                            p.time,
-                            analysis::record_floor_ms(mine[p.index], basis, floor_ms)
-                        )
-                        .map(|r| format!(" = {r:.2}× floor"))
-                        .unwrap_or_default(),
+                        clock
+                            .floor_ratio(mine[p.index])
+                            .map(|r| format!(" = {r:.2}× floor"))
+                            .unwrap_or_default(),
                         crate::params_text(registry, id, &mine[p.index].params),
                         p.error * 100.0
                     ),
@@ -566,7 +564,9 @@ mod tests {
     use report::fixture::synthetic::{Measured, paired_floor, record, run};
 
     /// A record's equal-error time is divided by its own paired floor where it has one
-    /// (`--paired-floor`), else by the scene's floor record: 6 / 3 and 8 / 4 by hand.
+    /// (`--paired-floor`), else by the scene's floor record: 6 / 3 and 8 / 4 by hand. Times
+    /// are shown drift-corrected to the scene's floor, the median paired floor (3 ms): 6 ms
+    /// stays, 8 ms beside a 4 ms floor record reads 8 × 3 / 4 = 6 ms.
     #[test]
     fn equal_error_ratios_use_a_records_paired_floor() {
         let none = Params::new();
@@ -589,7 +589,11 @@ mod tests {
                 .to_string()
         };
         assert!(line("m-paired").contains("6.00 ms = 2.00× floor"), "{text}");
-        assert!(line("m-alone").contains("8.00 ms = 2.00× floor"), "{text}");
+        assert!(line("m-alone").contains("6.00 ms = 2.00× floor"), "{text}");
+        assert!(
+            text.contains("Floor (no-scatter, no in-scatter): 3.00 ms"),
+            "{text}"
+        );
         assert!(
             !text.contains(&format!("| {} |", analysis::FLOOR_METHOD)),
             "{text}"

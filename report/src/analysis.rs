@@ -59,9 +59,94 @@ impl TimeBasis {
     }
 }
 
-/// The floor's time on `basis` (ARCHITECTURE §4.5): the fastest ok, timed [`FLOOR_METHOD`]
-/// record among `records` (one scene of one run); None where the run has no floor there.
-pub fn floor_ms(records: &[&Record], basis: TimeBasis) -> Option<f64> {
+/// How one scene of one run is timed (ARCHITECTURE §4.5): the time basis, and the floor every
+/// ratio and, in a `--paired-floor` run, every compared time refers to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clock {
+    pub basis: TimeBasis,
+    /// The floor's time (ms) on `basis`, None where the run has no floor there: the median of
+    /// the scene's paired floors where its records have them (`run --paired-floor`: the
+    /// floor timed beside every record, so the drift-free estimate of it), else the fastest
+    /// ok, timed [`FLOOR_METHOD`] record.
+    pub floor_ms: Option<f64>,
+    /// The fastest ok, timed floor record's time: the floor of records without a paired one.
+    floor_record_ms: Option<f64>,
+    /// Some record has a paired floor: compared times are drift-corrected.
+    pub paired: bool,
+}
+
+impl Clock {
+    /// The clock of `records` (one scene of one run) on the basis they allow.
+    pub fn for_records(records: &[&Record]) -> Clock {
+        Clock::on(TimeBasis::for_records(records.iter().copied()), records)
+    }
+
+    /// The clock of `records` on a basis chosen for more than them (`compare`: the basis its
+    /// runs share).
+    pub fn on(basis: TimeBasis, records: &[&Record]) -> Clock {
+        let mut paired: Vec<f64> = records
+            .iter()
+            .filter(|r| r.status == Status::Ok)
+            .filter_map(|r| paired_floor_ms(r, basis))
+            .collect();
+        paired.sort_by(f64::total_cmp);
+        let floor_record_ms = fastest_floor_record_ms(records, basis);
+        let floor_ms = match paired.len() {
+            0 => floor_record_ms,
+            n if n % 2 == 1 => Some(paired[n / 2]),
+            n => Some(0.5 * (paired[n / 2 - 1] + paired[n / 2])),
+        };
+        Clock {
+            basis,
+            floor_ms,
+            floor_record_ms,
+            paired: !paired.is_empty(),
+        }
+    }
+
+    /// The axis and column label of compared times.
+    pub fn label(&self) -> String {
+        match self.paired {
+            true => format!(
+                "{}, × scene floor ÷ paired floor (drift-corrected)",
+                self.basis.label()
+            ),
+            false => self.basis.label().to_string(),
+        }
+    }
+
+    /// The floor `r`'s time is divided by: its paired floor, else the floor record's time,
+    /// else the scene's floor.
+    fn own_floor_ms(&self, r: &Record) -> Option<f64> {
+        paired_floor_ms(r, self.basis)
+            .or(self.floor_record_ms)
+            .or(self.floor_ms)
+    }
+
+    /// The time `r` is compared on: its median frame time on the basis × the scene's floor ÷
+    /// its own floor ([`Clock::floor_ratio`] × [`Clock::floor_ms`]), or the median alone where
+    /// there is no floor. Without paired floors the two floors are one and the time is the
+    /// median. A paired run's records are timed minutes apart while the machine's speed
+    /// drifts (identical floor work spread 1.5–2.2× p10–p90 over one lavapipe run); the
+    /// paired floor measures the machine beside each record, and ranking raw times would
+    /// rank that drift.
+    pub fn time_ms(&self, r: &Record) -> Option<f64> {
+        let t = self.basis.time_ms(r)?;
+        Some(match (self.own_floor_ms(r), self.floor_ms) {
+            (Some(own), Some(scene)) => t * scene / own,
+            _ => t,
+        })
+    }
+
+    /// `r`'s floor ratio: its median frame time ÷ its paired floor where it has one, else ÷
+    /// the scene's floor record; None where there is no floor or `r` was not timed.
+    pub fn floor_ratio(&self, r: &Record) -> Option<f64> {
+        Some(self.basis.time_ms(r)? / self.own_floor_ms(r)?)
+    }
+}
+
+/// The fastest ok, timed [`FLOOR_METHOD`] record's time on `basis`.
+fn fastest_floor_record_ms(records: &[&Record], basis: TimeBasis) -> Option<f64> {
     records
         .iter()
         .filter(|r| r.method == FLOOR_METHOD && r.status == Status::Ok)
@@ -79,30 +164,20 @@ pub fn contenders<'a>(records: &[&'a Record]) -> Vec<&'a Record> {
         .collect()
 }
 
-/// A time as a multiple of the floor ("1.20×"), or None where there is no floor.
-pub fn floor_ratio(time_ms: f64, floor_ms: Option<f64>) -> Option<f64> {
-    floor_ms.map(|f| time_ms / f)
-}
-
-/// The floor a record's time is divided by (ARCHITECTURE §4.5): its paired floor on `basis`
-/// where the record has one (`run --paired-floor`), else the scene's (`scene_floor_ms`, from
-/// [`floor_ms`]).
-pub fn record_floor_ms(r: &Record, basis: TimeBasis, scene_floor_ms: Option<f64>) -> Option<f64> {
-    let paired = r
-        .timing
+/// `r`'s paired floor on `basis` (`run --paired-floor`), if it has a usable one.
+pub fn paired_floor_ms(r: &Record, basis: TimeBasis) -> Option<f64> {
+    r.timing
         .as_ref()
         .and_then(|t| t.floor.as_ref())
-        .and_then(|f| basis.median(f.wall_ms, f.gpu_ms));
-    paired
+        .and_then(|f| basis.median(f.wall_ms, f.gpu_ms))
         .filter(|t| t.is_finite() && *t > 0.0)
-        .or(scene_floor_ms)
 }
 
 /// One configuration's cost and error; `index` points back into the caller's list.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {
     pub index: usize,
-    /// Frame time (ms).
+    /// Frame time (ms) as its scene's [`Clock`] compares it.
     pub time: f64,
     /// The metric the points were made for (a fraction).
     pub error: f64,
@@ -115,19 +190,20 @@ pub fn inscatter_error(r: &Record) -> Option<f64> {
 }
 
 /// [`points_by`] under the verdict metric ([`crate::metric::verdict_error`]).
-pub fn points(records: &[&Record], basis: TimeBasis) -> Vec<Point> {
-    points_by(records, basis, Metric::Verdict)
+pub fn points(records: &[&Record], clock: Clock) -> Vec<Point> {
+    points_by(records, clock, Metric::Verdict)
 }
 
 /// The (time, error) point of every ok record with finite time and `metric`, indexed into
-/// `records`. Skipped and failed records have no meaningful cost or error and are left out.
-pub fn points_by(records: &[&Record], basis: TimeBasis, metric: Metric) -> Vec<Point> {
+/// `records`, its time the one `clock` compares it on ([`Clock::time_ms`]). Skipped and
+/// failed records have no meaningful cost or error and are left out.
+pub fn points_by(records: &[&Record], clock: Clock, metric: Metric) -> Vec<Point> {
     records
         .iter()
         .enumerate()
         .filter(|(_, r)| r.status == Status::Ok)
         .filter_map(|(index, r)| {
-            let time = basis.time_ms(r)?;
+            let time = clock.time_ms(r)?;
             let error = metric.of(r)?;
             (time.is_finite() && error.is_finite()).then_some(Point { index, time, error })
         })
@@ -299,6 +375,61 @@ mod tests {
                 assert!(front.iter().any(|f| f.index == c.index), "budget {b}");
             }
         }
+    }
+
+    /// A paired run's clock, by hand: paired floors 2, 4, 8 and 6 ms (median 5 ms) beside
+    /// records of 4, 4, 24 and 6 ms; the floor record (3 ms) has none, and one record (9 ms)
+    /// was timed without a pair, so it divides by the floor record: 3.00×, 15 ms on the
+    /// paired scale.
+    #[test]
+    fn a_paired_clock_divides_each_record_by_its_own_floor() {
+        use crate::fixture::synthetic::{Measured, paired_floor, record};
+        let none = harness::method::Params::new();
+        let rec = |method: &str, time_ms: f64, floor: Option<f64>| {
+            let mut r = record(
+                "s",
+                method,
+                &none,
+                Some(Measured {
+                    time_ms,
+                    headline: 0.1,
+                }),
+            );
+            r.timing.as_mut().expect("timed").floor = floor.map(paired_floor);
+            r
+        };
+        let records = [
+            rec(FLOOR_METHOD, 3.0, None),
+            rec("a", 4.0, Some(2.0)),
+            rec("b", 4.0, Some(4.0)),
+            rec("c", 24.0, Some(8.0)),
+            rec("d", 6.0, Some(6.0)),
+            rec("alone", 9.0, None),
+        ];
+        let refs: Vec<&Record> = records.iter().collect();
+        let clock = Clock::for_records(&refs);
+        assert_eq!(clock.floor_ms, Some(5.0));
+        assert!(clock.paired);
+        let at = |i: usize| (clock.time_ms(refs[i]), clock.floor_ratio(refs[i]));
+        assert_eq!(at(1), (Some(10.0), Some(2.0)));
+        assert_eq!(at(2), (Some(5.0), Some(1.0)));
+        assert_eq!(at(3), (Some(15.0), Some(3.0)));
+        assert_eq!(at(5), (Some(15.0), Some(3.0)));
+        // The ratio is the compared time over the scene's floor, for every record.
+        for r in &refs[1..] {
+            let (t, x) = (clock.time_ms(r).unwrap(), clock.floor_ratio(r).unwrap());
+            assert!((t / 5.0 - x).abs() < 1e-12, "{}", r.method);
+        }
+        // Without paired floors nothing is corrected: the floor record is the floor.
+        let plain: Vec<Record> = [(FLOOR_METHOD, 3.0), ("a", 4.0), ("b", 9.0)]
+            .iter()
+            .map(|&(m, t)| rec(m, t, None))
+            .collect();
+        let refs: Vec<&Record> = plain.iter().collect();
+        let clock = Clock::for_records(&refs);
+        assert_eq!((clock.floor_ms, clock.paired), (Some(3.0), false));
+        assert_eq!(clock.time_ms(refs[2]), Some(9.0));
+        assert_eq!(clock.floor_ratio(refs[2]), Some(3.0));
     }
 
     #[test]

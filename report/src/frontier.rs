@@ -81,7 +81,9 @@ fn runs_block(out: &mut String, columns: &[Column]) {
         "\nEach cell: the fastest configuration under the budget (verdict metric, ARCHITECTURE \
          §4.4), its median frame time and that time as a multiple of the same run's floor \
          (no-scatter, §4.5). Times compare only within one run; the floor ratios compare \
-         across runs.\n\n",
+         across runs. In a `--paired-floor` run the floor is the median of the scene's paired \
+         floors, each ratio divides by the record's own paired floor, and configurations are \
+         ranked and shown at ratio × floor (drift-corrected, §4.5).\n\n",
     );
 }
 

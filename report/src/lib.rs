@@ -26,6 +26,7 @@
 //! DOM (tests/browser.rs reads it through headless Chromium).
 
 pub mod analysis;
+pub mod candidates;
 pub mod compare;
 pub mod fit;
 pub mod fixture;
@@ -95,7 +96,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
             .map(|(&m, mv)| {
                 scene_plot(
                     &data.records,
-                    data.basis,
+                    data.clock,
                     m,
                     &mv.label,
                     device,
@@ -143,7 +144,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
 #[allow(clippy::too_many_arguments)]
 fn scene_plot(
     records: &[&harness::results::Record],
-    basis: analysis::TimeBasis,
+    clock: analysis::Clock,
     metric: Metric,
     label: &str,
     device: &str,
@@ -151,7 +152,7 @@ fn scene_plot(
     scene: &str,
     plots: &Path,
 ) -> view::PlotView {
-    let points = analysis::points_by(records, basis, metric);
+    let points = analysis::points_by(records, clock, metric);
     let series: Vec<plot::Series> = analysis::ordered(records.iter().map(|r| r.method.as_str()))
         .iter()
         .map(|m| plot::Series {
@@ -177,7 +178,7 @@ fn scene_plot(
     );
     let labels = plot::ParetoLabels {
         title: &format!("{scene}: frame time vs {label}"),
-        x: basis.label(),
+        x: &clock.label(),
         y: label,
         device,
     };

@@ -6,7 +6,7 @@
 use harness::results::{Record, Results, Status};
 use serde::Serialize;
 
-use crate::analysis::{self, TimeBasis};
+use crate::analysis::{self, Clock};
 use crate::format::{ms, params_text, rel};
 use crate::metric::Metric;
 
@@ -163,14 +163,15 @@ pub fn matrix(results: &Results, metrics: &[Metric]) -> Matrix {
             cells: scenes
                 .iter()
                 .map(|s| {
-                    let basis =
-                        TimeBasis::for_records(results.records.iter().filter(|r| &r.scene == s));
+                    let scene: Vec<&Record> =
+                        results.records.iter().filter(|r| &r.scene == s).collect();
+                    let clock = Clock::for_records(&scene);
                     let recs: Vec<&Record> = results
                         .records
                         .iter()
                         .filter(|r| &r.method == m && &r.scene == s)
                         .collect();
-                    cell(&recs, basis, metrics, pixels, &mut footnotes)
+                    cell(&recs, clock, metrics, pixels, &mut footnotes)
                 })
                 .collect(),
         })
@@ -185,7 +186,7 @@ pub fn matrix(results: &Results, metrics: &[Metric]) -> Matrix {
 
 fn cell(
     recs: &[&Record],
-    basis: TimeBasis,
+    clock: Clock,
     metrics: &[Metric],
     pixels: f64,
     footnotes: &mut Vec<Footnote>,
@@ -193,7 +194,7 @@ fn cell(
     let values: Vec<Option<CellValue>> = metrics
         .iter()
         .map(|&metric| {
-            let points = analysis::points_by(recs, basis, metric);
+            let points = analysis::points_by(recs, clock, metric);
             let best = points
                 .iter()
                 .min_by(|a, b| a.error.total_cmp(&b.error).then(a.time.total_cmp(&b.time)))?;

@@ -7,7 +7,7 @@
 use harness::results::{Record, Results};
 use serde::Serialize;
 
-use crate::analysis::{self, BUDGETS, TimeBasis, ordered, scene_names};
+use crate::analysis::{self, BUDGETS, Clock, ordered, scene_names};
 use crate::format::{distinguishing_knobs, ms, rel};
 use crate::metric::Metric;
 
@@ -71,10 +71,9 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
         .iter()
         .filter(|r| r.scene == scene)
         .collect();
-    let basis = TimeBasis::for_records(records.iter().copied());
-    let floor_ms = analysis::floor_ms(&records, basis);
+    let clock = Clock::for_records(&records);
     let records = analysis::contenders(&records);
-    let points = analysis::points_by(&records, basis, metric);
+    let points = analysis::points_by(&records, clock, metric);
     let front_points = analysis::pareto_front(&points);
     let front = ordered(
         front_points
@@ -88,8 +87,7 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
         .map(|&b| {
             analysis::cheapest_under_budget(&points, b).map(|p| {
                 let r = records[p.index];
-                let ratio =
-                    analysis::floor_ratio(p.time, analysis::record_floor_ms(r, basis, floor_ms));
+                let ratio = clock.floor_ratio(r);
                 BudgetWinner {
                     method: r.method.clone(),
                     time: format!("{} ms", ms(p.time)),
@@ -116,7 +114,7 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
         scene: scene.to_string(),
         anchor: crate::format::anchor(scene),
         front,
-        floor: floor_ms.map(|f| format!("{} ms", ms(f))),
+        floor: clock.floor_ms.map(|f| format!("{} ms", ms(f))),
         sentence: sentence(scene, &budgets, points.is_empty()),
         budgets,
     }
@@ -267,6 +265,37 @@ mod tests {
             results.records.push(record("s", method, &none, m));
         }
         results
+    }
+
+    /// In a `--paired-floor` run the budgets go to the cheapest record relative to the floor
+    /// timed beside it, not to the lowest raw time: "m-lucky" (20 ms) ran while the machine
+    /// was fast (its floor 5 ms: 4.00×), "m-cheap" (30 ms) while it was slow (20 ms: 1.50×).
+    /// Raw times would crown m-lucky. The scene's floor is the median paired floor, 12.5 ms,
+    /// and the times shown are drift-corrected to it: 30 × 12.5 / 20 = 18.75 ms.
+    #[test]
+    fn a_paired_run_ranks_on_the_floor_timed_beside_each_record() {
+        let mut results = scene_s(&[
+            (FLOOR, 10.0, 1.0),
+            ("m-lucky", 20.0, 0.005),
+            ("m-cheap", 30.0, 0.005),
+        ]);
+        for r in &mut results.records {
+            let floor = match r.method.as_str() {
+                "m-lucky" => 5.0,
+                "m-cheap" => 20.0,
+                _ => continue,
+            };
+            r.timing.as_mut().expect("timed").floor =
+                Some(crate::fixture::synthetic::paired_floor(floor));
+        }
+        let row = row(&results, "s", Metric::Verdict);
+        let w = row.budgets[0].as_ref().expect("1 % is won");
+        assert_eq!(
+            (w.method.as_str(), w.time.as_str(), w.floor_ratio.as_deref()),
+            ("m-cheap", "18.8 ms", Some("1.50×"))
+        );
+        assert_eq!(row.floor.as_deref(), Some("12.5 ms"));
+        assert_eq!(row.front, ["m-cheap"]);
     }
 
     /// A winner timed faster than the floor (which does less work than any method) is marked as

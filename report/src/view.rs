@@ -9,7 +9,7 @@ use harness::image::metrics::ToneMap;
 use harness::results::{Record, Results, Status};
 use serde::Serialize;
 
-use crate::analysis::{self, BUDGETS, Point, TimeBasis, ordered};
+use crate::analysis::{self, BUDGETS, Clock, Point, TimeBasis, ordered};
 use crate::format::{PlotLinks, anchor, mib, ms, params_text, rel, status_text};
 use crate::matrix::work_text;
 use crate::metric::Metric;
@@ -197,16 +197,12 @@ fn budget_rows(records: &[&Record], points: &[Point], basis: TimeBasis) -> Vec<B
 
 /// Per method (in order of first appearance): its cheapest ok configuration under each
 /// budget, so methods compare at equal error rather than at their defaults.
-fn method_budget_rows(
-    records: &[&Record],
-    basis: TimeBasis,
-    metric: Metric,
-) -> Vec<MethodBudgetRow> {
+fn method_budget_rows(records: &[&Record], clock: Clock, metric: Metric) -> Vec<MethodBudgetRow> {
     ordered(records.iter().map(|r| r.method.as_str()))
         .into_iter()
         .map(|m| {
             let mine: Vec<&Record> = records.iter().copied().filter(|r| r.method == m).collect();
-            let points = analysis::points_by(&mine, basis, metric);
+            let points = analysis::points_by(&mine, clock, metric);
             let cells = BUDGETS
                 .iter()
                 .map(|&b| {
@@ -322,7 +318,7 @@ fn exposure(run_dir: &Path, scene: &str) -> Option<f32> {
 pub struct SceneData<'a> {
     pub view: SceneView,
     pub records: Vec<&'a Record>,
-    pub basis: TimeBasis,
+    pub clock: Clock,
 }
 
 pub fn scene_data<'a>(
@@ -336,10 +332,10 @@ pub fn scene_data<'a>(
         .iter()
         .filter(|r| r.scene == scene)
         .collect();
-    let basis = TimeBasis::for_records(records.iter().copied());
+    let clock = Clock::for_records(&records);
     let fronts: Vec<Vec<Point>> = metrics
         .iter()
-        .map(|&m| analysis::pareto_front(&analysis::points_by(&records, basis, m)))
+        .map(|&m| analysis::pareto_front(&analysis::points_by(&records, clock, m)))
         .collect();
     let pixels = (results.run.resolution[0] as f64) * (results.run.resolution[1] as f64);
     let rows = records
@@ -356,11 +352,11 @@ pub fn scene_data<'a>(
     let budgets = metrics
         .iter()
         .map(|&m| {
-            let points = analysis::points_by(&records, basis, m);
+            let points = analysis::points_by(&records, clock, m);
             MetricBudgets {
                 metric: m.id(),
-                overall: budget_rows(&records, &points, basis),
-                per_method: method_budget_rows(&records, basis, m),
+                overall: budget_rows(&records, &points, clock.basis),
+                per_method: method_budget_rows(&records, clock, m),
             }
         })
         .collect();
@@ -369,7 +365,7 @@ pub fn scene_data<'a>(
         name: scene.to_string(),
         viewer: viewer(run_dir, &records, &anchor),
         anchor,
-        time_label: basis.label().to_string(),
+        time_label: clock.label(),
         exposure: exposure(run_dir, scene),
         rows,
         plots: Vec::new(),
@@ -379,7 +375,7 @@ pub fn scene_data<'a>(
     SceneData {
         view,
         records,
-        basis,
+        clock,
     }
 }
 

@@ -38,7 +38,7 @@ pub fn run(a: FrontierArgs) -> Result<()> {
 }
 
 /// The run in `dir`, refused (exit 2) where `dir` holds no results.json.
-fn load(arg: &str, dir: &Path) -> Result<Results> {
+pub fn load(arg: &str, dir: &Path) -> Result<Results> {
     let path = dir.join("results.json");
     if !path.is_file() {
         return crate::args::refuse(format!("{arg}: {} holds no results.json", dir.display()));

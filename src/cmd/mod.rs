@@ -3,6 +3,7 @@
 
 pub mod adapters;
 pub mod compare;
+pub mod confirm;
 pub mod device;
 pub mod export;
 pub mod frontier;

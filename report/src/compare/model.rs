@@ -108,9 +108,9 @@ pub struct Pick {
     pub params: Params,
     pub time_ms: f64,
     pub error: f64,
-    /// The floor its time is divided by: its paired floor, else the run's on the scene
-    /// (`analysis::record_floor_ms`); None where neither exists.
-    pub floor_ms: Option<f64>,
+    /// Its time as a multiple of the floor: its paired floor's, else the run's on the scene
+    /// (`analysis::Clock::floor_ratio`); None where neither exists.
+    pub floor_ratio: Option<f64>,
 }
 
 #[derive(Serialize)]

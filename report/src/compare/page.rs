@@ -267,8 +267,8 @@ fn verdict_cells(s: &SceneComparison, labels: &[String]) -> Vec<VerdictCell> {
         Some(p) => line(
             run,
             name(&p.method, &p.params, &s.rows),
-            match p.floor_ms {
-                Some(f) => format!("{}× · {}", rel(p.time_ms / f), percent(p.error)),
+            match p.floor_ratio {
+                Some(x) => format!("{}× · {}", rel(x), percent(p.error)),
                 None => format!("{} ms · {}", ms(p.time_ms), percent(p.error)),
             },
         ),

@@ -10,7 +10,7 @@ use super::model::{Cell, Changed, PairTau, Pick, Row, SceneComparison, Verdict};
 use super::runs::Run;
 use super::tau::PairCounts;
 use super::tolerance;
-use crate::analysis::{self, BUDGETS, TimeBasis};
+use crate::analysis::{self, BUDGETS, Clock, TimeBasis};
 use crate::metric::{Metric, verdict_error};
 
 pub use crate::analysis::FLOOR_METHOD;
@@ -29,18 +29,15 @@ fn records<'a>(run: &'a Run, scene: &str, common: &BTreeSet<String>) -> Vec<&'a 
 pub fn compare(runs: &[Run], scene: &str, common: &BTreeSet<String>) -> SceneComparison {
     let per_run: Vec<Vec<&Record>> = runs.iter().map(|r| records(r, scene, common)).collect();
     let basis = TimeBasis::for_records(per_run.iter().flatten().copied());
-    let floor_ms: Vec<Option<f64>> = per_run
-        .iter()
-        .map(|rs| analysis::floor_ms(rs, basis))
-        .collect();
-    let rows = rows(&per_run, basis, &floor_ms);
+    let clocks: Vec<Clock> = per_run.iter().map(|rs| Clock::on(basis, rs)).collect();
+    let rows = rows(&per_run, &clocks);
     let tau = pairs(runs.len())
         .map(|(a, b)| pair_tau(&rows, a, b))
         .collect();
     let verdicts: Vec<Verdict> = per_run
         .iter()
-        .zip(&floor_ms)
-        .map(|(rs, &floor)| verdict(rs, basis, floor))
+        .zip(&clocks)
+        .map(|(rs, &clock)| verdict(rs, clock))
         .collect();
     SceneComparison {
         scene: scene.to_string(),
@@ -48,7 +45,7 @@ pub fn compare(runs: &[Run], scene: &str, common: &BTreeSet<String>) -> SceneCom
             TimeBasis::Gpu => "gpu",
             TimeBasis::Wall => "wall",
         },
-        floor_ms,
+        floor_ms: clocks.iter().map(|c| c.floor_ms).collect(),
         changed: changed(&verdicts),
         rows,
         tau,
@@ -62,7 +59,7 @@ pub fn pairs(n: usize) -> impl Iterator<Item = (usize, usize)> {
 }
 
 /// One row per key, in the first run's order with the floor first.
-fn rows(per_run: &[Vec<&Record>], basis: TimeBasis, floor_ms: &[Option<f64>]) -> Vec<Row> {
+fn rows(per_run: &[Vec<&Record>], clocks: &[Clock]) -> Vec<Row> {
     let mut firsts: Vec<&Record> = per_run[0].clone();
     firsts.sort_by_key(|r| r.method != FLOOR_METHOD);
     firsts
@@ -71,10 +68,10 @@ fn rows(per_run: &[Vec<&Record>], basis: TimeBasis, floor_ms: &[Option<f64>]) ->
             let key = first.key();
             let runs: Vec<Cell> = per_run
                 .iter()
-                .zip(floor_ms)
-                .map(|(rs, &floor)| {
+                .zip(clocks)
+                .map(|(rs, &clock)| {
                     let r = rs.iter().find(|r| r.key() == key).expect("a common key");
-                    cell(r, basis, floor)
+                    cell(r, clock)
                 })
                 .collect();
             let headlines: Vec<f64> = runs.iter().filter_map(|c| c.headline).collect();
@@ -90,15 +87,14 @@ fn rows(per_run: &[Vec<&Record>], basis: TimeBasis, floor_ms: &[Option<f64>]) ->
         .collect()
 }
 
-fn cell(r: &Record, basis: TimeBasis, floor: Option<f64>) -> Cell {
+fn cell(r: &Record, clock: Clock) -> Cell {
     let ok = r.status == Status::Ok;
-    let time_ms = basis.time_ms(r).filter(|t| ok && t.is_finite() && *t > 0.0);
+    let time_ms = clock.time_ms(r).filter(|t| ok && t.is_finite() && *t > 0.0);
     Cell {
         status: r.status,
         reason: r.reason.clone(),
         time_ms,
-        ratio: time_ms
-            .and_then(|t| analysis::floor_ratio(t, analysis::record_floor_ms(r, basis, floor))),
+        ratio: time_ms.and(clock.floor_ratio(r)),
         headline: verdict_error(r).filter(|_| ok),
     }
 }
@@ -117,11 +113,11 @@ fn pair_tau(rows: &[Row], a: usize, b: usize) -> PairTau {
     }
 }
 
-/// The run's verdict among the contenders (every configuration but the floor's); `floor` is
-/// the run's floor on the scene.
-fn verdict(records: &[&Record], basis: TimeBasis, floor: Option<f64>) -> Verdict {
+/// The run's verdict among the contenders (every configuration but the floor's), timed by
+/// the run's clock on the scene.
+fn verdict(records: &[&Record], clock: Clock) -> Verdict {
     let contenders = analysis::contenders(records);
-    let points = analysis::points_by(&contenders, basis, Metric::Verdict);
+    let points = analysis::points_by(&contenders, clock, Metric::Verdict);
     let pick = |p: analysis::Point| {
         let r = contenders[p.index];
         Pick {
@@ -130,7 +126,7 @@ fn verdict(records: &[&Record], basis: TimeBasis, floor: Option<f64>) -> Verdict
             params: r.params.clone(),
             time_ms: p.time,
             error: p.error,
-            floor_ms: analysis::record_floor_ms(r, basis, floor),
+            floor_ratio: clock.floor_ratio(r),
         }
     };
     Verdict {

@@ -9,7 +9,7 @@ fn pick_text(p: Option<&Pick>) -> String {
     let Some(p) = p else {
         return "none".into();
     };
-    match crate::analysis::floor_ratio(p.time_ms, p.floor_ms) {
+    match p.floor_ratio {
         Some(r) => format!("{} ({} floor)", p.method, crate::verdict::times_floor(r)),
         None => p.method.clone(),
     }
