@@ -13,6 +13,11 @@ const FLOOR: &str = "no-scatter";
 
 /// `run` of froxel-fog and the floor on two scenes at 32², 2 timed frames; its results.
 fn paired_run(name: &str, extra: &[&str]) -> Results {
+    paired_run_in(name, extra).0
+}
+
+/// [`paired_run`] and the run's directory.
+fn paired_run_in(name: &str, extra: &[&str]) -> (Results, std::path::PathBuf) {
     let out = temp_dir(name);
     let out_arg = out.to_string_lossy().into_owned();
     let mut args = vec![
@@ -35,7 +40,8 @@ fn paired_run(name: &str, extra: &[&str]) -> Results {
     args.extend_from_slice(extra);
     let (code, _, err) = scatterbench(&args);
     assert_eq!(code, 0, "{args:?}: {err}");
-    Results::load(&out.join("results.json")).expect("results.json loads")
+    let results = Results::load(&out.join("results.json")).expect("results.json loads");
+    (results, out)
 }
 
 /// Every ok record but the floor's carries a paired floor of 2 timed frames, with GPU time
@@ -130,4 +136,92 @@ fn paired_floor_without_the_floor_method_is_refused() {
         "{err}"
     );
     assert!(!err.contains("panicked"), "{err}");
+}
+
+/// `confirm` (ARCHITECTURE §4.5) re-times what `report::candidates` picks from a run — each
+/// with the knobs it ran with — and each scene's floor, at the run's resolution, with paired
+/// floors on the frames asked for, into a run of its own.
+#[test]
+fn confirm_re_times_the_chosen_configurations_beside_paired_floors() {
+    if gpu_or_skip().is_none() {
+        return;
+    }
+    let (source, src) = paired_run_in("confirm-source", &["--param", "froxel-fog.slices=32"]);
+    let chosen: Vec<String> = report::candidates::candidates(&source, 1)
+        .iter()
+        .map(|r| r.key())
+        .collect();
+    assert!(!chosen.is_empty(), "nothing under 10 % to confirm");
+    let out = temp_dir("confirm-out");
+    let dst = out.to_string_lossy().into_owned();
+    let args = [
+        "confirm",
+        src.to_str().unwrap(),
+        "--top",
+        "1",
+        "--frames",
+        "3",
+        "--warmup",
+        "0",
+        "--out",
+        &dst,
+    ];
+    let (code, stdout, err) = scatterbench(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("| scene | floor |"), "{stdout}");
+    let confirmed = Results::load(&out.join("results.json")).expect("results.json loads");
+    assert_eq!(confirmed.run.resolution, source.run.resolution);
+    assert_eq!(confirmed.run.frames, 3);
+    let (floors, others): (Vec<_>, Vec<_>) =
+        confirmed.records.iter().partition(|r| r.method == FLOOR);
+    assert_eq!(floors.len(), 2, "one floor per scene");
+    let mut got: Vec<String> = others.iter().map(|r| r.key()).collect();
+    let mut want = chosen;
+    got.sort();
+    want.sort();
+    assert_eq!(got, want);
+    for r in others {
+        let t = r.timing.as_ref().expect("timed");
+        assert_eq!(t.floor.as_ref().map(|f| f.frames), Some(3), "{}", r.key());
+    }
+}
+
+/// A run whose record names a method this build does not have, or knobs its method refuses,
+/// is refused before any work (exit 2), naming the record; so is a directory without a run.
+#[test]
+fn confirm_refuses_records_this_build_cannot_run() {
+    use report::fixture::synthetic::{Measured, params, record, run};
+    let dir = temp_dir("confirm-refused");
+    let write = |method: &str, knobs: harness::method::Params| {
+        let mut results = run("lavapipe", 32);
+        let m = Some(Measured {
+            time_ms: 2.0,
+            headline: 0.001,
+        });
+        results.records.push(record("clear-fog", method, &knobs, m));
+        std::fs::create_dir_all(&dir).unwrap();
+        results.save(&dir.join("results.json")).unwrap();
+    };
+    let d = dir.to_str().unwrap();
+    write("gone-method", params());
+    let (code, err) = cli(&["confirm", d, "--out", &format!("{d}/out")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("gone-method") && err.contains("registry"),
+        "{err}"
+    );
+    let mut knobs = harness::method::Params::new();
+    knobs.insert("slices".into(), harness::method::ParamValue::Int(1 << 30));
+    write("froxel-fog", knobs);
+    let (code, err) = cli(&["confirm", d, "--out", &format!("{d}/out")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("froxel-fog") && err.contains("slices"),
+        "{err}"
+    );
+    let (code, err) = cli(&["confirm", &format!("{d}/nowhere")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no results.json"), "{err}");
+    assert!(!dir.join("out").exists());
+    let _ = std::fs::remove_dir_all(dir);
 }

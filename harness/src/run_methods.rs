@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::method::{Method, MethodInfo};
+use crate::method::{Method, MethodInfo, Params, resolve_params};
 
 /// One method of a run. Every field is optional so that hand-written or partial files load;
 /// the runner always writes all four. Readers show "unknown" for an absent one.
@@ -23,6 +23,10 @@ pub struct MethodDescription {
     /// "homogeneous", "particles" or "both" ([`crate::method::Medium::name`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub medium: Option<String>,
+    /// Every knob at its default, as this build resolves them: what a record's knobs are named
+    /// against (`slices=32`) where a run holds other configurations than a sweep's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub defaults: Option<Params>,
 }
 
 impl From<&MethodInfo> for MethodDescription {
@@ -32,6 +36,7 @@ impl From<&MethodInfo> for MethodDescription {
             summary: Some(info.summary.to_string()),
             baseline: Some(info.baseline),
             medium: Some(info.medium.name().to_string()),
+            defaults: None,
         }
     }
 }
@@ -45,7 +50,12 @@ pub type RunMethods = BTreeMap<String, MethodDescription>;
 pub fn describe<'a>(into: &mut RunMethods, methods: impl IntoIterator<Item = &'a dyn Method>) {
     for m in methods {
         let info = m.info();
-        into.insert(info.id.to_string(), MethodDescription::from(&info));
+        let defaults = resolve_params(m, &Params::new()).ok();
+        let description = MethodDescription {
+            defaults,
+            ..MethodDescription::from(&info)
+        };
+        into.insert(info.id.to_string(), description);
     }
 }
 
@@ -91,6 +101,7 @@ mod tests {
             summary: Some("s".into()),
             baseline: Some(baseline),
             medium: Some("homogeneous".into()),
+            defaults: None,
         }
     }
 

@@ -1,6 +1,7 @@
 //! Number, name and path formatting shared by every table and plot of the page, so all of
 //! them use the same units and precision.
 
+use harness::method::Params;
 use harness::results::{Record, Status};
 use serde::Serialize;
 
@@ -34,6 +35,16 @@ pub fn distinguishing_knobs(r: &Record, peers: &[&Record]) -> String {
         2 * same <= mine.len()
     };
     knobs_or_defaults(r.params.iter().filter(differs))
+}
+
+/// How `r` is named among configurations of its method: the knobs whose value is not the
+/// method's default where the run recorded its defaults (`run.methods`), as `k=v k=v` or
+/// "defaults"; else [`distinguishing_knobs`] among `peers`.
+pub fn knobs_apart(r: &Record, peers: &[&Record], defaults: Option<&Params>) -> String {
+    match defaults {
+        Some(d) => knobs_or_defaults(r.params.iter().filter(|(k, v)| d.get(*k) != Some(*v))),
+        None => distinguishing_knobs(r, peers),
+    }
 }
 
 /// Knobs as `k=v k=v` in the order given, or "defaults" for none: how a configuration that

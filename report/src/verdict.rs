@@ -8,7 +8,7 @@ use harness::results::{Record, Results};
 use serde::Serialize;
 
 use crate::analysis::{self, BUDGETS, Clock, ordered, scene_names};
-use crate::format::{distinguishing_knobs, ms, rel};
+use crate::format::{knobs_apart, ms, rel};
 use crate::metric::Metric;
 
 #[derive(Serialize)]
@@ -80,8 +80,16 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
             .iter()
             .map(|p| records[p.index].method.as_str()),
     );
-    // A method with several configurations names the one that won.
-    let several = |m: &str| records.iter().filter(|r| r.method == m).count() > 1;
+    // A method with several configurations in the run names the one that won: by the knobs
+    // off its defaults where the run recorded them (a `confirm` run holds one configuration
+    // of a method on one scene and another on the next), else by those that set it apart
+    // from the scene's others.
+    let several = |m: &str| {
+        let mut mine = results.records.iter().filter(|r| r.method == m);
+        let first = mine.next().map(|r| &r.params);
+        mine.any(|r| Some(&r.params) != first)
+    };
+    let defaults = |m: &str| results.run.methods.get(m).and_then(|d| d.defaults.as_ref());
     let budgets: Vec<Option<BudgetWinner>> = BUDGETS
         .iter()
         .map(|&b| {
@@ -93,7 +101,7 @@ pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow 
                     time: format!("{} ms", ms(p.time)),
                     error: rel(p.error),
                     params: if several(&r.method) {
-                        distinguishing_knobs(r, &records)
+                        knobs_apart(r, &records, defaults(&r.method))
                     } else {
                         String::new()
                     },
@@ -296,6 +304,48 @@ mod tests {
         );
         assert_eq!(row.floor.as_deref(), Some("12.5 ms"));
         assert_eq!(row.front, ["m-cheap"]);
+    }
+
+    /// Where the run recorded a method's defaults, a winner is named by the knobs off them,
+    /// whatever else the scene holds: a `confirm` run holds one configuration of a method on
+    /// "s" and another on "t" and still names each. A method with one configuration in the
+    /// whole run is not named.
+    #[test]
+    fn a_configuration_is_named_by_its_knobs_off_the_defaults() {
+        use crate::fixture::synthetic::{Measured, record};
+        let mut results = scene_s(&[(FLOOR, 4.0, 1.0)]);
+        let knobs = |slices: i64| {
+            let mut p = harness::method::Params::new();
+            p.insert("slices".into(), harness::method::ParamValue::Int(slices));
+            p.insert("columns".into(), harness::method::ParamValue::Int(64));
+            p
+        };
+        let m = |time_ms| {
+            Some(Measured {
+                time_ms,
+                headline: 0.001,
+            })
+        };
+        for (scene, slices) in [("s", 32), ("t", 64)] {
+            results
+                .records
+                .push(record(scene, "m", &knobs(slices), m(6.0)));
+        }
+        results.run.methods.insert(
+            "m".into(),
+            harness::run_methods::MethodDescription {
+                defaults: Some(knobs(64)),
+                ..Default::default()
+            },
+        );
+        let name = |results: &harness::results::Results, scene| {
+            let row = row(results, scene, Metric::Verdict);
+            row.budgets[0].as_ref().expect("1 % is won").params.clone()
+        };
+        assert_eq!(name(&results, "s"), "slices=32");
+        assert_eq!(name(&results, "t"), "defaults");
+        results.records.retain(|r| r.scene != "t");
+        assert_eq!(name(&results, "s"), "");
     }
 
     /// A winner timed faster than the floor (which does less work than any method) is marked as
