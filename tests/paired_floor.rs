@@ -72,6 +72,11 @@ fn assert_paired(results: &Results) {
             .as_ref()
             .unwrap_or_else(|| panic!("{}: no paired floor", r.scene));
         assert_eq!(floor.frames, 2, "{}", r.scene);
+        assert!(
+            floor.interleaved,
+            "{}: timed apart from the record",
+            r.scene
+        );
         assert_eq!(
             floor.gpu_ms.is_some(),
             timing.gpu_ms.is_some(),
@@ -103,12 +108,31 @@ fn every_record_times_the_floor_beside_it_in_a_worker_and_in_process() {
     if gpu_or_skip().is_none() {
         return;
     }
-    assert_paired(&paired_run("paired-worker", &["--paired-floor"]));
+    let paired = paired_run("paired-worker", &["--paired-floor"]);
+    assert_paired(&paired);
     assert_paired(&paired_run(
         "paired-in-process",
         &["--paired-floor", "--isolate", "off"],
     ));
     let unpaired = paired_run("unpaired", &[]);
+    // The floor renders into the same targets between the method's frames: what is scored
+    // must still be the method's alone, as without the pairing (every method here renders
+    // the same image each frame).
+    for (p, u) in paired.records.iter().zip(&unpaired.records) {
+        let headline = |r: &harness::results::Record| {
+            r.errors
+                .get("inscatter")
+                .and_then(|e| e.headline)
+                .expect("scored")
+        };
+        let (hp, hu) = (headline(p), headline(u));
+        assert!(
+            (hp - hu).abs() <= 1e-6 * hu.abs().max(1e-9),
+            "{} {}: {hp} paired, {hu} alone",
+            p.scene,
+            p.method
+        );
+    }
     assert!(
         unpaired
             .records

@@ -257,6 +257,10 @@ pub struct FloorTiming {
     pub frames: u32,
     /// The passes the floor ran (its last timed frame's): what was timed.
     pub passes: Vec<String>,
+    /// Its frames alternated with the record's, one floor frame before each (false: timed
+    /// after the record's frames, as results before the interleaving were).
+    #[serde(default)]
+    pub interleaved: bool,
 }
 
 impl Record {

@@ -117,8 +117,10 @@ fn work_list(
         });
         for r in chosen.iter().filter(|r| r.scene == s.name) {
             let entry = method(&r.method)?;
-            let params = resolve_params(entry, &r.params)
-                .map_err(|e| anyhow!("{}: record {}: {e}", run_dir.display(), r.key()))?;
+            let params = match resolve_params(entry, &r.params) {
+                Ok(p) => p,
+                Err(e) => return refuse(format!("{}: record {}: {e}", run_dir.display(), r.key())),
+            };
             work.push(WorkItem {
                 scene,
                 entry,

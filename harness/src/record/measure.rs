@@ -8,12 +8,13 @@ use std::time::Instant;
 use scenes::Scene;
 
 use super::frame::{AovTargets, FrameTiming, render_frame};
+use super::paired::PairedFloor;
 use super::phase::{self, Phase};
 use super::settings::RecordSettings;
 use crate::gpu::{Gpu, GpuTimer, WORK_COUNTERS};
 use crate::image::Image;
 use crate::method::{FrameReport, Method, Params, PrepareContext, Prepared};
-use crate::results::{FloorTiming, Passes, Record, Stat, Status, Timing};
+use crate::results::{Passes, Record, Stat, Status, Timing};
 use crate::sequence::FrameScorer;
 
 /// Fewest timed frames a record gets under a time budget (a median needs a few samples).
@@ -76,8 +77,22 @@ pub(super) fn measure(
         return Err(format!("wgpu error during prepare: {}", errors.join("; ")));
     }
     let aovs = AovTargets::new(gpu, settings.width, settings.height);
+    // The paired floor is prepared after the method's memory is counted, and renders one frame
+    // before each of the method's (`paired`).
+    let mut floor = floor
+        .filter(|f| f.id() != entry.id())
+        .and_then(|f| PairedFloor::prepare(gpu, f, scene, settings));
     phase::enter(Phase::Render);
-    let mut frames = timed_frames(gpu, method.as_mut(), scene, settings, &aovs, Some(scorer))?;
+    let paired = floor.as_mut();
+    let mut frames = timed_frames(
+        gpu,
+        method.as_mut(),
+        scene,
+        settings,
+        &aovs,
+        Some(scorer),
+        paired,
+    )?;
     // An accumulating method converges over `converge` frames: on a static scene the scored
     // frame is the converge-th rendered since prepare, or later.
     let converge = entry.converge_frames(params);
@@ -101,23 +116,13 @@ pub(super) fn measure(
         Some(render_frame(gpu, method.as_mut(), scene, 0, &aovs, None)?.report)
     };
     let images = aovs.read(gpu)?;
-    // The method's own wgpu errors are its record's: taken (and failing it, as `settle` words
-    // it) before the paired floor runs and takes the floor's.
+    // wgpu errors of the frames are the record's (as `settle` words it), the interleaved
+    // floor's among them: the floor is no-scatter, which no run has seen raise one.
     let pending = gpu.take_errors();
     if !pending.is_empty() {
         return Err(format!("wgpu error: {}", pending.join("; ")));
     }
-    // The paired floor reuses the AOV targets once the method's are read; the method's own
-    // resources go first, so the floor is timed with the memory it would have on its own. A
-    // panic in the floor costs the pairing, not the method's record.
-    drop(method);
-    let floor = floor.filter(|f| f.id() != entry.id()).and_then(|f| {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            paired_floor(gpu, f, scene, settings, &aovs)
-        }))
-        .ok()
-        .flatten()
-    });
+    let floor = floor.and_then(PairedFloor::timing);
     let report = if settings.frames > 0 {
         frames.report
     } else {
@@ -152,41 +157,9 @@ pub(super) fn measure(
     Ok((record, images))
 }
 
-/// The floor method at its defaults, prepared and timed like a record's frames
-/// ([`timed_frames`], without a scorer: nothing read back or scored). None where it cannot be
-/// prepared or rendered: the record then falls back on the run's floor record (ARCHITECTURE
-/// §4.5), and its own measurement stands.
-fn paired_floor(
-    gpu: &Gpu,
-    floor: &dyn Method,
-    scene: &Scene,
-    settings: &RecordSettings,
-    aovs: &AovTargets,
-) -> Option<FloorTiming> {
-    let defaults = crate::knobs::resolve(floor.id(), &floor.knobs(), &Params::new()).ok()?;
-    let mut prepared = floor
-        .prepare(&PrepareContext {
-            gpu,
-            scene,
-            params: &defaults,
-            width: settings.width,
-            height: settings.height,
-            no_skip: settings.no_skip,
-        })
-        .ok()?;
-    gpu.wait().ok()?;
-    let frames = timed_frames(gpu, prepared.as_mut(), scene, settings, aovs, None).ok()?;
-    let errors = gpu.take_errors();
-    (errors.is_empty() && !frames.wall.is_empty()).then(|| FloorTiming {
-        wall_ms: Stat::of(&frames.wall),
-        gpu_ms: (!frames.gpu.is_empty()).then(|| Stat::of(&frames.gpu)),
-        frames: frames.wall.len() as u32,
-        passes: frames.report.run,
-    })
-}
-
 /// The warm-up and timed frames under the budget, cycling through the scene's frames; with a
-/// `scorer`, each timed frame is read back and scored outside its timed region.
+/// `scorer`, each timed frame is read back and scored outside its timed region; with a paired
+/// `floor`, one frame of it before each of the method's.
 fn timed_frames(
     gpu: &Gpu,
     method: &mut dyn Prepared,
@@ -194,6 +167,7 @@ fn timed_frames(
     settings: &RecordSettings,
     aovs: &AovTargets,
     mut scorer: Option<&mut FrameScorer>,
+    mut floor: Option<&mut PairedFloor>,
 ) -> Result<Frames, String> {
     let timer = GpuTimer::new(gpu);
     let budget = settings.budget_ms;
@@ -201,11 +175,17 @@ fn timed_frames(
     let mut work: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     let (mut f, mut warm_ms, mut timed_ms) = (0u32, 0.0, 0.0);
     while f < settings.warmup && another_frame(budget, true, f, warm_ms) {
+        if let Some(floor) = floor.as_deref_mut() {
+            floor.frame(gpu, scene, f, aovs, timer.as_ref(), false);
+        }
         warm_ms += render_frame(gpu, method, scene, f, aovs, timer.as_ref())?.wall_ms;
         f += 1;
     }
     let warmed = f;
     while f - warmed < settings.frames && another_frame(budget, false, f - warmed, timed_ms) {
+        if let Some(floor) = floor.as_deref_mut() {
+            floor.frame(gpu, scene, f, aovs, timer.as_ref(), true);
+        }
         let t: FrameTiming = render_frame(gpu, method, scene, f, aovs, timer.as_ref())?;
         timed_ms += t.wall_ms;
         out.cpu.push(t.cpu_ms);

@@ -13,6 +13,7 @@
 //! - `phase.rs`: the phase a record is in, announced to a per-thread hook;
 //! - `frame.rs`: the AOV targets and one timed frame ([`render_frame`]);
 //! - `measure.rs`: prepare, the warm-up and timed frames, the time budget ([`another_frame`]);
+//! - `paired.rs`: the paired floor, rendered one frame before each of the method's;
 //! - `score.rs`: [`run_one`], the scoring of the measured frames;
 //! - `images.rs`: the files a record writes; `failure.rs`: a failed record and its reason;
 //! - `validation.rs`: the validation layer's messages in the record (under `--validate`).
@@ -21,6 +22,7 @@ mod failure;
 mod frame;
 mod images;
 mod measure;
+mod paired;
 pub mod phase;
 mod score;
 mod settings;
