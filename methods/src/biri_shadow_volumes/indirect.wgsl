@@ -32,7 +32,9 @@ fn iss_lookup(tab: texture_2d<f32>, row0: u32, lambda: f32, angle: f32) -> f32 {
     return mix(r0, r1, a);
 }
 
+// One lookup where the scene's σ_t is grey (GREY_SIGMA_T: the channels' λ are equal), else three.
 fn iss_lookup3(tab: texture_2d<f32>, row0: u32, lambda: vec3<f32>, angle: f32) -> vec3<f32> {
+    if (GREY_SIGMA_T) { return vec3<f32>(iss_lookup(tab, row0, lambda.r, angle)); }
     return vec3<f32>(
         iss_lookup(tab, row0, lambda.r, angle),
         iss_lookup(tab, row0, lambda.g, angle),

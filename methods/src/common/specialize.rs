@@ -1,8 +1,8 @@
 //! Scene-baked pipeline constants. A scene's light count, light kinds and phase function are
 //! fixed for a run (lights move, they do not change kind), so the hot passes compile them in as
 //! WGSL `override`s (`LIGHT_COUNT`, `LIGHT_KIND_0..3`, `LIGHT_KINDS_REST` in `lights.wgsl`,
-//! `PHASE_KIND` in `medium.wgsl`, `HEIGHT_FOG` in `height_fog.wgsl`, so constant-σ scenes pay
-//! nothing for it): the per-light loops get a constant trip count and the kind and phase
+//! `PHASE_KIND` and `GREY_SIGMA_T` in `medium.wgsl`, `HEIGHT_FOG` in `height_fog.wgsl`, so
+//! constant-σ scenes pay nothing for it): the per-light loops get a constant trip count and the kind and phase
 //! branches fold away. The first four lights' kinds are baked per light; beyond them (up to
 //! `MAX_LIGHTS`) `light_kind` reads the uniform and `LIGHT_KINDS_REST` (the set of kinds that
 //! occur there) keeps `scene_has_light_kind` folding. A pass without them reads the same values
@@ -46,8 +46,10 @@ impl Specialization {
         let rest_kinds = rest.fold(0u32, |bits, l| bits | 1 << kind_code(l));
         constants.push(("LIGHT_KINDS_REST", rest_kinds as f64));
         // The code of MediumUniform (sigma_s.w), for the medium the renderer uploads.
-        let phase = MediumUniform::new(&scene.medium().background()).sigma_s[3];
-        constants.push(("PHASE_KIND", phase as f64));
+        let medium = MediumUniform::new(&scene.medium().background());
+        constants.push(("PHASE_KIND", medium.sigma_s[3] as f64));
+        let [r, g, b, _] = medium.sigma_t;
+        constants.push(("GREY_SIGMA_T", flag(r == g && g == b)));
         let fog = scene.medium().background().height_fog.is_some();
         constants.push(("HEIGHT_FOG", flag(fog)));
         Specialization { constants }
@@ -92,4 +94,44 @@ pub fn compile_options<'a>(
 /// A `bool` override's value as `PipelineCompilationOptions::constants` takes it.
 pub fn flag(b: bool) -> f64 {
     if b { 1.0 } else { 0.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scenes::desc::MediumDesc;
+
+    fn constant(s: &Specialization, key: &str) -> f64 {
+        let found = s.constants().iter().find(|(k, _)| *k == key);
+        found.unwrap_or_else(|| panic!("{key} not baked")).1
+    }
+
+    /// GREY_SIGMA_T is baked exactly where the scene file gives σ_a and σ_s the same value in
+    /// every channel (then σ_t is grey): a coloured medium must keep its three lookups. The
+    /// library has both kinds, so the test sees each.
+    #[test]
+    fn grey_sigma_t_is_baked_for_grey_media_only() {
+        let mut seen = [false, false];
+        for name in scenes::library::names() {
+            let scene = scenes::library::load(name)
+                .expect("in the library")
+                .expect("loads");
+            let MediumDesc::Homogeneous {
+                sigma_a, sigma_s, ..
+            } = &scene.desc.medium
+            else {
+                continue;
+            };
+            let flat = |v: &glam::Vec3| v.x == v.y && v.y == v.z;
+            let grey = flat(sigma_a) && flat(sigma_s);
+            let baked = constant(&Specialization::of(&scene), "GREY_SIGMA_T");
+            assert_eq!(baked, flag(grey), "{name}");
+            seen[grey as usize] = true;
+        }
+        assert_eq!(
+            seen,
+            [true, true],
+            "the library has grey and coloured media"
+        );
+    }
 }

@@ -66,6 +66,13 @@ fn approach(k: u32, dir: vec3<f32>) -> Approach {
     return Approach(t0, h);
 }
 
+// F(u, x) per channel: one lookup where the scene's σ_t is grey (GREY_SIGMA_T, baked in
+// medium.wgsl: the channels' u are then equal), else three.
+fn f_rgb(u: vec3<f32>, x: f32) -> vec3<f32> {
+    if (GREY_SIGMA_T) { return vec3<f32>(f_lookup(u.x, x)); }
+    return vec3<f32>(f_lookup(u.x, x), f_lookup(u.y, x), f_lookup(u.z, x));
+}
+
 // Unshadowed in-scatter over [a, b] of isotropic point light k: Sun et al.'s airlight (airlight.rs).
 fn airlight(k: u32, ap: Approach, a: f32, b: f32) -> vec3<f32> {
     if (b <= a) { return vec3<f32>(0.0); }
@@ -74,7 +81,7 @@ fn airlight(k: u32, ap: Approach, a: f32, b: f32) -> vec3<f32> {
     var f = vec3<f32>(0.0);
     let st = medium.sigma_t.rgb;
     let u = st * ap.h;
-    f = vec3<f32>(f_lookup(u.x, xb) - f_lookup(u.x, xa), f_lookup(u.y, xb) - f_lookup(u.y, xa), f_lookup(u.z, xb) - f_lookup(u.z, xa)) * exp(-st * ap.t0);
+    f = (f_rgb(u, xb) - f_rgb(u, xa)) * exp(-st * ap.t0);
     return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * (2.0 / (4.0 * PI * ap.h)) * max(f, vec3<f32>(0.0));
 }
 

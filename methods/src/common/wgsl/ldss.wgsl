@@ -21,6 +21,14 @@ fn gamma_lookup(tab: texture_2d<f32>, lambda: f32, w: f32) -> f32 {
     return mix(r0, r1, a);
 }
 
+// Γ(σ_t h, w) per channel (λ = σ_t h): one bilinear lookup where the scene's σ_t is grey
+// (GREY_SIGMA_T, baked: the three channels' λ are then equal, and lavapipe would run all three
+// lookups behind a uniform test), else three. Each lookup is four texel loads.
+fn gamma_rgb(tab: texture_2d<f32>, lambda: vec3<f32>, w: f32) -> vec3<f32> {
+    if (GREY_SIGMA_T) { return vec3<f32>(gamma_lookup(tab, lambda.r, w)); }
+    return vec3<f32>(gamma_lookup(tab, lambda.r, w), gamma_lookup(tab, lambda.g, w), gamma_lookup(tab, lambda.b, w));
+}
+
 // w = s/(1 + s) with s = (r + y)/h; r + y = h²/(r − y) when y < 0 (no cancellation).
 fn gamma_w(y: f32, h: f32) -> f32 {
     let r = sqrt(y * y + h * h);
@@ -43,7 +51,7 @@ fn ldss_term(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, d: f32) -> vec3<f32> 
     let w = gamma_w(d - g.x, g.y);
     let st = medium.sigma_t.rgb;
     let lam = st * g.y;
-    let gam = vec3<f32>(gamma_lookup(tab, lam.r, w), gamma_lookup(tab, lam.g, w), gamma_lookup(tab, lam.b, w));
+    let gam = gamma_rgb(tab, lam, w);
     return medium.sigma_s.rgb * lights.lights[k].intensity.rgb * exp(-st * g.x) / g.y * gam;
 }
 
@@ -55,10 +63,7 @@ fn ldss_between(tab: texture_2d<f32>, k: u32, dir: vec3<f32>, a: f32, d: f32) ->
     let wd = gamma_w(d - g.x, g.y);
     let st = medium.sigma_t.rgb;
     let lam = st * g.y;
-    let diff = vec3<f32>(
-        gamma_lookup(tab, lam.r, wd) - gamma_lookup(tab, lam.r, w0),
-        gamma_lookup(tab, lam.g, wd) - gamma_lookup(tab, lam.g, w0),
-        gamma_lookup(tab, lam.b, wd) - gamma_lookup(tab, lam.b, w0));
+    let diff = gamma_rgb(tab, lam, wd) - gamma_rgb(tab, lam, w0);
     // With the light behind the eye (t < 0) e^(−σ_t t) grows while the Γ difference shrinks into
     // f32 rounding: cap the exponent and clamp to a bound that holds exactly (x + r ≥ |OS| = D by the
     // triangle inequality, and ∫ dx/r² ≤ π/h), so f32 noise can never exceed the physics.

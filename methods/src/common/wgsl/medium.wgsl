@@ -18,6 +18,10 @@ const PI: f32 = 3.14159265358979;
 const UNBAKED_PHASE: u32 = 0xffffffffu;
 override PHASE_KIND: u32 = UNBAKED_PHASE;
 
+// Scene-baked: σ_t is the same in every channel (common::specialize), so a per-channel table
+// lookup needs doing once. False (the default) is always correct, only slower.
+override GREY_SIGMA_T: bool = false;
+
 // The phase function's kind: the baked constant, else the uniform's.
 fn phase_kind(m: Medium) -> u32 {
     if (PHASE_KIND != UNBAKED_PHASE) { return PHASE_KIND; }
