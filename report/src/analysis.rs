@@ -261,6 +261,15 @@ pub fn ordered<'a>(items: impl Iterator<Item = &'a str>) -> Vec<String> {
     out
 }
 
+/// The run's records of `scene`, in the run's order.
+pub fn scene_records<'a>(results: &'a harness::results::Results, scene: &str) -> Vec<&'a Record> {
+    results
+        .records
+        .iter()
+        .filter(|r| r.scene == scene)
+        .collect()
+}
+
 /// The run's scenes in order of first appearance.
 pub fn scene_names(results: &harness::results::Results) -> Vec<String> {
     ordered(results.records.iter().map(|r| r.scene.as_str()))

@@ -26,11 +26,7 @@ pub fn candidates(results: &Results, top: usize) -> Vec<&Record> {
 }
 
 fn scene_candidates<'a>(results: &'a Results, scene: &str, top: usize) -> Vec<&'a Record> {
-    let records: Vec<&Record> = results
-        .records
-        .iter()
-        .filter(|r| r.scene == scene)
-        .collect();
+    let records = analysis::scene_records(results, scene);
     let clock = Clock::for_records(&records);
     let contenders = analysis::contenders(&records);
     let mut points = analysis::points_by(&contenders, clock, Metric::Verdict);

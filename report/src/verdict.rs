@@ -4,7 +4,7 @@
 //! ARCHITECTURE §4.5) is not a contender: it is left out of the front and the budgets, shown
 //! in its own column, and each winner's time is given as a multiple of it.
 
-use harness::results::{Record, Results};
+use harness::results::Results;
 use serde::Serialize;
 
 use crate::analysis::{self, BUDGETS, Clock, ordered, scene_names};
@@ -66,11 +66,7 @@ pub fn tables(results: &Results, metrics: &[Metric]) -> Vec<VerdictTable> {
 
 /// The verdict on `scene` of `results` by `metric` (one row of [`tables`]).
 pub(crate) fn row(results: &Results, scene: &str, metric: Metric) -> VerdictRow {
-    let records: Vec<&Record> = results
-        .records
-        .iter()
-        .filter(|r| r.scene == scene)
-        .collect();
+    let records = analysis::scene_records(results, scene);
     let clock = Clock::for_records(&records);
     let records = analysis::contenders(&records);
     let points = analysis::points_by(&records, clock, metric);

@@ -327,11 +327,7 @@ pub fn scene_data<'a>(
     scene: &str,
     metrics: &[Metric],
 ) -> SceneData<'a> {
-    let records: Vec<&Record> = results
-        .records
-        .iter()
-        .filter(|r| r.scene == scene)
-        .collect();
+    let records = analysis::scene_records(results, scene);
     let clock = Clock::for_records(&records);
     let fronts: Vec<Vec<Point>> = metrics
         .iter()
