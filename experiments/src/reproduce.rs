@@ -509,11 +509,7 @@ fn equal_error_text(registry: Registry, results: &Results) -> String {
         .map(|b| format!("≤ {:.0} %", b * 100.0))
         .collect();
     for scene in scenes {
-        let recs: Vec<&Record> = results
-            .records
-            .iter()
-            .filter(|r| r.scene == scene)
-            .collect();
+        let recs = analysis::scene_records(results, scene);
         let clock = analysis::Clock::for_records(&recs);
         let _ = writeln!(t, "### {scene} ({})\n", clock.label());
         let _ = match clock.floor_ms {

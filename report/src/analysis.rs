@@ -84,17 +84,15 @@ impl Clock {
     /// The clock of `records` on a basis chosen for more than them (`compare`: the basis its
     /// runs share).
     pub fn on(basis: TimeBasis, records: &[&Record]) -> Clock {
-        let mut paired: Vec<f64> = records
+        let paired: Vec<f64> = records
             .iter()
             .filter(|r| r.status == Status::Ok)
             .filter_map(|r| paired_floor_ms(r, basis))
             .collect();
-        paired.sort_by(f64::total_cmp);
         let floor_record_ms = fastest_floor_record_ms(records, basis);
-        let floor_ms = match paired.len() {
-            0 => floor_record_ms,
-            n if n % 2 == 1 => Some(paired[n / 2]),
-            n => Some(0.5 * (paired[n / 2 - 1] + paired[n / 2])),
+        let floor_ms = match paired.is_empty() {
+            true => floor_record_ms,
+            false => Some(Stat::of(&paired).median),
         };
         Clock {
             basis,

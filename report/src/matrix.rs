@@ -153,6 +153,10 @@ pub fn matrix(results: &Results, metrics: &[Metric]) -> Matrix {
     published.extend(baselines);
     let pixels = (results.run.resolution[0] as f64) * (results.run.resolution[1] as f64);
     let mut footnotes: Vec<Footnote> = Vec::new();
+    let clocks: Vec<Clock> = scenes
+        .iter()
+        .map(|s| Clock::for_records(&analysis::scene_records(results, s)))
+        .collect();
     let rows = published
         .iter()
         .enumerate()
@@ -162,10 +166,8 @@ pub fn matrix(results: &Results, metrics: &[Metric]) -> Matrix {
             first_baseline: i == n_published,
             cells: scenes
                 .iter()
-                .map(|s| {
-                    let scene: Vec<&Record> =
-                        results.records.iter().filter(|r| &r.scene == s).collect();
-                    let clock = Clock::for_records(&scene);
+                .zip(&clocks)
+                .map(|(s, &clock)| {
                     let recs: Vec<&Record> = results
                         .records
                         .iter()

@@ -19,7 +19,7 @@ use scenes::Scene;
 use super::frame::{AovTargets, render_frame};
 use super::settings::RecordSettings;
 use crate::gpu::{Gpu, GpuTimer};
-use crate::method::{Method, Params, PrepareContext, Prepared};
+use crate::method::{Method, Params, PrepareContext, Prepared, resolve_params};
 use crate::results::{FloorTiming, Stat};
 
 /// The floor prepared beside a record, and what its timed frames measured.
@@ -40,7 +40,7 @@ impl PairedFloor {
         scene: &Scene,
         settings: &RecordSettings,
     ) -> Option<PairedFloor> {
-        let defaults = crate::knobs::resolve(floor.id(), &floor.knobs(), &Params::new()).ok()?;
+        let defaults = resolve_params(floor, &Params::new()).ok()?;
         let prepared = catch_unwind(AssertUnwindSafe(|| {
             floor.prepare(&PrepareContext {
                 gpu,
