@@ -29,8 +29,9 @@ pub struct RecordSettings {
     /// Where references are cached (None: rendered, not cached), per-frame ones included.
     pub cache_dir: Option<PathBuf>,
     /// `--paired-floor`: the floor method's id (`no-scatter`). Each record of another method
-    /// then also times the floor at its defaults, right after its own frames and on the same
-    /// frames, into `timing.floor` (ARCHITECTURE §4.5). None: off.
+    /// then also times the floor at its defaults, one floor frame before each of its own on
+    /// the same scene frames (`record::paired`), into `timing.floor` (ARCHITECTURE §4.5).
+    /// None: off.
     #[serde(default)]
     pub paired_floor: Option<String>,
 }
