@@ -132,8 +132,10 @@ fn fs(@builtin(position) frag: vec4<f32>) -> Out {
     let px = vec2<i32>(full);
     let dir = camera_ray_dir(camera, full);
     let len = pixel_ray_length(px, dir);
-    let fronts = textureLoad(volume_front, px, i32(LIGHT / 4u), 0);
-    let backs = textureLoad(volume_back, px, i32(LIGHT / 4u), 0);
+    // The shadow volumes were rasterised at this pass's resolution, each pixel at the ray of `full`.
+    let here = vec2<i32>(frag.xy);
+    let fronts = textureLoad(volume_front, here, i32(LIGHT / 4u), 0);
+    let backs = textureLoad(volume_back, here, i32(LIGHT / 4u), 0);
     let n = hybrid.samples;
     var l_in = vec3<f32>(0.0);
     // This pipeline handles light LIGHT (common::resolve per-light mode): with the light index a

@@ -21,7 +21,9 @@
 //! F table is isotropic-only; knob `airlight=false` forces it everywhere to measure the table's
 //! error). §3.3's low-resolution scattering (knob `scale`) with a 3×3 depth-aware (bilateral)
 //! upsample: the low-resolution pass stores each sample's ray length beside its radiance and the
-//! upsample weights neighbours by depth similarity. §3.4's per-frame F'(cos γ, x) table (knob
+//! upsample weights neighbours by depth similarity. The shadow volumes are rasterised at that low resolution
+//! too, each pixel at the very ray the low-resolution pass marches (`volumes.rs`): the same
+//! distances for 1/scale² of the fill. §3.4's per-frame F'(cos γ, x) table (knob
 //! `fprime`, `fprime.wgsl`): airlight values from the eye to x along the direction at angle γ
 //! from the light, so an interval costs two lookups; isotropic point lights only.
 //! Limits: visibility between the polygons is a shadow-map test (bias, texels); a thin shadow
@@ -334,7 +336,7 @@ impl State {
             SceneRenderer::new(ctx, ShadowSettings::from_params(p)?, p.knob("pattern_res")?)?;
         let table = f_table(ctx.scene, p.knob("table")?);
         let table_tex = r32_table(gpu, "F(u,v)", table.nu, table.nv, &table.data);
-        let volumes = ShadowVolumes::new(gpu, &renderer, ctx.no_skip);
+        let volumes = ShadowVolumes::new(gpu, &renderer, scale, ctx.no_skip);
         let flag = crate::common::specialize::flag;
         let resolve = ResolvePass::per_light(
             gpu,

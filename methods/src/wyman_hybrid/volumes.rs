@@ -3,6 +3,11 @@
 //! the pass that rasterises them from the eye into the nearest and farthest polygon distance per
 //! pixel (min / max blending, one channel per light: lights 4g … 4g + 3 in layer g of two
 //! array targets, one pass per layer).
+//!
+//! At `scale` > 1 (§3.3) the targets have the scattering pass's low resolution, and the
+//! viewport is shifted by a fraction of a pixel so that each low-resolution pixel's centre is
+//! the full-resolution ray that pass marches ([`low_res_viewport`]): the distances are those
+//! a full-resolution target held at those pixels, for 1/scale² of the fill.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -47,6 +52,8 @@ pub(super) struct ShadowVolumes {
     built_for: Option<(Vec<LightState>, Vec<Mat4>, Vec3)>,
     /// `--no-skip`: rebuild silhouettes every frame.
     no_skip: bool,
+    /// x, y, width, height of the pass's viewport ([`low_res_viewport`]).
+    viewport: [f32; 4],
     silhouette_edges: usize,
     /// The targets as arrays (for the hybrid pass) and per layer (for drawing).
     pub front_view: wgpu::TextureView,
@@ -55,7 +62,8 @@ pub(super) struct ShadowVolumes {
 }
 
 impl ShadowVolumes {
-    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, no_skip: bool) -> ShadowVolumes {
+    /// The quads' pass into targets at 1/`scale` of the renderer's resolution.
+    pub fn new(gpu: &Gpu, renderer: &SceneRenderer, scale: u32, no_skip: bool) -> ShadowVolumes {
         let layers = renderer
             .scene
             .desc
@@ -63,7 +71,11 @@ impl ShadowVolumes {
             .len()
             .div_ceil(LIGHTS_PER_LAYER)
             .max(1) as u32;
-        let size = (renderer.width, renderer.height);
+        let viewport = low_res_viewport(renderer.width, renderer.height, scale);
+        let size = (
+            renderer.width.div_ceil(scale),
+            renderer.height.div_ceil(scale),
+        );
         let target = |label| Layered::new(gpu, label, size, layers, VOLUME_FORMAT);
         let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
         ShadowVolumes {
@@ -74,6 +86,7 @@ impl ShadowVolumes {
             layer_ranges: Vec::new(),
             built_for: None,
             no_skip,
+            viewport,
             silhouette_edges: 0,
             layer_views: (front.layers.into_iter().zip(back.layers))
                 .map(|(f, b)| [f, b])
@@ -179,6 +192,8 @@ impl ShadowVolumes {
             if let (Some(vb), Some(range), true) =
                 (&self.vertex_buffer, range, self.vertex_count > 0)
             {
+                let [x, y, w, h] = self.viewport;
+                pass.set_viewport(x, y, w, h, 0.0, 1.0);
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &renderer.frame_bind, &[]);
                 pass.set_vertex_buffer(0, vb.slice(..));
@@ -194,6 +209,17 @@ impl ShadowVolumes {
             report.ran("shadow-volumes");
         }
     }
+}
+
+/// The viewport (x, y, width, height in target pixels) that draws a `width` × `height` view
+/// into a target of 1/`scale` its size such that low-resolution pixel i's centre is the ray
+/// through full-resolution pixel `scale`·i + ⌊scale/2⌋ — the pixel `hybrid.wgsl` marches for
+/// it. A full-resolution x lands at x/scale + the origin; that pixel's centre, offset by half a
+/// pixel from the block's centre when `scale` is even, must land at i + ½.
+fn low_res_viewport(width: u32, height: u32, scale: u32) -> [f32; 4] {
+    let s = scale as f32;
+    let origin = ((s * 0.5).floor() + 0.5 - 0.5 * s) / -s;
+    [origin, origin, width as f32 / s, height as f32 / s]
 }
 
 /// The pipeline that draws the shadow-volume quads from the eye into the nearest (min blending)
@@ -214,4 +240,31 @@ fn volume_pipeline(gpu: &Gpu, renderer: &SceneRenderer) -> wgpu::RenderPipeline 
         .vertices(vertex_layout)
         .fragment("fs", &targets)
         .build(&gpu.device, &layout, &module, &[])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::low_res_viewport;
+
+    /// Where the viewport puts full-resolution x: origin + x / scale (the viewport transform
+    /// with the view's width scaled by 1/scale).
+    fn lands(x: f32, width: u32, scale: u32) -> f32 {
+        let [origin, _, w, _] = low_res_viewport(width, width, scale);
+        origin + x * w / width as f32
+    }
+
+    #[test]
+    fn each_low_res_pixel_centre_is_the_full_res_pixel_the_hybrid_pass_marches() {
+        for scale in 1..=16u32 {
+            for i in [0u32, 1, 7, 31] {
+                // hybrid.wgsl: full = floor(frag.xy − 0.5) · scale + floor(0.5 · scale) + 0.5
+                let full = (i * scale + scale / 2) as f32 + 0.5;
+                let at = lands(full, 512, scale);
+                assert!(
+                    (at - (i as f32 + 0.5)).abs() < 1e-4,
+                    "scale {scale}, pixel {i}: {at}"
+                );
+            }
+        }
+    }
 }
