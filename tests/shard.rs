@@ -122,10 +122,11 @@ fn fake_run(name: &str, res: [u32; 2], scene: &str) -> PathBuf {
     dir
 }
 
-fn merge_cli(dirs: &[&Path], out: &Path) -> (bool, String) {
+fn merge_cli(dirs: &[&Path], out: &Path, flags: &[&str]) -> (bool, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_scatterbench"))
         .arg("merge")
         .args(dirs)
+        .args(flags)
         .arg("--out")
         .arg(out)
         .env("NODEVICE_SELECT", "1")
@@ -141,7 +142,7 @@ fn merge_cli(dirs: &[&Path], out: &Path) -> (bool, String) {
 fn merge_refuses_mismatched_resolution_and_schema() {
     let a = fake_run("res-a", [32, 32], "s1");
     let b = fake_run("res-b", [64, 64], "s2");
-    let (ok, err) = merge_cli(&[&a, &b], &tmp("res-out"));
+    let (ok, err) = merge_cli(&[&a, &b], &tmp("res-out"), &[]);
     assert!(!ok);
     assert!(
         err.contains("resolution differs") && err.contains("32x32") && err.contains("64x64"),
@@ -150,7 +151,7 @@ fn merge_refuses_mismatched_resolution_and_schema() {
     // Same resolution, different scenes: merges.
     let c = fake_run("res-c", [32, 32], "s3");
     let out = tmp("res-ok");
-    let (ok, err) = merge_cli(&[&a, &c], &out);
+    let (ok, err) = merge_cli(&[&a, &c], &out, &[]);
     assert!(ok, "{err}");
     let r = Results::load(&out.join("results.json")).unwrap();
     let scenes: Vec<&str> = r.records.iter().map(|r| r.scene.as_str()).collect();
@@ -164,14 +165,40 @@ fn merge_refuses_mismatched_resolution_and_schema() {
             "\"schema_version\":999",
         );
     std::fs::write(d.join("results.json"), text).unwrap();
-    let (ok, err) = merge_cli(&[&a, &d], &tmp("schema-out"));
+    let (ok, err) = merge_cli(&[&a, &d], &tmp("schema-out"), &[]);
     assert!(!ok);
     assert!(err.contains("schema_version 999"), "{err}");
     // The same record in two runs is refused.
     let e = fake_run("dup", [32, 32], "s1");
-    let (ok, err) = merge_cli(&[&a, &e], &tmp("dup-out"));
+    let (ok, err) = merge_cli(&[&a, &e], &tmp("dup-out"), &[]);
     assert!(!ok);
-    assert!(err.contains("is in both"), "{err}");
+    assert!(
+        err.contains("is in both") && err.contains("--replace"),
+        "{err}"
+    );
+}
+
+/// `--replace`: a record in a later run takes the earlier one's place (a method re-run after a
+/// fix, folded into a sweep); the merge says how many it replaced.
+#[test]
+fn merge_replace_keeps_the_later_runs_record_in_the_earlier_ones_place() {
+    let a = fake_run("rep-a", [32, 32], "s1");
+    let b = fake_run("rep-b", [32, 32], "s2");
+    let again = fake_run("rep-again", [32, 32], "s1");
+    let path = again.join("results.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.replace("\"unsupported\"", "\"re-run\"")).unwrap();
+    let out = tmp("rep-out");
+    let (ok, err) = merge_cli(&[&a, &b, &again], &out, &["--replace"]);
+    assert!(ok, "{err}");
+    assert!(err.contains("1 records of earlier runs replaced"), "{err}");
+    let r = Results::load(&out.join("results.json")).unwrap();
+    let got: Vec<(&str, Option<&str>)> = r
+        .records
+        .iter()
+        .map(|r| (r.scene.as_str(), r.reason.as_deref()))
+        .collect();
+    assert_eq!(got, [("s1", Some("re-run")), ("s2", Some("unsupported"))]);
 }
 
 /// Sets `run.methods` of the results.json in `dir`.
@@ -203,7 +230,7 @@ fn merge_unions_the_method_descriptions() {
     );
     let older = fake_run("desc-older", [32, 32], "s3");
     let out = tmp("desc-out");
-    let (ok, err) = merge_cli(&[&a, &b, &older], &out);
+    let (ok, err) = merge_cli(&[&a, &b, &older], &out, &[]);
     assert!(ok, "{err}");
     assert!(
         err.contains("warning:")

@@ -6,13 +6,14 @@
 //! ratios of one run; `allow_mixed_adapters` overrides that one check). Shards of one split
 //! are put back in shard order, so the merged records come in the unsharded order; other
 //! runs are concatenated in the order given. A record (scene, method, params) present twice
-//! is refused rather than silently picking one. `run.methods` is the union of the runs'
+//! is refused rather than silently picking one, unless `replace` says the later run's wins
+//! (it then keeps the earlier one's place, and the merge warns how many were replaced). `run.methods` is the union of the runs'
 //! (a method described differently in two runs keeps the first description, with a warning).
 
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 
-use crate::results::{Results, RunInfo};
+use crate::results::{Record, Results, RunInfo};
 use crate::run_methods;
 
 #[derive(Clone, Debug, Default)]
@@ -21,6 +22,10 @@ pub struct MergeOptions {
     pub allow_mixed_adapters: bool,
     /// Id of the merged run (default: the first run's id with "-merged").
     pub run_id: Option<String>,
+    /// A record (scene, method, params) in two runs: the later run's takes the earlier one's
+    /// place (a method re-run after a fix, or a refinement sweep, folded into a sweep) instead
+    /// of the merge being refused.
+    pub replace: bool,
 }
 
 /// What a merge did, for the caller to print.
@@ -63,35 +68,25 @@ pub fn merge(dirs: &[PathBuf], out: &Path, opts: &MergeOptions) -> Result<MergeS
         }
     }
 
-    // Records, refusing duplicates.
-    let mut seen: BTreeMap<String, &Path> = BTreeMap::new();
-    let mut records = Vec::new();
-    for (d, r) in &runs {
-        for rec in &r.records {
-            if let Some(other) = seen.insert(rec.key(), d) {
-                return Err(format!(
-                    "record {} is in both {} and {}: merge each record once",
-                    rec.key(),
-                    other.display(),
-                    d.display()
-                ));
-            }
-            records.push(rec.clone());
-        }
+    let (records, replaced) = collect_records(&runs, opts.replace)?;
+    if replaced > 0 {
+        warnings.push(format!(
+            "{replaced} records of earlier runs replaced by the same records of later runs (--replace)"
+        ));
     }
 
     // Files: every image a record names, and the reference images of its scene.
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut files_copied = 0;
+    for (i, rec) in &records {
+        for rel in rec.images.values() {
+            copy_rel(&runs[*i].0, out, rel)?;
+            files_copied += 1;
+        }
+    }
     for (d, r) in &runs {
         let mut scenes: Vec<&str> = r.records.iter().map(|x| x.scene.as_str()).collect();
         scenes.dedup();
-        for rec in &r.records {
-            for rel in rec.images.values() {
-                copy_rel(d, out, rel)?;
-                files_copied += 1;
-            }
-        }
         for s in scenes {
             let rel = format!("{s}/reference");
             let dir = d.join(&rel);
@@ -129,7 +124,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, opts: &MergeOptions) -> Result<MergeS
     let results = Results {
         schema_version: runs[0].1.schema_version,
         run,
-        records,
+        records: records.into_iter().map(|(_, r)| r).collect(),
     };
     results.save(&out.join("results.json"))?;
     Ok(MergeSummary {
@@ -245,6 +240,41 @@ fn order_shards(runs: &mut [(PathBuf, Results)]) -> Result<Vec<String>, String> 
             missing.join(", ")
         )]
     })
+}
+
+/// The runs' records in order, each with the index of its run. A record (scene, method, params)
+/// in two runs is refused, or with `replace` the later run's takes the earlier one's place;
+/// also the number of records so replaced.
+fn collect_records(
+    runs: &[(PathBuf, Results)],
+    replace: bool,
+) -> Result<(Vec<(usize, Record)>, usize), String> {
+    let mut at: BTreeMap<String, usize> = BTreeMap::new();
+    let mut records: Vec<(usize, Record)> = Vec::new();
+    let mut replaced = 0;
+    for (i, (d, r)) in runs.iter().enumerate() {
+        for rec in &r.records {
+            match at.get(&rec.key()) {
+                None => {
+                    at.insert(rec.key(), records.len());
+                    records.push((i, rec.clone()));
+                }
+                Some(&k) if replace => {
+                    records[k] = (i, rec.clone());
+                    replaced += 1;
+                }
+                Some(&k) => {
+                    return Err(format!(
+                        "record {} is in both {} and {}: merge each record once, or pass --replace to keep the later run's",
+                        rec.key(),
+                        runs[records[k].0].0.display(),
+                        d.display()
+                    ));
+                }
+            }
+        }
+    }
+    Ok((records, replaced))
 }
 
 /// Copies `from/rel` to `to/rel`; `rel` must stay inside the run directory.

@@ -19,6 +19,11 @@ pub struct MergeArgs {
     /// Merge runs measured on different adapters (their timings then do not compare).
     #[arg(long)]
     pub allow_mixed_adapters: bool,
+    /// A record (scene, method, params) in two runs: keep the later run's in the earlier one's
+    /// place instead of refusing (fold a method re-run after a fix, or a refinement sweep with
+    /// `--sweep --param`, into a sweep); a warning says how many were replaced.
+    #[arg(long)]
+    pub replace: bool,
 }
 
 pub fn run(a: MergeArgs) -> Result<()> {
@@ -29,6 +34,7 @@ pub fn run(a: MergeArgs) -> Result<()> {
         &MergeOptions {
             allow_mixed_adapters: a.allow_mixed_adapters,
             run_id: None,
+            replace: a.replace,
         },
     )
     .map_err(|e| anyhow!(e))?;
