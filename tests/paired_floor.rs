@@ -1,8 +1,9 @@
 //! `run --paired-floor` (ARCHITECTURE §4.5): every record but the floor's also times the floor
-//! (no-scatter at its defaults) on the same frames, in process and in a worker; the floor it
+//! (no-scatter at the record's shadow-map settings, its defaults otherwise) on the same frames, in process and in a worker; the floor it
 //! times is the floor's work (its passes are those of the run's no-scatter record on the same
 //! scene); and a run without the floor among its methods is refused before any work.
 
+use harness::method::ParamValue;
 use harness::results::{Results, Status};
 use harness::testing::{gpu_or_skip, temp_dir};
 
@@ -140,6 +141,33 @@ fn every_record_times_the_floor_beside_it_in_a_worker_and_in_process() {
             .all(|r| r.timing.as_ref().is_some_and(|t| t.floor.is_none())),
         "a run without --paired-floor timed a paired floor"
     );
+}
+
+/// The paired floor rasterises the scene as the record's method does: it takes the record's
+/// shadow-map size and budget (the knobs it shares with the method), so a coarser shadow map,
+/// which shadows the method's surfaces too, is not read as cheaper in-scatter.
+#[test]
+fn the_paired_floor_takes_the_records_shadow_map_settings() {
+    if gpu_or_skip().is_none() {
+        return;
+    }
+    let run = paired_run(
+        "paired-matched",
+        &["--paired-floor", "--param", "froxel-fog.shadow_map=256"],
+    );
+    assert_paired(&run);
+    for r in run.records.iter().filter(|r| r.method != FLOOR) {
+        let floor = r.timing.as_ref().and_then(|t| t.floor.as_ref()).unwrap();
+        for knob in ["shadow_map", "local_shadow_budget"] {
+            assert_eq!(
+                floor.params.get(knob),
+                r.params.get(knob),
+                "{}: the floor's {knob}",
+                r.scene
+            );
+        }
+        assert_eq!(floor.params.get("shadow_map"), Some(&ParamValue::Int(256)));
+    }
 }
 
 #[test]

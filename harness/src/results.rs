@@ -261,6 +261,11 @@ pub struct FloorTiming {
     /// after the record's frames, as results before the interleaving were).
     #[serde(default)]
     pub interleaved: bool,
+    /// The floor's parameters: the record's value of each knob the two share (shadow-map
+    /// size and budget), the floor's defaults for the rest (`record::paired::matched_params`).
+    /// Empty in results written before the floor was matched: it ran at its defaults.
+    #[serde(default, skip_serializing_if = "Params::is_empty")]
+    pub params: Params,
 }
 
 impl Record {

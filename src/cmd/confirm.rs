@@ -88,8 +88,9 @@ fn scenes_of(chosen: &[&Record]) -> Result<Vec<scenes::Scene>> {
     names.iter().map(|n| args::scene(n)).collect()
 }
 
-/// Per scene: the floor at its defaults (also every record's paired floor), then the chosen
-/// configurations with the knobs they were run with, checked against today's methods.
+/// Per scene: the floor at its defaults (every record is paired with it at its own shadow-map
+/// settings, §4.5), then the chosen configurations with the knobs they were run with, checked
+/// against today's methods.
 fn work_list(
     run_dir: &std::path::Path,
     scenes: &[scenes::Scene],

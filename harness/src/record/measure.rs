@@ -81,7 +81,7 @@ pub(super) fn measure(
     // before each of the method's (`paired`).
     let mut floor = floor
         .filter(|f| f.id() != entry.id())
-        .and_then(|f| PairedFloor::prepare(gpu, f, scene, settings));
+        .and_then(|f| PairedFloor::prepare(gpu, f, scene, settings, params));
     phase::enter(Phase::Render);
     let paired = floor.as_mut();
     let mut frames = timed_frames(

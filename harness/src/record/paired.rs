@@ -1,6 +1,13 @@
-//! The paired floor (`run --paired-floor`, ARCHITECTURE §4.5): the floor method at its
-//! defaults, prepared beside the record's method and rendered one frame before each of the
-//! method's, warm-up and timed alike, on the same scene frame and AOV targets.
+//! The paired floor (`run --paired-floor`, ARCHITECTURE §4.5): the floor method, prepared
+//! beside the record's method and rendered one frame before each of the method's, warm-up and
+//! timed alike, on the same scene frame and AOV targets.
+//!
+//! The floor takes the record's value of every knob the two share ([`matched_params`]; for
+//! no-scatter `shadow_map` and `local_shadow_budget`), its defaults for the rest: it rasterises
+//! the scene and its shadow maps as the method does, so the ratio is what the in-scatter costs
+//! over them. Against a floor at its defaults, a configuration with coarser shadow maps (whose
+//! surfaces are shadowed by them too) read as cheap in-scatter: wyman-hybrid at
+//! `shadow_map=512` ran at 0.70–0.72× pen-orbit's floor, whose frame is mostly shadow maps.
 //!
 //! Interleaved frame by frame, the two see the same state of the machine. Timed one after the
 //! other (the method's frames, then the floor's: this module's first form), they did not: on
@@ -25,6 +32,7 @@ use crate::results::{FloorTiming, Stat};
 /// The floor prepared beside a record, and what its timed frames measured.
 pub(super) struct PairedFloor {
     prepared: Box<dyn Prepared>,
+    params: Params,
     wall: Vec<f64>,
     gpu: Vec<f64>,
     passes: Vec<String>,
@@ -32,20 +40,22 @@ pub(super) struct PairedFloor {
 }
 
 impl PairedFloor {
-    /// `floor` at its defaults prepared for `scene` at the record's size; None where it cannot
-    /// be prepared or raises a wgpu error doing it (taken here, so they are not the record's).
+    /// `floor` with [`matched_params`] prepared for `scene` at the record's size; None where
+    /// those are not valid for it, or it cannot be prepared or raises a wgpu error doing it
+    /// (taken here, so they are not the record's).
     pub(super) fn prepare(
         gpu: &Gpu,
         floor: &dyn Method,
         scene: &Scene,
         settings: &RecordSettings,
+        record_params: &Params,
     ) -> Option<PairedFloor> {
-        let defaults = resolve_params(floor, &Params::new()).ok()?;
+        let params = matched_params(floor, record_params).ok()?;
         let prepared = catch_unwind(AssertUnwindSafe(|| {
             floor.prepare(&PrepareContext {
                 gpu,
                 scene,
-                params: &defaults,
+                params: &params,
                 width: settings.width,
                 height: settings.height,
                 no_skip: settings.no_skip,
@@ -56,6 +66,7 @@ impl PairedFloor {
         gpu.wait().ok()?;
         gpu.take_errors().is_empty().then(|| PairedFloor {
             prepared,
+            params,
             wall: Vec::new(),
             gpu: Vec::new(),
             passes: Vec::new(),
@@ -99,6 +110,19 @@ impl PairedFloor {
             frames: self.wall.len() as u32,
             passes: self.passes,
             interleaved: true,
+            params: self.params,
         })
     }
+}
+
+/// The floor's parameters beside a record of `record_params`: the record's value of every knob
+/// the floor declares too (the scene's rasterisation: shadow-map size and budget), the floor's
+/// defaults for the rest; an error where such a value is not valid for the floor.
+fn matched_params(floor: &dyn Method, record_params: &Params) -> Result<Params, String> {
+    let shared: Params = floor
+        .knobs()
+        .iter()
+        .filter_map(|k| Some((k.name.to_string(), record_params.get(k.name)?.clone())))
+        .collect();
+    resolve_params(floor, &shared).map_err(|e| e.to_string())
 }
