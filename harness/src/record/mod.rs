@@ -32,6 +32,7 @@ pub use failure::{failed, panic_message};
 pub use frame::{AovTargets, FrameTiming, render_frame};
 pub use images::{error_scale, params_slug, write_aovs};
 pub use measure::{MIN_TIMED_FRAMES, another_frame};
+pub use paired::matched_params;
 pub use phase::Phase;
 pub use score::run_one;
 pub use settings::RecordSettings;

@@ -118,7 +118,7 @@ impl PairedFloor {
 /// The floor's parameters beside a record of `record_params`: the record's value of every knob
 /// the floor declares too (the scene's rasterisation: shadow-map size and budget), the floor's
 /// defaults for the rest; an error where such a value is not valid for the floor.
-fn matched_params(floor: &dyn Method, record_params: &Params) -> Result<Params, String> {
+pub fn matched_params(floor: &dyn Method, record_params: &Params) -> Result<Params, String> {
     let shared: Params = floor
         .knobs()
         .iter()
