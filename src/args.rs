@@ -208,10 +208,11 @@ pub struct Resume {
 /// `--paired-floor` of a command that times records (ARCHITECTURE §4.5).
 #[derive(Args, Clone, Debug)]
 pub struct PairedFloor {
-    /// Time the floor (no-scatter at the record's shadow-map settings) within every record, one floor frame
-    /// before each of the record's frames, and take each record's floor ratio from that pair
-    /// (ARCHITECTURE §4.5): ratios that do not depend on where in the run a record was measured (a GPU's
-    /// drifting clock, a shared machine's load). no-scatter must be among the methods run.
+    /// Time the floor (no-scatter at the record's shadow-map settings) within every record,
+    /// one floor frame before each of the record's frames, and take each record's floor ratio
+    /// from that pair (ARCHITECTURE §4.5): ratios that do not depend on where in the run a
+    /// record was measured (a GPU's drifting clock, a shared machine's load). no-scatter must
+    /// be among the methods run.
     #[arg(long)]
     pub paired_floor: bool,
 }

@@ -7,8 +7,9 @@
 //! are put back in shard order, so the merged records come in the unsharded order; other
 //! runs are concatenated in the order given. A record (scene, method, params) present twice
 //! is refused rather than silently picking one, unless `replace` says the later run's wins
-//! (it then keeps the earlier one's place, and the merge warns how many were replaced). `run.methods` is the union of the runs'
-//! (a method described differently in two runs keeps the first description, with a warning).
+//! (it then keeps the earlier one's place, and the merge warns how many were replaced).
+//! `run.methods` is the union of the runs' (a method described differently in two runs keeps
+//! the first description, with a warning).
 
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
@@ -254,9 +255,10 @@ fn collect_records(
     let mut replaced = 0;
     for (i, (d, r)) in runs.iter().enumerate() {
         for rec in &r.records {
-            match at.get(&rec.key()) {
+            let key = rec.key();
+            match at.get(&key) {
                 None => {
-                    at.insert(rec.key(), records.len());
+                    at.insert(key, records.len());
                     records.push((i, rec.clone()));
                 }
                 Some(&k) if replace => {
@@ -265,8 +267,7 @@ fn collect_records(
                 }
                 Some(&k) => {
                     return Err(format!(
-                        "record {} is in both {} and {}: merge each record once, or pass --replace to keep the later run's",
-                        rec.key(),
+                        "record {key} is in both {} and {}: merge each record once, or pass --replace to keep the later run's",
                         runs[records[k].0].0.display(),
                         d.display()
                     ));

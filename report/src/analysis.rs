@@ -90,9 +90,10 @@ impl Clock {
             .filter_map(|r| paired_floor_ms(r, basis))
             .collect();
         let floor_record_ms = fastest_floor_record_ms(records, basis);
-        let floor_ms = match paired.is_empty() {
-            true => floor_record_ms,
-            false => Some(Stat::of(&paired).median),
+        let floor_ms = if paired.is_empty() {
+            floor_record_ms
+        } else {
+            Some(Stat::of(&paired).median)
         };
         Clock {
             basis,

@@ -30,9 +30,8 @@ pub struct RecordSettings {
     pub cache_dir: Option<PathBuf>,
     /// `--paired-floor`: the floor method's id (`no-scatter`). Each record of another method
     /// then also times the floor (at the record's shadow-map settings, its defaults
-    /// otherwise), one floor frame before each of its own on
-    /// the same scene frames (`record::paired`), into `timing.floor` (ARCHITECTURE §4.5).
-    /// None: off.
+    /// otherwise), one floor frame before each of its own on the same scene frames
+    /// (`record::paired`), into `timing.floor` (ARCHITECTURE §4.5). None: off.
     #[serde(default)]
     pub paired_floor: Option<String>,
 }

@@ -21,11 +21,11 @@
 //! F table is isotropic-only; knob `airlight=false` forces it everywhere to measure the table's
 //! error). §3.3's low-resolution scattering (knob `scale`) with a 3×3 depth-aware (bilateral)
 //! upsample: the low-resolution pass stores each sample's ray length beside its radiance and the
-//! upsample weights neighbours by depth similarity. The shadow volumes are rasterised at that low resolution
-//! too, each pixel at the very ray the low-resolution pass marches (`volumes.rs`): the same
-//! distances for 1/scale² of the fill. §3.4's per-frame F'(cos γ, x) table (knob
-//! `fprime`, `fprime.wgsl`): airlight values from the eye to x along the direction at angle γ
-//! from the light, so an interval costs two lookups; isotropic point lights only.
+//! upsample weights neighbours by depth similarity. The shadow volumes are rasterised at that
+//! low resolution too, each pixel at the very ray the low-resolution pass marches
+//! (`volumes.rs`): the same distances for 1/scale² of the fill. §3.4's per-frame F'(cos γ, x)
+//! table (knob `fprime`, `fprime.wgsl`): airlight values from the eye to x along the direction
+//! at angle γ from the light, so an interval costs two lookups; isotropic point lights only.
 //! Limits: visibility between the polygons is a shadow-map test (bias, texels); a thin shadow
 //! between two steps is missed; the camera being inside a shadow volume is detected with one
 //! shadow-map test at the eye.
@@ -204,10 +204,7 @@ impl FPrime {
 impl LowRes {
     /// Scattering at 1/`scale` of `width` × `height` and its depth-aware (`bilateral`) upsample.
     fn new(gpu: &Gpu, renderer: &SceneRenderer, scale: u32, bilateral: bool) -> LowRes {
-        let (width, height) = (
-            renderer.width.div_ceil(scale),
-            renderer.height.div_ceil(scale),
-        );
+        let (width, height) = volumes::low_res_size(renderer, scale);
         let size = std::mem::size_of::<UpsampleUniform>() as u64;
         let upsample =
             ResolvePass::with_textures(gpu, renderer, "upsample", UPSAMPLE_WGSL, Some(size), 1);

@@ -72,10 +72,7 @@ impl ShadowVolumes {
             .div_ceil(LIGHTS_PER_LAYER)
             .max(1) as u32;
         let viewport = low_res_viewport(renderer.width, renderer.height, scale);
-        let size = (
-            renderer.width.div_ceil(scale),
-            renderer.height.div_ceil(scale),
-        );
+        let size = low_res_size(renderer, scale);
         let target = |label| Layered::new(gpu, label, size, layers, VOLUME_FORMAT);
         let (front, back) = (target("shadow-volume front"), target("shadow-volume back"));
         ShadowVolumes {
@@ -209,6 +206,15 @@ impl ShadowVolumes {
             report.ran("shadow-volumes");
         }
     }
+}
+
+/// The scattering pass's resolution at 1/`scale` of the renderer's (rounded up): also the
+/// shadow-volume targets', since that pass reads them at its own fragment.
+pub(super) fn low_res_size(renderer: &SceneRenderer, scale: u32) -> (u32, u32) {
+    (
+        renderer.width.div_ceil(scale),
+        renderer.height.div_ceil(scale),
+    )
 }
 
 /// The viewport (x, y, width, height in target pixels) that draws a `width` × `height` view
