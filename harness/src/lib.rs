@@ -23,6 +23,7 @@ pub mod sequence;
 pub mod shard;
 pub mod stress;
 pub mod testing;
+pub mod tune;
 pub mod verdict;
 
 pub use gpu::Gpu;

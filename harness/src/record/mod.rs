@@ -14,10 +14,13 @@
 //! - `frame.rs`: the AOV targets and one timed frame ([`render_frame`]);
 //! - `measure.rs`: prepare, the warm-up and timed frames, the time budget ([`another_frame`]);
 //! - `paired.rs`: the paired floor, rendered one frame before each of the method's;
+//! - `contender.rs`: a configuration kept prepared with its floor, timed in pairs and scored on
+//!   the headline alone (`scatterbench tune`);
 //! - `score.rs`: [`run_one`], the scoring of the measured frames;
 //! - `images.rs`: the files a record writes; `failure.rs`: a failed record and its reason;
 //! - `validation.rs`: the validation layer's messages in the record (under `--validate`).
 
+mod contender;
 mod failure;
 mod frame;
 mod images;
@@ -28,6 +31,7 @@ mod score;
 mod settings;
 mod validation;
 
+pub use contender::{Contender, Pair, Scored};
 pub use failure::{failed, panic_message};
 pub use frame::{AovTargets, FrameTiming, render_frame};
 pub use images::{error_scale, params_slug, write_aovs};

@@ -102,6 +102,31 @@ impl PairedFloor {
         }
     }
 
+    /// Renders the floor's frame `index` untimed by the record and returns its (wall, GPU)
+    /// ms; None once the floor has failed (`record::contender`'s pairs).
+    pub(super) fn frame_ms(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        index: u32,
+        aovs: &AovTargets,
+        timer: Option<&GpuTimer>,
+    ) -> Option<(f64, Option<f64>)> {
+        if self.failed {
+            return None;
+        }
+        let prepared = self.prepared.as_mut();
+        match catch_unwind(AssertUnwindSafe(|| {
+            render_frame(gpu, prepared, scene, index, aovs, timer)
+        })) {
+            Ok(Ok(t)) => Some((t.wall_ms, t.gpu_ms)),
+            _ => {
+                self.failed = true;
+                None
+            }
+        }
+    }
+
     /// What the floor's timed frames measured; None where it failed or timed none.
     pub(super) fn timing(self) -> Option<FloorTiming> {
         (!self.failed && !self.wall.is_empty()).then(|| FloorTiming {

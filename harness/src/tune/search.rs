@@ -1,0 +1,192 @@
+//! The screening search (ARCHITECTURE §4.6): a local search over every method's joint knob
+//! space, for every budget at once, on the exact error and a cheap estimate of cost.
+//!
+//! Each method starts at its defaults (a small space is enumerated whole). Then, step by step,
+//! one evaluated configuration is *expanded*: all its neighbours ([`Space::neighbours`]: one
+//! knob one step) are evaluated. Per method and budget b, the configuration to expand is
+//! - the method's **incumbent** under b (its cheapest configuration under b), or one within
+//!   [`MARGIN`] of its cost, not yet expanded: a neighbour may be cheaper and still under b;
+//! - else the **closest miss**: of its configurations over b (by at most [`MISS_BAND`]) and
+//!   cheaper than the incumbent (by the same margin), the one of lowest error: a neighbour may
+//!   cross the budget cheaply; where nothing is under b yet, its configuration of lowest error,
+//!   to climb to the budget.
+//!
+//! Of these proposals, the step takes the one of the method that stands best under its budget:
+//! its incumbent's cost, or where it has none its best cost × error / b, over the same figure
+//! of the best method. Methods far behind (over [`STANDING_LIMIT`]) are not expanded. The walk
+//! from an incumbent along the budget's edge, through closest misses, reaches combinations of
+//! knobs that no one-knob sweep from the defaults contains. The margin absorbs the noise of a
+//! one-pair cost. The search ends when nothing is left to expand or the evaluator says stop.
+
+use std::collections::BTreeSet;
+
+use super::space::{EXHAUSTIVE_MAX, Space};
+use crate::knobs::Params;
+
+/// Configurations within this fraction of an incumbent's cost count as tied with it (the
+/// one-pair estimate's noise).
+pub const MARGIN: f64 = 0.2;
+/// Once a method has an incumbent under b, only misses within this fraction over b are
+/// expanded (before it has one, the lowest error, whatever it is, to climb to the budget).
+pub const MISS_BAND: f64 = 0.25;
+/// Methods standing more than this many times behind a budget's best are not expanded.
+pub const STANDING_LIMIT: f64 = 4.0;
+
+/// An evaluated configuration of method `method` (an index into the spaces).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    pub method: usize,
+    pub params: Params,
+    /// The verdict error (a fraction), exact.
+    pub error: f64,
+    /// The cheap cost estimate (a floor ratio), noisy.
+    pub cost: f64,
+}
+
+/// What the search asks of the benchmark.
+pub trait Evaluator {
+    /// Error and cost of one configuration; None where it failed (never retried).
+    fn evaluate(&mut self, method: usize, params: &Params) -> Option<(f64, f64)>;
+    /// Whether to stop now (a time limit).
+    fn stop(&mut self) -> bool;
+}
+
+/// What a search did.
+#[derive(Debug, Default)]
+pub struct Log {
+    pub points: Vec<Point>,
+    /// Evaluations asked for, failed ones included.
+    pub evaluations: usize,
+    pub expansions: usize,
+    /// Whether it ended for want of time rather than of configurations to expand.
+    pub stopped: bool,
+}
+
+/// Searches `spaces` for the cheapest configuration under each of `budgets`.
+pub fn search(spaces: &[Space], budgets: &[f64], eval: &mut dyn Evaluator) -> Log {
+    let mut log = Log::default();
+    let mut seen: BTreeSet<String> = BTreeSet::new();
+    let mut expanded: BTreeSet<String> = BTreeSet::new();
+    let mut visit = |log: &mut Log, eval: &mut dyn Evaluator, m: usize, p: Params| {
+        if !seen.insert(key(m, &p)) {
+            return;
+        }
+        log.evaluations += 1;
+        if let Some((error, cost)) = eval.evaluate(m, &p) {
+            log.points.push(Point {
+                method: m,
+                params: p,
+                error,
+                cost,
+            });
+        }
+    };
+    for (m, s) in spaces.iter().enumerate() {
+        let small = s.size() <= EXHAUSTIVE_MAX;
+        let start = if small { s.all() } else { vec![s.base.clone()] };
+        for p in start {
+            if eval.stop() {
+                log.stopped = true;
+                return log;
+            }
+            if small {
+                expanded.insert(key(m, &p));
+            }
+            visit(&mut log, eval, m, p);
+        }
+    }
+    loop {
+        let Some(next) = most_promising(&log.points, &expanded, budgets) else {
+            return log;
+        };
+        let (m, p) = (log.points[next].method, log.points[next].params.clone());
+        expanded.insert(key(m, &p));
+        log.expansions += 1;
+        for q in spaces[m].neighbours(&p) {
+            if eval.stop() {
+                log.stopped = true;
+                return log;
+            }
+            visit(&mut log, eval, m, q);
+        }
+    }
+}
+
+/// The point the next step expands (module doc), if any.
+fn most_promising(
+    points: &[Point],
+    expanded: &BTreeSet<String>,
+    budgets: &[f64],
+) -> Option<usize> {
+    let open = |&i: &usize| !expanded.contains(&key(points[i].method, &points[i].params));
+    let methods: BTreeSet<usize> = points.iter().map(|p| p.method).collect();
+    let mut best: Option<(f64, usize, usize)> = None;
+    for &b in budgets {
+        let stand: Vec<(usize, f64)> = methods.iter().map(|&m| (m, standing(points, m, b))).collect();
+        let top = stand.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
+        for &(m, s) in &stand {
+            let s = s / top;
+            if s > STANDING_LIMIT {
+                continue;
+            }
+            let Some((side, i)) = proposal(points, m, b, &open) else {
+                continue;
+            };
+            if best.is_none_or(|(bs, bside, _)| (s, side) < (bs, bside)) {
+                best = Some((s, side, i));
+            }
+        }
+    }
+    best.map(|(_, _, i)| i)
+}
+
+/// How method `m` stands under budget `b`: its incumbent's cost, or its best cost × error / b.
+fn standing(points: &[Point], m: usize, b: f64) -> f64 {
+    let mine = points.iter().filter(|p| p.method == m);
+    match incumbent(points, m, b) {
+        Some(i) => points[i].cost,
+        None => mine
+            .map(|p| p.cost * p.error / b)
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// Method `m`'s cheapest point under `b`.
+fn incumbent(points: &[Point], m: usize, b: f64) -> Option<usize> {
+    (0..points.len())
+        .filter(|&i| points[i].method == m && points[i].error <= b)
+        .min_by(|&x, &y| points[x].cost.total_cmp(&points[y].cost))
+}
+
+/// Method `m`'s proposal under `b`: (0, an open point near the incumbent's cost), or (1, the
+/// open closest miss).
+fn proposal(
+    points: &[Point],
+    m: usize,
+    b: f64,
+    open: &dyn Fn(&usize) -> bool,
+) -> Option<(usize, usize)> {
+    let mine = || (0..points.len()).filter(move |&i| points[i].method == m).filter(open);
+    let by_cost = |x: &usize, y: &usize| points[*x].cost.total_cmp(&points[*y].cost);
+    let cap = incumbent(points, m, b).map_or(f64::INFINITY, |i| points[i].cost * (1.0 + MARGIN));
+    let near = mine()
+        .filter(|&i| points[i].error <= b && points[i].cost <= cap)
+        .min_by(by_cost);
+    if let Some(i) = near {
+        return Some((0, i));
+    }
+    let band = if cap.is_finite() { b * (1.0 + MISS_BAND) } else { f64::INFINITY };
+    mine()
+        .filter(|&i| points[i].error > b && points[i].error <= band && points[i].cost < cap)
+        .min_by(|x, y| points[*x].error.total_cmp(&points[*y].error).then(by_cost(x, y)))
+        .map(|i| (1, i))
+}
+
+/// A configuration's identity in the search's sets (knob values are not `Ord`).
+fn key(method: usize, p: &Params) -> String {
+    format!("{method}:{p:?}")
+}
+
+#[cfg(test)]
+#[path = "search_tests.rs"]
+mod tests;
