@@ -68,6 +68,7 @@ enum Command {
     /// budget and the floor, again with more frames and paired floors, into a run of their
     /// own (what `frontier` then reads without the winner's curse).
     Confirm(cmd::confirm::ConfirmArgs),
+    Tune(cmd::tune::TuneArgs),
     /// Merge run directories (e.g. the shards of `run --shard i/n`) into one run with its report.
     Merge(cmd::merge::MergeArgs),
     /// Re-create the papers' headline tables (a results run plus the paper's claim next to the
@@ -115,6 +116,7 @@ pub fn main_with(registry: Registry) -> ExitCode {
         Command::Merge(a) => cmd::merge::run(a),
         Command::Frontier(a) => cmd::frontier::run(a),
         Command::Confirm(a) => cmd::confirm::run(a, registry),
+        Command::Tune(a) => cmd::tune::run(a, registry),
         Command::Compare(a) => cmd::compare::run(a),
         Command::Reproduce(a) => cmd::reproduce::run(a, registry),
         Command::Scaling(a) => cmd::scaling::run(a, registry),

@@ -42,6 +42,7 @@ pub mod plot;
 pub mod scaling;
 pub mod stability;
 pub mod template;
+pub mod tune;
 pub mod verdict;
 pub mod view;
 pub mod viewer;

@@ -17,6 +17,7 @@ pub mod reproduce;
 pub mod run;
 pub mod scaling;
 pub mod stress;
+pub mod tune;
 pub mod validate;
 pub mod worker;
 

@@ -8,6 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
+/// How the interval is computed, as tune.json states it.
+pub const DESCRIPTION: &str = "95 % distribution-free interval of the median of ln(method / floor) over interleaved pairs (order statistics, binomial ranks); ratio = exp(median)";
+
 /// The interval's confidence.
 pub const CONFIDENCE: f64 = 0.95;
 

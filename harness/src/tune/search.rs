@@ -1,11 +1,12 @@
 //! The screening search (ARCHITECTURE §4.6): a local search over every method's joint knob
 //! space, for every budget at once, on the exact error and a cheap estimate of cost.
 //!
-//! Each method starts at its defaults (a small space is enumerated whole). Then, step by step,
-//! one evaluated configuration is *expanded*: all its neighbours ([`Space::neighbours`]: one
-//! knob one step) are evaluated. Per method and budget b, the configuration to expand is
+//! Each method starts at its defaults. Then, step by step, one evaluated configuration is
+//! *expanded*: all its neighbours ([`Space::neighbours`]: one knob one step; in a space of at
+//! most [`EXHAUSTIVE_MAX`] configurations, all of them) are evaluated. Per method and budget b, the configuration to expand is
 //! - the method's **incumbent** under b (its cheapest configuration under b), or one within
-//!   [`MARGIN`] of its cost, not yet expanded: a neighbour may be cheaper and still under b;
+//!   [`MARGIN`] of its cost among its [`PLATEAU`] cheapest under b, not yet expanded: a
+//!   neighbour may be cheaper and still under b;
 //! - else the **closest miss**: of its configurations over b (by at most [`MISS_BAND`]) and
 //!   cheaper than the incumbent (by the same margin), the one of lowest error: a neighbour may
 //!   cross the budget cheaply; where nothing is under b yet, its configuration of lowest error,
@@ -29,6 +30,9 @@ pub const MARGIN: f64 = 0.2;
 /// Once a method has an incumbent under b, only misses within this fraction over b are
 /// expanded (before it has one, the lowest error, whatever it is, to climb to the budget).
 pub const MISS_BAND: f64 = 0.25;
+/// Of a method's points under a budget, only its this many cheapest are expanded as near
+/// the incumbent.
+pub const PLATEAU: usize = 3;
 /// Methods standing more than this many times behind a budget's best are not expanded.
 pub const STANDING_LIMIT: f64 = 4.0;
 
@@ -81,19 +85,13 @@ pub fn search(spaces: &[Space], budgets: &[f64], eval: &mut dyn Evaluator) -> Lo
             });
         }
     };
+    // Every method's defaults first: the standings need one point of each.
     for (m, s) in spaces.iter().enumerate() {
-        let small = s.size() <= EXHAUSTIVE_MAX;
-        let start = if small { s.all() } else { vec![s.base.clone()] };
-        for p in start {
-            if eval.stop() {
-                log.stopped = true;
-                return log;
-            }
-            if small {
-                expanded.insert(key(m, &p));
-            }
-            visit(&mut log, eval, m, p);
+        if eval.stop() {
+            log.stopped = true;
+            return log;
         }
+        visit(&mut log, eval, m, s.base.clone());
     }
     loop {
         let Some(next) = most_promising(&log.points, &expanded, budgets) else {
@@ -102,7 +100,13 @@ pub fn search(spaces: &[Space], budgets: &[f64], eval: &mut dyn Evaluator) -> Lo
         let (m, p) = (log.points[next].method, log.points[next].params.clone());
         expanded.insert(key(m, &p));
         log.expansions += 1;
-        for q in spaces[m].neighbours(&p) {
+        // A small space is one neighbourhood: its first expansion enumerates it whole.
+        let next = if spaces[m].size() <= EXHAUSTIVE_MAX {
+            spaces[m].all()
+        } else {
+            spaces[m].neighbours(&p)
+        };
+        for q in next {
             if eval.stop() {
                 log.stopped = true;
                 return log;
@@ -169,8 +173,16 @@ fn proposal(
     let mine = || (0..points.len()).filter(move |&i| points[i].method == m).filter(open);
     let by_cost = |x: &usize, y: &usize| points[*x].cost.total_cmp(&points[*y].cost);
     let cap = incumbent(points, m, b).map_or(f64::INFINITY, |i| points[i].cost * (1.0 + MARGIN));
-    let near = mine()
-        .filter(|&i| points[i].error <= b && points[i].cost <= cap)
+    // Near the incumbent: among the method's PLATEAU cheapest points under b, so that a plateau
+    // of equally good configurations is not walked to its end.
+    let mut under: Vec<usize> = (0..points.len())
+        .filter(|&i| points[i].method == m && points[i].error <= b)
+        .collect();
+    under.sort_by(by_cost);
+    let near = under
+        .into_iter()
+        .take(PLATEAU)
+        .filter(|i| open(i) && points[*i].cost <= cap)
         .min_by(by_cost);
     if let Some(i) = near {
         return Some((0, i));

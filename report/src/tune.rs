@@ -1,0 +1,141 @@
+//! A tune's verdicts (`scatterbench tune`, ARCHITECTURE §4.6) as Markdown (tune.md, printed)
+//! and as the report's tune section: per scene and budget the winner with its knobs, floor
+//! ratio, 95 % interval and error, the runner-up of another method and whether the two are
+//! separable (a tie where not), the floor's drift, and the summary count with its range.
+
+use std::fmt::Write;
+
+use harness::tune::{BudgetVerdict, Interval, SceneTune, Timed, TuneResults};
+
+use crate::verdict::pct;
+
+/// An error with the digits a small one needs: "0.61 %", "0.0047 %".
+pub fn error_text(e: f64) -> String {
+    let p = 100.0 * e;
+    if p >= 0.1 || p == 0.0 {
+        format!("{p:.2} %")
+    } else {
+        format!("{p:.2e} %")
+    }
+}
+
+/// "1.42× [1.38, 1.47]", or "—".
+pub fn ratio_text(i: Option<&Interval>) -> String {
+    match i {
+        Some(i) if i.high.is_finite() => {
+            format!("{:.2}× [{:.2}, {:.2}]", i.estimate, i.low, i.high)
+        }
+        Some(i) => format!("{:.2}× [n = {}, no interval]", i.estimate, i.n),
+        None => "—".into(),
+    }
+}
+
+/// "method `knobs` · 1.42× [1.38, 1.47] · 0.61 %".
+pub fn candidate_text(c: &Timed) -> String {
+    format!(
+        "{} `{}` · {} · {}",
+        c.method,
+        c.knobs,
+        ratio_text(c.ratio.as_ref()),
+        error_text(c.error)
+    )
+}
+
+/// The winner's cell: the candidate, or what the budget was missed by.
+pub fn winner_cell(s: &SceneTune, v: &BudgetVerdict) -> String {
+    match v.winner {
+        Some(w) => {
+            let tie = if v.tie.is_empty() { "" } else { " (tie)" };
+            format!("{}{tie}", candidate_text(&s.candidates[w]))
+        }
+        None => "none under the budget".into(),
+    }
+}
+
+/// The runner-up's cell, with the separation.
+pub fn runner_up_cell(s: &SceneTune, v: &BudgetVerdict) -> String {
+    match v.runner_up {
+        Some(r) => format!(
+            "{} · {}",
+            candidate_text(&s.candidates[r]),
+            if v.separable { "separable" } else { "**inseparable: a tie**" }
+        ),
+        None => "—".into(),
+    }
+}
+
+/// The floor's drift in words, or "—".
+pub fn drift_text(s: &SceneTune) -> String {
+    match &s.drift {
+        Some(d) => format!(
+            "{:+.0} % over {:.0} s ({:+.1} %/min), largest step {:+.0} %{}",
+            100.0 * d.trend_total,
+            d.span_s,
+            100.0 * d.trend_per_min,
+            100.0 * d.jump,
+            if d.flagged { " **drift**" } else { "" }
+        ),
+        None => "—".into(),
+    }
+}
+
+/// tune.md.
+pub fn markdown(t: &TuneResults) -> String {
+    let mut out = String::new();
+    let run = &t.run;
+    let _ = writeln!(
+        out,
+        "# Tune {} ({}, {}×{}, commit {})\n",
+        run.id, run.machine.adapter, run.resolution[0], run.resolution[1], run.git_commit
+    );
+    let _ = writeln!(
+        out,
+        "Per scene and budget (verdict metric: in-scatter headline, ARCHITECTURE §4.4), the \
+         cheapest configuration found and timed, its floor ratio (its frame time over the \
+         floor's, no-scatter, paired frame by frame) with the ratio's 95 % interval, and its \
+         error; the runner-up is the best of another method. Interval: {}. Times compare \
+         only as ratios within one run. Wall time {:.0} s of a {:.0} s limit.\n",
+        t.interval, t.wall_s, t.time_limit_s
+    );
+    for c in &t.summary {
+        let _ = writeln!(
+            out,
+            "- **Under {}: within {}× the floor on {} of {} scenes** (the intervals allow {}–{}).",
+            pct(c.budget),
+            c.limit,
+            c.k,
+            c.n,
+            c.low,
+            c.high
+        );
+    }
+    out.push_str("\n| scene | budget | winner | runner-up |\n|---|---|---|---|\n");
+    for s in &t.scenes {
+        for v in &s.verdicts {
+            let _ = writeln!(
+                out,
+                "| {} | ≤ {} | {} | {} |",
+                s.scene,
+                pct(v.budget),
+                winner_cell(s, v),
+                runner_up_cell(s, v)
+            );
+        }
+    }
+    out.push_str("\n| scene | floor | screened | timed | floor drift |\n|---|---|---|---|---|\n");
+    for s in &t.scenes {
+        let floor = s.floor_ms.map_or("—".into(), |f| format!("{f:.2} ms ({})", s.basis));
+        let _ = writeln!(
+            out,
+            "| {} | {floor} | {} configurations in {:.0} s{} | {} candidates in {:.0} s | {} |",
+            s.scene,
+            s.screened.len(),
+            s.screen_s,
+            if s.search_stopped { " (stopped)" } else { "" },
+            s.candidates.len(),
+            s.time_s,
+            drift_text(s)
+        );
+    }
+    out
+}

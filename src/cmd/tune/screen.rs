@@ -1,0 +1,194 @@
+//! The screening phase of a scene: the references loaded once, and the joint search
+//! (`harness::tune::search`) run on the GPU, each configuration prepared beside the floor,
+//! given one timed pair, and scored on the headline.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Result, anyhow};
+use harness::image::metrics::ToneMap;
+use harness::method::{Method, Params, Support};
+use harness::record::{Contender, write_aovs};
+use harness::reference::ReferenceImages;
+use harness::tune::search::{Evaluator, Log, search};
+use harness::tune::{MethodSearch, Screened, Space};
+
+use super::Ctx;
+
+/// An animated scene is scored on its first frames, at most this many (all of pen-orbit's 8).
+pub const SCORED_FRAMES: u32 = 8;
+
+/// A scene's references: frame 0's tone map, and the frames a configuration is scored on.
+pub struct References {
+    pub frame0: ReferenceImages,
+    pub tone: ToneMap,
+    pub frames: Vec<Arc<ReferenceImages>>,
+}
+
+impl References {
+    /// Through the cache; frame 0's images written under `<scene>/reference/` for the report.
+    pub fn load(ctx: &Ctx, scene: &scenes::Scene, out: &std::path::Path) -> Result<References> {
+        let s = &ctx.settings;
+        let (frame0, _) = harness::reference::cache::render_cached(
+            s.cache_dir.as_deref(),
+            scene,
+            0,
+            s.width,
+            s.height,
+            s.reference,
+            &|_| {},
+        )
+        .map_err(|e| anyhow!("{}: reference: {e}", scene.name))?;
+        let tone = ToneMap::auto(&frame0.total);
+        write_aovs(
+            out,
+            &format!("{}/reference", scene.name),
+            &frame0.inscatter,
+            &frame0.surface,
+            &frame0.total,
+            &tone,
+        )
+        .map_err(|e| anyhow!(e))?;
+        let count = scene.frame_count().min(SCORED_FRAMES);
+        let frames = harness::sequence::frame_references(
+            scene,
+            &frame0,
+            s.reference,
+            s.cache_dir.as_deref(),
+            count,
+        )
+        .map_err(|e| anyhow!("{}: per-frame references: {e}", scene.name))?;
+        Ok(References {
+            frame0,
+            tone,
+            frames,
+        })
+    }
+
+    pub fn scored(&self) -> Vec<&ReferenceImages> {
+        self.frames.iter().map(|r| r.as_ref()).collect()
+    }
+}
+
+/// What screening a scene found.
+pub struct Screening {
+    pub log: Log,
+    pub entries: Vec<&'static dyn Method>,
+    pub methods: Vec<MethodSearch>,
+    pub screened: Vec<Screened>,
+    /// (s since the tune started, floor ms) of every timed pair.
+    pub floor_samples: Vec<(f64, f64)>,
+}
+
+impl Screening {
+    /// The screening's floor samples followed by `later` ones.
+    pub fn floor_samples_then(&self, later: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+        self.floor_samples.iter().copied().chain(later).collect()
+    }
+}
+
+/// The joint search on `scene` until `deadline`.
+pub fn screen(ctx: &Ctx, scene: &scenes::Scene, refs: &References, deadline: Instant) -> Screening {
+    let floor_knobs: Vec<&str> = ctx.floor.knobs().iter().map(|k| k.name).collect();
+    let mut entries = Vec::new();
+    let mut spaces = Vec::new();
+    let mut methods = Vec::new();
+    for &m in &ctx.methods {
+        let skip = |why: String| MethodSearch {
+            method: m.id().into(),
+            knobs: Vec::new(),
+            joint_size: 0.0,
+            evaluated: 0,
+            skipped: Some(why),
+        };
+        if let Support::No(why) = m.support(&scene.features(), ctx.gpu.features()) {
+            methods.push(skip(why));
+            continue;
+        }
+        let fixed = ctx.overrides.get(m.id()).cloned().unwrap_or_default();
+        match Space::new(m.id(), m.knobs(), &fixed, &floor_knobs) {
+            Ok(s) => {
+                methods.push(MethodSearch {
+                    method: m.id().into(),
+                    knobs: s.axes.iter().map(|a| a.name.to_string()).collect(),
+                    joint_size: s.size() as f64,
+                    evaluated: 0,
+                    skipped: None,
+                });
+                entries.push(m);
+                spaces.push(s);
+            }
+            Err(e) => methods.push(skip(e.to_string())),
+        }
+    }
+    let mut eval = ScreenEval {
+        ctx,
+        scene,
+        refs: refs.scored(),
+        entries: &entries,
+        screened: Vec::new(),
+        floor_samples: Vec::new(),
+        deadline,
+    };
+    let log = search(&spaces, &ctx.budgets, &mut eval);
+    let (screened, floor_samples) = (eval.screened, eval.floor_samples);
+    for m in methods.iter_mut() {
+        m.evaluated = screened.iter().filter(|s| s.method == m.method).count();
+    }
+    Screening {
+        log,
+        entries,
+        methods,
+        screened,
+        floor_samples,
+    }
+}
+
+/// The benchmark as the search's evaluator.
+struct ScreenEval<'a> {
+    ctx: &'a Ctx<'a>,
+    scene: &'a scenes::Scene,
+    refs: Vec<&'a ReferenceImages>,
+    entries: &'a [&'static dyn Method],
+    screened: Vec<Screened>,
+    floor_samples: Vec<(f64, f64)>,
+    deadline: Instant,
+}
+
+impl ScreenEval<'_> {
+    /// (error, floor ratio) of one configuration: prepared, one pair timed (no warm-up: the
+    /// estimate only ranks configurations for the timing phase), scored.
+    fn measure(&mut self, entry: &dyn Method, params: &Params) -> Result<(f64, f64), String> {
+        let (gpu, scene) = (self.ctx.gpu, self.scene);
+        let mut c = Contender::prepare(gpu, scene, (entry, params), self.ctx.floor, &self.ctx.settings)?;
+        let pairs = c.time(gpu, scene, 0, 1)?;
+        let scored = c.score(gpu, scene, &self.refs)?;
+        let pair = pairs.first().ok_or("no pair was timed")?;
+        let at = self.ctx.start.elapsed().as_secs_f64();
+        self.floor_samples.push((at, pair.floor_ms));
+        Ok((scored.inscatter, pair.method_ms / pair.floor_ms))
+    }
+}
+
+impl Evaluator for ScreenEval<'_> {
+    fn evaluate(&mut self, method: usize, params: &Params) -> Option<(f64, f64)> {
+        let entry = self.entries[method];
+        let outcome = self.measure(entry, params);
+        let (error, ratio, failed) = match &outcome {
+            Ok((e, r)) => (Some(*e), Some(*r), None),
+            Err(why) => (None, None, Some(why.clone())),
+        };
+        self.screened.push(Screened {
+            method: entry.id().into(),
+            params: params.clone(),
+            error,
+            ratio,
+            failed,
+        });
+        outcome.ok()
+    }
+
+    fn stop(&mut self) -> bool {
+        Instant::now() >= self.deadline
+    }
+}
