@@ -7,14 +7,14 @@
 //! - the method's **incumbent** under b (its cheapest configuration under b), or one within
 //!   [`MARGIN`] of its cost among its [`PLATEAU`] cheapest under b, not yet expanded: a
 //!   neighbour may be cheaper and still under b;
-//! - else the **closest miss**: of its configurations over b (by at most [`MISS_BAND`]) and
-//!   cheaper than the incumbent (by the same margin), the one of lowest error: a neighbour may
-//!   cross the budget cheaply; where nothing is under b yet, its configuration of lowest error,
-//!   to climb to the budget.
+//! - else the **closest miss**: of its configurations over b whose *charged cost*,
+//!   cost × error / b, is within the same margin of the incumbent's cost (all of them before it
+//!   has one), the one of lowest charged cost: a neighbour may cross the budget cheaply.
 //!
 //! Of these proposals, the step takes the one of the method that stands best under its budget:
-//! its incumbent's cost, or where it has none its best cost × error / b, over the same figure
-//! of the best method. Methods far behind (over [`STANDING_LIMIT`]) are not expanded. The walk
+//! its best charged cost, cost × max(1, error / b), over the same figure of the best method, times 1 + (its evaluations so far) / [`FAIR_SHARE`] so that the time is
+//! shared out among methods that stand close. Methods far behind (over [`STANDING_LIMIT`]) are
+//! not expanded. The walk
 //! from an incumbent along the budget's edge, through closest misses, reaches combinations of
 //! knobs that no one-knob sweep from the defaults contains. The margin absorbs the noise of a
 //! one-pair cost. The search ends when nothing is left to expand or the evaluator says stop.
@@ -27,9 +27,8 @@ use crate::knobs::Params;
 /// Configurations within this fraction of an incumbent's cost count as tied with it (the
 /// one-pair estimate's noise).
 pub const MARGIN: f64 = 0.2;
-/// Once a method has an incumbent under b, only misses within this fraction over b are
-/// expanded (before it has one, the lowest error, whatever it is, to climb to the budget).
-pub const MISS_BAND: f64 = 0.25;
+/// A method's standing is charged one more for every this many of its evaluations.
+pub const FAIR_SHARE: f64 = 4.0;
 /// Of a method's points under a budget, only its this many cheapest are expanded as near
 /// the incumbent.
 pub const PLATEAU: usize = 3;
@@ -133,6 +132,10 @@ fn most_promising(
             if s > STANDING_LIMIT {
                 continue;
             }
+            // Shared out: each FAIR_SHARE evaluations a method has had count as one more
+            // standing, so noise on a plateau cannot keep the best method's walk going forever.
+            let spent = points.iter().filter(|p| p.method == m).count() as f64;
+            let s = s * (1.0 + spent / FAIR_SHARE);
             let Some((side, i)) = proposal(points, m, b, &open) else {
                 continue;
             };
@@ -144,15 +147,18 @@ fn most_promising(
     best.map(|(_, _, i)| i)
 }
 
-/// How method `m` stands under budget `b`: its incumbent's cost, or its best cost × error / b.
+/// How method `m` stands under budget `b`: its best charged cost, cost × max(1, error / b)
+/// (under b, the cost itself).
 fn standing(points: &[Point], m: usize, b: f64) -> f64 {
-    let mine = points.iter().filter(|p| p.method == m);
-    match incumbent(points, m, b) {
-        Some(i) => points[i].cost,
-        None => mine
-            .map(|p| p.cost * p.error / b)
-            .fold(f64::INFINITY, f64::min),
-    }
+    points
+        .iter()
+        .filter(|p| p.method == m)
+        .map(|p| charged(p, b))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn charged(p: &Point, b: f64) -> f64 {
+    p.cost * (p.error / b).max(1.0)
 }
 
 /// Method `m`'s cheapest point under `b`.
@@ -187,10 +193,9 @@ fn proposal(
     if let Some(i) = near {
         return Some((0, i));
     }
-    let band = if cap.is_finite() { b * (1.0 + MISS_BAND) } else { f64::INFINITY };
     mine()
-        .filter(|&i| points[i].error > b && points[i].error <= band && points[i].cost < cap)
-        .min_by(|x, y| points[*x].error.total_cmp(&points[*y].error).then(by_cost(x, y)))
+        .filter(|&i| points[i].error > b && charged(&points[i], b) <= cap)
+        .min_by(|x, y| charged(&points[*x], b).total_cmp(&charged(&points[*y], b)))
         .map(|i| (1, i))
 }
 

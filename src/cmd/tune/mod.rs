@@ -31,7 +31,7 @@ use crate::args::{self, MethodList, Output, Size};
 
 /// The share of a scene's time spent screening; the rest times the candidates and writes the
 /// winners' records.
-pub const SCREEN_SHARE: f64 = 0.5;
+pub const SCREEN_SHARE: f64 = 0.6;
 /// Of a scene's share, the part kept for the winners' full records.
 pub const RECORDS_SHARE: f64 = 0.12;
 /// The summary counts scenes whose winner is within this many times the floor.

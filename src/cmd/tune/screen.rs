@@ -192,3 +192,30 @@ impl Evaluator for ScreenEval<'_> {
         Instant::now() >= self.deadline
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every registered method's space, as the tune builds it, has moves from its defaults
+    /// (one per searched knob at least), each a valid parameter set that keeps the floor's
+    /// shared knobs at their defaults.
+    #[test]
+    fn every_methods_space_has_valid_moves_from_its_defaults() {
+        let floor = harness::method::find(methods::REGISTRY, FLOOR).unwrap();
+        let floor_knobs: Vec<&str> = floor.knobs().iter().map(|k| k.name).collect();
+        for m in methods::REGISTRY.iter().filter(|m| m.id() != FLOOR) {
+            let s = Space::new(m.id(), m.knobs(), &Params::new(), &floor_knobs).unwrap();
+            let n = s.neighbours(&s.base);
+            assert!(n.len() >= s.axes.len(), "{}: {} moves for {} axes", m.id(), n.len(), s.axes.len());
+            for p in &n {
+                harness::method::resolve_params(*m, p).unwrap();
+                for k in &floor_knobs {
+                    assert_eq!(p.get(*k), s.base.get(*k), "{}: moved {k}", m.id());
+                }
+            }
+        }
+    }
+
+    const FLOOR: &str = report::analysis::FLOOR_METHOD;
+}
