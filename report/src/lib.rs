@@ -123,6 +123,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         matrix: matrix::matrix(&results, &metrics),
         methods: methods::rows(&results),
         metrics: metric_views,
+        tune: tune::view(run_dir)?,
         stability: stability::is_stress(&results).then(|| stability::table(&results)),
         scaling,
         knobs,

@@ -20,6 +20,8 @@ pub struct Page {
     /// Every method of the run with its paper, summary, medium and baseline flag.
     pub methods: Vec<crate::methods::MethodRow>,
     pub scenes: Vec<SceneView>,
+    /// The tune's verdicts, for a `scatterbench tune` run only.
+    pub tune: Option<crate::tune::TuneView>,
     /// The stability table, for a stress run only.
     pub stability: Option<crate::stability::Stability>,
     /// The scaling sweeps, for a `scatterbench scaling` run only.

@@ -58,7 +58,11 @@ pub fn runner_up_cell(s: &SceneTune, v: &BudgetVerdict) -> String {
         Some(r) => format!(
             "{} · {}",
             candidate_text(&s.candidates[r]),
-            if v.separable { "separable" } else { "**inseparable: a tie**" }
+            if v.separable {
+                "separable"
+            } else {
+                "**inseparable: a tie**"
+            }
         ),
         None => "—".into(),
     }
@@ -124,7 +128,9 @@ pub fn markdown(t: &TuneResults) -> String {
     }
     out.push_str("\n| scene | floor | screened | timed | floor drift |\n|---|---|---|---|---|\n");
     for s in &t.scenes {
-        let floor = s.floor_ms.map_or("—".into(), |f| format!("{f:.2} ms ({})", s.basis));
+        let floor = s
+            .floor_ms
+            .map_or("—".into(), |f| format!("{f:.2} ms ({})", s.basis));
         let _ = writeln!(
             out,
             "| {} | {floor} | {} configurations in {:.0} s{} | {} candidates in {:.0} s | {} |",
@@ -138,4 +144,115 @@ pub fn markdown(t: &TuneResults) -> String {
         );
     }
     out
+}
+
+/// The report's tune section (a `scatterbench tune` run: tune.json beside results.json).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TuneView {
+    pub summary: Vec<String>,
+    pub rows: Vec<TuneRow>,
+    pub scenes: Vec<TuneSceneRow>,
+    pub wall: String,
+    pub interval: String,
+}
+
+/// One scene × budget.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TuneRow {
+    pub scene: String,
+    /// The scene's first row carries the row span of its budgets.
+    pub span: usize,
+    pub budget: String,
+    pub winner: String,
+    pub winner_ratio: String,
+    pub winner_error: String,
+    pub runner_up: String,
+    /// "separable", "tie" or "".
+    pub verdict: String,
+}
+
+/// One scene's search and drift.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TuneSceneRow {
+    pub scene: String,
+    pub floor: String,
+    pub screened: String,
+    pub timed: String,
+    pub drift: String,
+    pub drift_flagged: bool,
+}
+
+/// The section's view of `run_dir/tune.json`; None where there is none. A tune.json that
+/// cannot be read is an error naming it.
+pub fn view(run_dir: &std::path::Path) -> anyhow::Result<Option<TuneView>> {
+    let path = run_dir.join(harness::tune::TUNE_FILE);
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let t = TuneResults::load(&path).map_err(|e| anyhow::anyhow!(e))?;
+    let summary = t
+        .summary
+        .iter()
+        .map(|c| {
+            format!(
+                "Under {}: within {}× the floor on {} of {} scenes (the 95 % intervals allow {}–{}).",
+                pct(c.budget),
+                c.limit,
+                c.k,
+                c.n,
+                c.low,
+                c.high
+            )
+        })
+        .collect();
+    let mut rows = Vec::new();
+    for s in &t.scenes {
+        for (k, v) in s.verdicts.iter().enumerate() {
+            let w = v.winner.map(|w| &s.candidates[w]);
+            rows.push(TuneRow {
+                scene: s.scene.clone(),
+                span: if k == 0 { s.verdicts.len() } else { 0 },
+                budget: format!("≤ {}", pct(v.budget)),
+                winner: w.map_or("none under the budget".into(), |c| {
+                    format!("{} {}", c.method, c.knobs)
+                }),
+                winner_ratio: w.map_or("—".into(), |c| ratio_text(c.ratio.as_ref())),
+                winner_error: w.map_or("—".into(), |c| error_text(c.error)),
+                runner_up: v.runner_up.map_or("—".into(), |r| {
+                    candidate_text(&s.candidates[r]).replace('`', "")
+                }),
+                verdict: match (v.winner, v.runner_up) {
+                    (Some(_), Some(_)) if !v.separable => "tie".into(),
+                    (Some(_), Some(_)) => "separable".into(),
+                    _ => String::new(),
+                },
+            });
+        }
+    }
+    let scenes = t
+        .scenes
+        .iter()
+        .map(|s| TuneSceneRow {
+            scene: s.scene.clone(),
+            floor: s
+                .floor_ms
+                .map_or("—".into(), |f| format!("{f:.2} ms ({})", s.basis)),
+            screened: format!(
+                "{} in {:.0} s{}",
+                s.screened.len(),
+                s.screen_s,
+                if s.search_stopped { " (time's up)" } else { "" }
+            ),
+            timed: format!("{} in {:.0} s", s.candidates.len(), s.time_s),
+            drift: drift_text(s).replace("**", ""),
+            drift_flagged: s.drift.as_ref().is_some_and(|d| d.flagged),
+        })
+        .collect();
+    Ok(Some(TuneView {
+        summary,
+        rows,
+        scenes,
+        wall: format!("{:.0} s of a {:.0} s limit", t.wall_s, t.time_limit_s),
+        interval: t.interval.clone(),
+    }))
 }

@@ -112,7 +112,9 @@ impl Contender {
         let mut out = Vec::with_capacity(count as usize);
         for k in 0..warmup + count {
             let f = self.next_frame;
-            let floor = self.floor.frame_ms(gpu, scene, f, &self.aovs, self.timer.as_ref());
+            let floor = self
+                .floor
+                .frame_ms(gpu, scene, f, &self.aovs, self.timer.as_ref());
             let t = self.render(gpu, scene, f)?;
             self.next_frame += 1;
             let Some(floor) = floor else {
@@ -165,7 +167,9 @@ impl Contender {
             inscatter += headline(&finite(&i), &r.inscatter);
             total += headline(&finite(&t), &r.total);
             let mean_r = r.inscatter.mean();
-            ratio = ratio.zip((mean_r > 1e-30).then(|| i.mean() / mean_r)).map(|(a, b)| a + b);
+            ratio = ratio
+                .zip((mean_r > 1e-30).then(|| i.mean() / mean_r))
+                .map(|(a, b)| a + b);
         }
         settled(gpu, "the scored frames")?;
         let n = references.len().max(1) as f64;
@@ -180,8 +184,10 @@ impl Contender {
     fn render(&mut self, gpu: &Gpu, scene: &Scene, f: u32) -> Result<(f64, Option<f64>), String> {
         let m = self.method.as_mut();
         let (aovs, timer) = (&self.aovs, self.timer.as_ref());
-        let t = catch_unwind(AssertUnwindSafe(|| render_frame(gpu, m, scene, f, aovs, timer)))
-            .map_err(|p| format!("render panicked: {}", panic_message(p)))??;
+        let t = catch_unwind(AssertUnwindSafe(|| {
+            render_frame(gpu, m, scene, f, aovs, timer)
+        }))
+        .map_err(|p| format!("render panicked: {}", panic_message(p)))??;
         Ok((t.wall_ms, t.gpu_ms))
     }
 }

@@ -151,8 +151,14 @@ mod tests {
         let d = detect(&s).unwrap();
         assert!(d.flagged);
         // 2^(598/600) − 1 over the span; 2^(60/600) − 1 per minute.
-        assert!((d.trend_total - (2f64.powf(598.0 / 600.0) - 1.0)).abs() < 0.05, "{d:?}");
-        assert!((d.trend_per_min - (2f64.powf(0.1) - 1.0)).abs() < 0.01, "{d:?}");
+        assert!(
+            (d.trend_total - (2f64.powf(598.0 / 600.0) - 1.0)).abs() < 0.05,
+            "{d:?}"
+        );
+        assert!(
+            (d.trend_per_min - (2f64.powf(0.1) - 1.0)).abs() < 0.01,
+            "{d:?}"
+        );
     }
 
     #[test]

@@ -169,9 +169,24 @@ mod tests {
         let i = Interval::of_logs(&[0.0, 0.1, 0.2]).unwrap();
         assert_eq!((i.low, i.high), (0.0, f64::INFINITY));
         assert!((i.estimate - 0.1f64.exp()).abs() < 1e-12);
-        let a = Interval { estimate: 1.0, low: 0.95, high: 1.05, n: 10 };
-        let b = Interval { estimate: 1.2, low: 1.1, high: 1.3, n: 10 };
-        let c = Interval { estimate: 1.08, low: 1.04, high: 1.12, n: 10 };
+        let a = Interval {
+            estimate: 1.0,
+            low: 0.95,
+            high: 1.05,
+            n: 10,
+        };
+        let b = Interval {
+            estimate: 1.2,
+            low: 1.1,
+            high: 1.3,
+            n: 10,
+        };
+        let c = Interval {
+            estimate: 1.08,
+            low: 1.04,
+            high: 1.12,
+            n: 10,
+        };
         assert!(a.separates(&b) && b.separates(&a));
         assert!(!a.separates(&c) && !c.separates(&b));
         assert!((a.half_width() - 0.05).abs() < 1e-12);

@@ -116,16 +116,15 @@ pub fn search(spaces: &[Space], budgets: &[f64], eval: &mut dyn Evaluator) -> Lo
 }
 
 /// The point the next step expands (module doc), if any.
-fn most_promising(
-    points: &[Point],
-    expanded: &BTreeSet<String>,
-    budgets: &[f64],
-) -> Option<usize> {
+fn most_promising(points: &[Point], expanded: &BTreeSet<String>, budgets: &[f64]) -> Option<usize> {
     let open = |&i: &usize| !expanded.contains(&key(points[i].method, &points[i].params));
     let methods: BTreeSet<usize> = points.iter().map(|p| p.method).collect();
     let mut best: Option<(f64, usize, usize)> = None;
     for &b in budgets {
-        let stand: Vec<(usize, f64)> = methods.iter().map(|&m| (m, standing(points, m, b))).collect();
+        let stand: Vec<(usize, f64)> = methods
+            .iter()
+            .map(|&m| (m, standing(points, m, b)))
+            .collect();
         let top = stand.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
         for &(m, s) in &stand {
             let s = s / top;
@@ -176,7 +175,11 @@ fn proposal(
     b: f64,
     open: &dyn Fn(&usize) -> bool,
 ) -> Option<(usize, usize)> {
-    let mine = || (0..points.len()).filter(move |&i| points[i].method == m).filter(open);
+    let mine = || {
+        (0..points.len())
+            .filter(move |&i| points[i].method == m)
+            .filter(open)
+    };
     let by_cost = |x: &usize, y: &usize| points[*x].cost.total_cmp(&points[*y].cost);
     let cap = incumbent(points, m, b).map_or(f64::INFINITY, |i| points[i].cost * (1.0 + MARGIN));
     // Near the incumbent: among the method's PLATEAU cheapest points under b, so that a plateau

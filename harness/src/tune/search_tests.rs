@@ -8,7 +8,8 @@ const GRID: usize = VALUES.len() * VALUES.len();
 /// A synthetic method of two knobs x, y in 1..=16 (defaults 4, 4): error 1.5 / (x·y), cost
 /// x + 2y. More of either knob lowers the error; y costs twice as much as x.
 fn space() -> Space {
-    let knob = |name| Knob::int_of(name, 4, VALUES).sweep(VALUES.iter().copied().filter(|&v| v != 4));
+    let knob =
+        |name| Knob::int_of(name, 4, VALUES).sweep(VALUES.iter().copied().filter(|&v| v != 4));
     Space::new("synthetic", vec![knob("x"), knob("y")], &Params::new(), &[]).unwrap()
 }
 
@@ -41,7 +42,9 @@ impl Evaluator for Synthetic {
 
 /// The cheapest (x, y) under `budget`, by enumerating the grid (independent of the search).
 fn exhaustive_best(budget: f64) -> (i64, i64) {
-    let all = VALUES.iter().flat_map(|&x| VALUES.iter().map(move |&y| (x, y)));
+    let all = VALUES
+        .iter()
+        .flat_map(|&x| VALUES.iter().map(move |&y| (x, y)));
     all.filter(|&(x, y)| error(x, y) <= budget)
         .min_by(|a, b| cost(a.0, a.1).total_cmp(&cost(b.0, b.1)))
         .unwrap()

@@ -74,7 +74,9 @@ impl Space {
                 })
                 .collect();
         }
-        out.into_iter().filter_map(|p| self.valid(p)).fold(Vec::new(), push_new)
+        out.into_iter()
+            .filter_map(|p| self.valid(p))
+            .fold(Vec::new(), push_new)
     }
 
     /// The configurations one move from `p`: one knob to the next value up or down (numbers)
@@ -82,7 +84,9 @@ impl Space {
     pub fn neighbours(&self, p: &Params) -> Vec<Params> {
         let mut out = Vec::new();
         for a in &self.axes {
-            let here = p.get(a.name).and_then(|v| a.values.iter().position(|x| x == v));
+            let here = p
+                .get(a.name)
+                .and_then(|v| a.values.iter().position(|x| x == v));
             let targets: Vec<&ParamValue> = match (a.ordered, here) {
                 (true, Some(i)) => [i.checked_sub(1), Some(i + 1)]
                     .into_iter()
@@ -97,7 +101,11 @@ impl Space {
             for v in targets {
                 let mut q = p.clone();
                 q.insert(a.name.to_string(), v.clone());
-                let knob = self.knobs.iter().find(|k| k.name == a.name).expect("an axis");
+                let knob = self
+                    .knobs
+                    .iter()
+                    .find(|k| k.name == a.name)
+                    .expect("an axis");
                 for r in knob.requires.iter().filter(|r| r.when == *v) {
                     q.insert(r.knob.to_string(), r.value.clone());
                 }
@@ -142,7 +150,11 @@ fn axis(k: &Knob) -> Option<Axis> {
         .iter()
         .all(|v| matches!(v, ParamValue::Int(_) | ParamValue::Float(_)));
     if ordered {
-        values.sort_by(|a, b| a.as_f64().unwrap_or(0.0).total_cmp(&b.as_f64().unwrap_or(0.0)));
+        values.sort_by(|a, b| {
+            a.as_f64()
+                .unwrap_or(0.0)
+                .total_cmp(&b.as_f64().unwrap_or(0.0))
+        });
     }
     Some(Axis {
         name: k.name,

@@ -74,7 +74,10 @@ pub fn decide(candidates: &[Timed], budget: f64) -> BudgetVerdict {
         winner: Some(w),
         runner_up: runner_up.map(|r| r.0),
         separable: runner_up.is_none_or(|(_, ri)| wi.separates(&ri)),
-        tie: others().filter(|(_, ri)| !wi.separates(ri)).map(|r| r.0).collect(),
+        tie: others()
+            .filter(|(_, ri)| !wi.separates(ri))
+            .map(|r| r.0)
+            .collect(),
     }
 }
 
@@ -168,7 +171,10 @@ mod tests {
             timed("c", 0.03, 1.1, 0.03),
         ];
         let v = decide(&c, 0.01);
-        assert_eq!((v.winner, v.runner_up, v.separable), (Some(0), Some(1), true));
+        assert_eq!(
+            (v.winner, v.runner_up, v.separable),
+            (Some(0), Some(1), true)
+        );
         assert!(v.tie.is_empty());
         // Under 5 %: c is cheapest; a's interval does not overlap it.
         let v = decide(&c, 0.05);

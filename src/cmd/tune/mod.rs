@@ -69,10 +69,9 @@ pub struct Budgets(pub Vec<f64>);
 fn parse_budgets(s: &str) -> Result<Budgets, String> {
     let mut v = Vec::new();
     for item in s.split(',') {
-        let b: f64 = item
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{item}' is not a number (budgets are fractions: 0.01 is 1 %)"))?;
+        let b: f64 = item.trim().parse().map_err(|_| {
+            format!("'{item}' is not a number (budgets are fractions: 0.01 is 1 %)")
+        })?;
         if !(b > 0.0 && b <= 10.0) {
             return Err(format!("budget {b} is out of range: allowed is (0, 10]"));
         }
@@ -100,9 +99,14 @@ pub fn run(a: TuneArgs, registry: Registry) -> Result<()> {
     let scenes = args::pick_scenes(&a.scenes)?;
     let overrides = args::parse_overrides(&a.params, &chosen, registry)?;
     let Some(floor) = find(registry, FLOOR_METHOD) else {
-        return args::refuse(format!("the floor method {FLOOR_METHOD} is not in the registry"));
+        return args::refuse(format!(
+            "the floor method {FLOOR_METHOD} is not in the registry"
+        ));
     };
-    let methods: Vec<_> = chosen.into_iter().filter(|m| m.id() != FLOOR_METHOD).collect();
+    let methods: Vec<_> = chosen
+        .into_iter()
+        .filter(|m| m.id() != FLOOR_METHOD)
+        .collect();
     if methods.is_empty() {
         return args::refuse("--methods: no method to tune besides the floor".to_string());
     }
@@ -178,8 +182,16 @@ fn tune_scene(
         "{}: screened {} configurations of {} methods in {screen_s:.0} s{}",
         scene.name,
         screening.log.evaluations,
-        screening.methods.iter().filter(|m| m.skipped.is_none()).count(),
-        if screening.log.stopped { " (time's up)" } else { "" }
+        screening
+            .methods
+            .iter()
+            .filter(|m| m.skipped.is_none())
+            .count(),
+        if screening.log.stopped {
+            " (time's up)"
+        } else {
+            ""
+        }
     );
     let timed = timing::time_candidates(ctx, scene, &refs, &mut screening, timing_end);
     let time_s = scene_start.elapsed().as_secs_f64() - screen_s;
@@ -213,17 +225,30 @@ fn tune_scene(
 }
 
 /// The summary, tune.json, tune.md and results.json as they stand.
-fn finish(tune: &mut TuneResults, results: &Results, out: &std::path::Path, start: Instant) -> Result<()> {
+fn finish(
+    tune: &mut TuneResults,
+    results: &Results,
+    out: &std::path::Path,
+    start: Instant,
+) -> Result<()> {
     tune.wall_s = start.elapsed().as_secs_f64();
-    let per_scene: Vec<&[harness::tune::Timed]> =
-        tune.scenes.iter().map(|s| s.candidates.as_slice()).collect();
+    let per_scene: Vec<&[harness::tune::Timed]> = tune
+        .scenes
+        .iter()
+        .map(|s| s.candidates.as_slice())
+        .collect();
     tune.summary = tune
         .budgets
         .iter()
         .map(|&b| verdict::count(&per_scene, b, AFFORDABLE))
         .collect();
     tune.save(&out.join(TUNE_FILE)).map_err(|e| anyhow!(e))?;
-    results.save(&out.join("results.json")).map_err(|e| anyhow!(e))?;
-    harness::fsutil::write_atomic(&out.join("tune.md"), report::tune::markdown(tune).as_bytes())
-        .map_err(|e| anyhow!(e))
+    results
+        .save(&out.join("results.json"))
+        .map_err(|e| anyhow!(e))?;
+    harness::fsutil::write_atomic(
+        &out.join("tune.md"),
+        report::tune::markdown(tune).as_bytes(),
+    )
+    .map_err(|e| anyhow!(e))
 }

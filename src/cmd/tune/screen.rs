@@ -160,7 +160,13 @@ impl ScreenEval<'_> {
     /// estimate only ranks configurations for the timing phase), scored.
     fn measure(&mut self, entry: &dyn Method, params: &Params) -> Result<(f64, f64), String> {
         let (gpu, scene) = (self.ctx.gpu, self.scene);
-        let mut c = Contender::prepare(gpu, scene, (entry, params), self.ctx.floor, &self.ctx.settings)?;
+        let mut c = Contender::prepare(
+            gpu,
+            scene,
+            (entry, params),
+            self.ctx.floor,
+            &self.ctx.settings,
+        )?;
         let pairs = c.time(gpu, scene, 0, 1)?;
         let scored = c.score(gpu, scene, &self.refs)?;
         let pair = pairs.first().ok_or("no pair was timed")?;
@@ -207,7 +213,13 @@ mod tests {
         for m in methods::REGISTRY.iter().filter(|m| m.id() != FLOOR) {
             let s = Space::new(m.id(), m.knobs(), &Params::new(), &floor_knobs).unwrap();
             let n = s.neighbours(&s.base);
-            assert!(n.len() >= s.axes.len(), "{}: {} moves for {} axes", m.id(), n.len(), s.axes.len());
+            assert!(
+                n.len() >= s.axes.len(),
+                "{}: {} moves for {} axes",
+                m.id(),
+                n.len(),
+                s.axes.len()
+            );
             for p in &n {
                 harness::method::resolve_params(*m, p).unwrap();
                 for k in &floor_knobs {

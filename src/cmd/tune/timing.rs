@@ -145,7 +145,10 @@ pub fn pick(points: &[Point], budgets: &[f64], methods: usize) -> Vec<Point> {
         {
             let cap = v[0].cost * (1.0 + CANDIDATE_MARGIN);
             for p in v.iter().filter(|p| p.cost <= cap).take(PER_METHOD) {
-                if !out.iter().any(|q| q.method == p.method && q.params == p.params) {
+                if !out
+                    .iter()
+                    .any(|q| q.method == p.method && q.params == p.params)
+                {
                     out.push((*p).clone());
                 }
             }
@@ -169,8 +172,15 @@ pub fn winner_records(
     )];
     for w in verdicts.iter().filter_map(|v| v.winner) {
         let c = &candidates[w];
-        let entry = ctx.methods.iter().find(|m| m.id() == c.method).expect("a tuned method");
-        if !chosen.iter().any(|(m, p)| m.id() == c.method && *p == c.params) {
+        let entry = ctx
+            .methods
+            .iter()
+            .find(|m| m.id() == c.method)
+            .expect("a tuned method");
+        if !chosen
+            .iter()
+            .any(|(m, p)| m.id() == c.method && *p == c.params)
+        {
             chosen.push((*entry, c.params.clone()));
         }
     }
