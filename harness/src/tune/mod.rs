@@ -17,7 +17,7 @@
 //! - [`interval`]: the ratio's estimate and interval from its pairs;
 //! - [`verdict`]: winner, runner-up, tie, which candidates are open, the summary count;
 //! - [`drift`]: the floor's trend and jumps within the run;
-//! - [`results`]: tune.json.
+//! - [`results`](mod@results): tune.json.
 //!
 //! The command itself (the time split, the GPU work) is `src/cmd/tune.rs`; a configuration
 //! kept prepared with its floor is `crate::record::Contender`.
