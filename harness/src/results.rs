@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::gpu::AdapterSummary;
+use crate::gpu::{AdapterSummary, Calibration};
 use crate::image::metrics::ErrorMetrics;
 use crate::method::{Params, SkippedPass};
 pub use crate::run_methods::{MethodDescription, RunMethods};
@@ -66,6 +66,11 @@ pub struct Machine {
     pub cpu: String,
     pub cores: usize,
     pub os: String,
+    /// The adapter's raster, compute and memory throughput, measured at the start of the run
+    /// (`gpu::calibrate`, ARCHITECTURE §7.1); absent in files written before it existed, or
+    /// where it failed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<Calibration>,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -361,6 +366,7 @@ impl Machine {
                 .map(|n| n.get())
                 .unwrap_or(1),
             os,
+            calibration: None,
         }
     }
 }

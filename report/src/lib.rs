@@ -26,6 +26,7 @@
 //! DOM (tests/browser.rs reads it through headless Chromium).
 
 pub mod analysis;
+pub mod calibration;
 pub mod candidates;
 pub mod compare;
 pub mod fit;
@@ -127,6 +128,12 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
         stability: stability::is_stress(&results).then(|| stability::table(&results)),
         scaling,
         knobs,
+        calibration: results
+            .run
+            .machine
+            .calibration
+            .as_ref()
+            .map(calibration::text),
         run: results.run.clone(),
         scenes,
         budgets: analysis::BUDGETS

@@ -11,6 +11,8 @@ use crate::view::{Counts, SceneView};
 pub struct Page {
     pub title: String,
     pub run: harness::results::RunInfo,
+    /// The adapter's calibration as one line (`calibration::text`), where the run has one.
+    pub calibration: Option<String>,
     pub counts: Counts,
     /// The metrics the reader can switch between; the first is the verdict metric.
     pub metrics: Vec<MetricView>,

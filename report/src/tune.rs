@@ -101,6 +101,13 @@ pub fn markdown(t: &TuneResults) -> String {
          only as ratios within one run. Wall time {:.0} s of a {:.0} s limit.\n",
         t.interval, t.wall_s, t.time_limit_s
     );
+    if let Some(c) = &run.machine.calibration {
+        let _ = writeln!(
+            out,
+            "Adapter calibration (ARCHITECTURE §7.1): {}.\n",
+            crate::calibration::text(c)
+        );
+    }
     for c in &t.summary {
         let _ = writeln!(
             out,
@@ -133,9 +140,11 @@ pub fn markdown(t: &TuneResults) -> String {
             .map_or("—".into(), |f| format!("{f:.2} ms ({})", s.basis));
         let _ = writeln!(
             out,
-            "| {} | {floor} | {} configurations in {:.0} s{} | {} candidates in {:.0} s | {} |",
+            "| {} | {floor} | {} configurations ({} from the surrogate) in {:.0} s{} | {} \
+             candidates in {:.0} s | {} |",
             s.scene,
             s.screened.len(),
+            s.surrogate_proposals,
             s.screen_s,
             if s.search_stopped { " (stopped)" } else { "" },
             s.candidates.len(),

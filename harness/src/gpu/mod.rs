@@ -6,6 +6,7 @@
 
 pub mod adapters;
 mod attachments;
+pub mod calibrate;
 mod device;
 mod mapping;
 pub mod phases;
@@ -20,6 +21,7 @@ pub use adapters::{
 pub use attachments::{
     color_attachment, depth_attachment, depth_scratch_attachment, depth_stencil_attachment,
 };
+pub use calibrate::{Calibration, calibrate};
 pub use device::{Gpu, texture_2d};
 pub use phases::PhaseTimer;
 pub use readback::{map_read, read_r32f, read_rgba32f};

@@ -159,7 +159,10 @@ pub fn fresh_results(gpu: &Gpu, s: &RecordSettings, run_id: &str, shard: Option<
             resolution: [s.width, s.height],
             frames: s.frames,
             warmup: s.warmup,
-            machine: Machine::detect(&gpu.summary),
+            machine: Machine {
+                calibration: calibration(gpu),
+                ..Machine::detect(&gpu.summary)
+            },
             scored_frame: 0,
             note: if gpu.summary.software {
                 "software adapter: timings compare only as ratios within this run".into()
@@ -173,6 +176,14 @@ pub fn fresh_results(gpu: &Gpu, s: &RecordSettings, run_id: &str, shard: Option<
         },
         records: Vec::new(),
     }
+}
+
+/// The adapter's calibration (ARCHITECTURE §7.1); None, with a warning, where it failed: a
+/// run is not refused for want of it.
+fn calibration(gpu: &Gpu) -> Option<crate::gpu::Calibration> {
+    crate::gpu::calibrate(gpu)
+        .map_err(|e| eprintln!("warning: {e}"))
+        .ok()
 }
 
 /// Frame 0's reference of `scene` (rendered through the cache) and its tone map, its images

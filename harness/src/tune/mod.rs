@@ -14,7 +14,9 @@
 //! - [`space`]: a method's searched knobs, their values, the moves between configurations;
 //! - [`search`]: the screening search, over any [`search::Evaluator`] (the benchmark, or a
 //!   synthetic function in the tests);
-//! - [`interval`]: the ratio's estimate and interval from its pairs;
+//! - [`model`]: the separable surrogate of a method's cost and error that proposes
+//!   combinations of measured moves;
+//! - [`interval`]: the ratio's estimate and interval from its rounds of pairs;
 //! - [`verdict`]: winner, runner-up, tie, which candidates are open, the summary count;
 //! - [`drift`]: the floor's trend and jumps within the run;
 //! - [`results`](mod@results): tune.json.
@@ -24,6 +26,7 @@
 
 pub mod drift;
 pub mod interval;
+pub mod model;
 pub mod results;
 pub mod search;
 pub mod space;

@@ -53,6 +53,15 @@ pub struct SceneTune {
     /// The search ran out of its share of the time limit before it ran out of
     /// configurations to expand.
     pub search_stopped: bool,
+    /// Of the screened configurations, those the surrogate proposed (`tune::model`).
+    #[serde(default)]
+    pub surrogate_proposals: usize,
+    /// Neighbours the search left out as predicted too costly to win.
+    #[serde(default)]
+    pub pruned: usize,
+    /// Of `screen_s`: preparing, timing and scoring the screened configurations, s.
+    #[serde(default)]
+    pub screen_phases_s: [f64; 3],
 }
 
 /// A method's knob space on a scene.

@@ -99,22 +99,50 @@ impl Space {
                     .collect(),
             };
             for v in targets {
-                let mut q = p.clone();
-                q.insert(a.name.to_string(), v.clone());
-                let knob = self
-                    .knobs
-                    .iter()
-                    .find(|k| k.name == a.name)
-                    .expect("an axis");
-                for r in knob.requires.iter().filter(|r| r.when == *v) {
-                    q.insert(r.knob.to_string(), r.value.clone());
-                }
-                if let Some(q) = self.valid(q).filter(|q| q != p) {
+                if let Some(q) = self.valid(self.moved(p.clone(), a.name, v)).filter(|q| q != p) {
                     out = push_new(out, q);
                 }
             }
         }
         out
+    }
+
+    /// The configurations that differ from `p` on one or two axes, each at any of its values
+    /// (with what those values require); valid ones only. The surrogate's proposals
+    /// (`model`) are drawn from it: it holds every combination of two moves, however far.
+    pub fn two_axis_ball(&self, p: &Params) -> Vec<Params> {
+        let mut out = Vec::new();
+        for (i, a) in self.axes.iter().enumerate() {
+            for va in &a.values {
+                let q = self.moved(p.clone(), a.name, va);
+                out.push(q.clone());
+                for b in &self.axes[i + 1..] {
+                    for vb in &b.values {
+                        out.push(self.moved(q.clone(), b.name, vb));
+                    }
+                }
+            }
+        }
+        // Knob values are not `Ord` or `Hash`: the debug text is the configuration's identity.
+        let mut seen = std::collections::HashSet::new();
+        out.into_iter()
+            .filter_map(|q| self.valid(q).filter(|q| q != p))
+            .filter(|q| seen.insert(format!("{q:?}")))
+            .collect()
+    }
+
+    /// `p` with knob `name` at `v`, and the values `v` requires of other knobs.
+    fn moved(&self, mut p: Params, name: &str, v: &ParamValue) -> Params {
+        p.insert(name.to_string(), v.clone());
+        let knob = self
+            .knobs
+            .iter()
+            .find(|k| k.name == name)
+            .expect("an axis");
+        for r in knob.requires.iter().filter(|r| r.when == *v) {
+            p.insert(r.knob.to_string(), r.value.clone());
+        }
+        p
     }
 
     /// `p` resolved against the declarations, if it meets them and keeps the fixed values.

@@ -156,6 +156,7 @@ mod tests {
                 low: est * (1.0 - half),
                 high: est * (1.0 + half),
                 n: 20,
+                rounds: 5,
             }),
             knobs: "defaults".into(),
             failed: None,

@@ -55,7 +55,7 @@ pub fn compare(runs: &[Run]) -> Comparison {
         .collect();
     Comparison {
         schema: model::SCHEMA,
-        runs: runs.iter().map(summary_of).collect(),
+        runs: summaries(runs),
         resolution: first.resolution,
         frames: first.frames,
         warmup: first.warmup,
@@ -74,15 +74,25 @@ pub fn compare(runs: &[Run]) -> Comparison {
     }
 }
 
-fn summary_of(run: &Run) -> RunSummary {
-    RunSummary {
-        label: run.label.clone(),
-        dir: run.dir.display().to_string(),
-        id: run.results.run.id.clone(),
-        git_commit: run.results.run.git_commit.clone(),
-        machine: run.results.run.machine.clone(),
-        records: run.results.records.len(),
-    }
+/// Each run's summary, with the raster-limited flag (`calibration`) from all of them.
+fn summaries(runs: &[Run]) -> Vec<RunSummary> {
+    let calibrations: Vec<_> = runs
+        .iter()
+        .map(|r| (r.label.as_str(), r.results.run.machine.calibration.as_ref()))
+        .collect();
+    let flags = crate::calibration::raster_limited(&calibrations);
+    runs.iter()
+        .zip(flags)
+        .map(|(run, raster_limited)| RunSummary {
+            label: run.label.clone(),
+            dir: run.dir.display().to_string(),
+            id: run.results.run.id.clone(),
+            git_commit: run.results.run.git_commit.clone(),
+            machine: run.results.run.machine.clone(),
+            records: run.results.records.len(),
+            raster_limited,
+        })
+        .collect()
 }
 
 fn keys(results: &Results) -> BTreeSet<String> {

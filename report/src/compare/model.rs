@@ -6,6 +6,7 @@ use harness::method::Params;
 use harness::results::{Machine, Status};
 use serde::Serialize;
 
+use crate::calibration::RasterLimited;
 use super::tau::PairCounts;
 use super::tolerance::Tolerance;
 
@@ -46,8 +47,11 @@ pub struct RunSummary {
     pub dir: String,
     pub id: String,
     pub git_commit: String,
+    /// Its adapter's calibration is in `machine.calibration`.
     pub machine: Machine,
     pub records: usize,
+    /// Set where its raster-to-compute ratio is far below the other runs' (`calibration`).
+    pub raster_limited: Option<RasterLimited>,
 }
 
 #[derive(Serialize)]

@@ -43,6 +43,10 @@ struct RunView {
     commit: String,
     records: usize,
     dir: String,
+    /// The calibration as one line, or "—".
+    calibration: String,
+    /// The raster-limited flag's message, if flagged.
+    raster_limited: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -216,6 +220,11 @@ fn run(r: &super::model::RunSummary) -> RunView {
         commit: r.git_commit.clone(),
         records: r.records,
         dir: r.dir.clone(),
+        calibration: m
+            .calibration
+            .as_ref()
+            .map_or("—".into(), crate::calibration::text),
+        raster_limited: r.raster_limited.as_ref().map(|f| f.message.clone()),
     }
 }
 

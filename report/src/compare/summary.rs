@@ -61,6 +61,14 @@ pub fn lines(c: &Comparison) -> Vec<String> {
         .iter()
         .map(|r| format!("{} = {} ({})", r.label, r.machine.adapter, r.dir))
         .collect();
+    for r in &c.runs {
+        if let Some(c) = &r.machine.calibration {
+            out.push(format!("{} calibration: {}", r.label, crate::calibration::text(c)));
+        }
+        if let Some(f) = &r.raster_limited {
+            out.push(format!("flag: {}", f.message));
+        }
+    }
     let tau = |t: Option<f64>| t.map_or("—".to_string(), |t| format!("{t:.2}"));
     for t in &c.tau {
         out.push(format!(

@@ -310,3 +310,37 @@ fn runs_of_different_work_are_refused_and_unreadable_files_fail() {
     );
     let _ = std::fs::remove_dir_all(root);
 }
+
+/// Issue 47: run B's adapter shades fragments 30× slower than invocations (the H200's 4 raster
+/// SMs of 132), run A's about as fast; compare flags B, and only B, in compare.json, in the
+/// page's runs table and notes, and in the summary.
+#[test]
+fn a_raster_limited_adapter_is_flagged_in_compare() {
+    let cal = |raster: f64, compute: f64| harness::gpu::Calibration {
+        raster_fragments_per_s: raster,
+        compute_invocations_per_s: compute,
+        memory_bytes_per_s: 4e12,
+        basis: "gpu".into(),
+        ms: 80.0,
+    };
+    let mut runs = pair();
+    runs[0].results.run.machine.calibration = Some(cal(1.0e9, 1.1e9));
+    runs[1].results.run.machine.calibration = Some(cal(2.0e11, 6.0e12));
+    let c = compare(&runs);
+    assert!(c.runs[0].raster_limited.is_none());
+    let flag = c.runs[1].raster_limited.as_ref().expect("B flagged");
+    assert!(close(flag.ratio, 2.0 / 60.0) && close(flag.others_median, 1.0 / 1.1));
+    let json = serde_json::to_value(&c).unwrap();
+    assert!(json["runs"][0]["raster_limited"].is_null());
+    assert_eq!(
+        json["runs"][1]["machine"]["calibration"]["compute_invocations_per_s"],
+        6.0e12
+    );
+    let html = page::render(&c).unwrap();
+    assert_eq!(html.matches(">raster-limited</span>").count(), 1, "one flag");
+    assert!(html.contains("B is raster-limited"));
+    assert!(html.contains("raster 1.00 Gfrag"));
+    let text = summary::lines(&c).join("\n");
+    assert!(text.contains("flag: B is raster-limited"), "{text}");
+    assert!(!text.contains("flag: A"), "{text}");
+}

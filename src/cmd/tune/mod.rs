@@ -178,15 +178,22 @@ fn tune_scene(
     let timing_end = scene_start + share.mul_f64(1.0 - RECORDS_SHARE);
     let mut screening = screen::screen(ctx, scene, &refs, screen_end);
     let screen_s = scene_start.elapsed().as_secs_f64();
+    let ph = screening.phases;
     eprintln!(
-        "{}: screened {} configurations of {} methods in {screen_s:.0} s{}",
+        "{}: screened {} configurations ({} proposed by the surrogate, {} left out as too \
+         costly) of {} methods in {screen_s:.0} s (prepare {:.0} s, time {:.0} s, score {:.0} s){}",
         scene.name,
         screening.log.evaluations,
+        screening.log.proposals,
+        screening.log.pruned,
         screening
             .methods
             .iter()
             .filter(|m| m.skipped.is_none())
             .count(),
+        ph.prepare_s,
+        ph.time_s,
+        ph.score_s,
         if screening.log.stopped {
             " (time's up)"
         } else {
@@ -220,6 +227,9 @@ fn tune_scene(
         screen_s,
         time_s,
         search_stopped: screening.log.stopped,
+        surrogate_proposals: screening.log.proposals,
+        pruned: screening.log.pruned,
+        screen_phases_s: [ph.prepare_s, ph.time_s, ph.score_s],
     };
     Ok((tune, records))
 }

@@ -17,6 +17,27 @@ use super::Ctx;
 
 /// An animated scene is scored on its first frames, at most this many (all of pen-orbit's 8).
 pub const SCORED_FRAMES: u32 = 8;
+/// Untimed pairs before a screened configuration's one timed pair: a prepared method's and
+/// floor's first frames run cold (measured at 512² on lavapipe: the floor 43–77 ms in its first
+/// pair, 20–25 ms warm), and not by the same factor, which biased the one-pair ratio.
+pub const SCREEN_WARMUP: u32 = 1;
+
+/// Where screening's time went, s: preparing, timing, scoring.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Phases {
+    pub prepare_s: f64,
+    pub time_s: f64,
+    pub score_s: f64,
+}
+
+impl Phases {
+    /// Adds one configuration's phases, from the instants that bound them.
+    fn add(&mut self, [t0, t1, t2, t3]: [Instant; 4]) {
+        self.prepare_s += (t1 - t0).as_secs_f64();
+        self.time_s += (t2 - t1).as_secs_f64();
+        self.score_s += (t3 - t2).as_secs_f64();
+    }
+}
 
 /// A scene's references: frame 0's tone map, and the frames a configuration is scored on.
 pub struct References {
@@ -78,6 +99,7 @@ pub struct Screening {
     pub screened: Vec<Screened>,
     /// (s since the tune started, floor ms) of every timed pair.
     pub floor_samples: Vec<(f64, f64)>,
+    pub phases: Phases,
 }
 
 impl Screening {
@@ -128,10 +150,11 @@ pub fn screen(ctx: &Ctx, scene: &scenes::Scene, refs: &References, deadline: Ins
         entries: &entries,
         screened: Vec::new(),
         floor_samples: Vec::new(),
+        phases: Phases::default(),
         deadline,
     };
     let log = search(&spaces, &ctx.budgets, &mut eval);
-    let (screened, floor_samples) = (eval.screened, eval.floor_samples);
+    let (screened, floor_samples, phases) = (eval.screened, eval.floor_samples, eval.phases);
     for m in methods.iter_mut() {
         m.evaluated = screened.iter().filter(|s| s.method == m.method).count();
     }
@@ -141,6 +164,7 @@ pub fn screen(ctx: &Ctx, scene: &scenes::Scene, refs: &References, deadline: Ins
         methods,
         screened,
         floor_samples,
+        phases,
     }
 }
 
@@ -152,14 +176,16 @@ struct ScreenEval<'a> {
     entries: &'a [&'static dyn Method],
     screened: Vec<Screened>,
     floor_samples: Vec<(f64, f64)>,
+    phases: Phases,
     deadline: Instant,
 }
 
 impl ScreenEval<'_> {
-    /// (error, floor ratio) of one configuration: prepared, one pair timed (no warm-up: the
-    /// estimate only ranks configurations for the timing phase), scored.
+    /// (error, floor ratio) of one configuration: prepared, one pair timed after
+    /// [`SCREEN_WARMUP`] untimed, scored.
     fn measure(&mut self, entry: &dyn Method, params: &Params) -> Result<(f64, f64), String> {
         let (gpu, scene) = (self.ctx.gpu, self.scene);
+        let t0 = Instant::now();
         let mut c = Contender::prepare(
             gpu,
             scene,
@@ -167,8 +193,11 @@ impl ScreenEval<'_> {
             self.ctx.floor,
             &self.ctx.settings,
         )?;
-        let pairs = c.time(gpu, scene, 0, 1)?;
+        let t1 = Instant::now();
+        let pairs = c.time(gpu, scene, SCREEN_WARMUP, 1)?;
+        let t2 = Instant::now();
         let scored = c.score(gpu, scene, &self.refs)?;
+        self.phases.add([t0, t1, t2, Instant::now()]);
         let pair = pairs.first().ok_or("no pair was timed")?;
         let at = self.ctx.start.elapsed().as_secs_f64();
         self.floor_samples.push((at, pair.floor_ms));

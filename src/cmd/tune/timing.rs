@@ -1,7 +1,8 @@
 //! The timing phase of a scene: the candidates near each budget's front, picked from the
 //! screening, kept prepared beside the floor and timed round-robin in rounds of interleaved
-//! pairs while their verdict is open (`harness::tune::verdict::open`); then the winners' full
-//! records (`record::run_one`, with images) for results.json and the report.
+//! pairs while their verdict is open (`harness::tune::verdict::open`), each round one batch of
+//! the candidate's interval (`Interval::of_rounds`); then the winners' full records
+//! (`record::run_one`, with images) for results.json and the report.
 
 use std::time::Instant;
 
@@ -47,7 +48,8 @@ pub fn time_candidates(
     let picks = pick(&screening.log.points, &ctx.budgets, screening.entries.len());
     let mut candidates = Vec::new();
     let mut live: Vec<(usize, Contender)> = Vec::new();
-    let mut logs: Vec<Vec<f64>> = Vec::new();
+    // Per candidate, per round: the round's pair log ratios (the interval's batches).
+    let mut rounds: Vec<Vec<Vec<f64>>> = Vec::new();
     for p in &picks {
         let entry = screening.entries[p.method];
         let mut t = Timed {
@@ -70,7 +72,7 @@ pub fn time_candidates(
             Err(why) => t.failed = Some(why),
         }
         candidates.push(t);
-        logs.push(Vec::new());
+        rounds.push(Vec::new());
     }
     let basis = live.first().map_or("wall", |(_, c)| c.basis());
     let mut floors = Vec::new();
@@ -90,12 +92,12 @@ pub fn time_candidates(
             let warmup = if first { FIRST_WARMUP } else { 0 };
             match c.time(ctx.gpu, scene, warmup, ROUND) {
                 Ok(pairs) => {
-                    for p in pairs {
-                        logs[*i].push(p.log_ratio());
+                    for p in &pairs {
                         floors.push(p.floor_ms);
                         samples.push((ctx.start.elapsed().as_secs_f64(), p.floor_ms));
                     }
-                    candidates[*i].ratio = Interval::of_logs(&logs[*i]);
+                    rounds[*i].push(pairs.iter().map(|p| p.log_ratio()).collect());
+                    candidates[*i].ratio = Interval::of_rounds(&rounds[*i]);
                 }
                 Err(why) => candidates[*i].failed = Some(why),
             }
