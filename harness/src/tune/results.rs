@@ -82,11 +82,15 @@ pub struct MethodSearch {
 pub struct Screened {
     pub method: String,
     pub params: Params,
+    /// None where it failed or was left unscored.
     pub error: Option<f64>,
     /// The floor ratio of its screening pair(s).
     pub ratio: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,
+    /// Left unscored: its ratio alone was over the search's cost cap (it cannot win).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub unscored: bool,
 }
 
 impl TuneResults {

@@ -69,8 +69,10 @@ pub struct Point {
 
 /// What the search asks of the benchmark.
 pub trait Evaluator {
-    /// Error and cost of one configuration; None where it failed (never retried).
-    fn evaluate(&mut self, method: usize, params: &Params) -> Option<(f64, f64)>;
+    /// Error and cost of one configuration; None where it failed (never retried). Where its
+    /// cost comes out over `cost_cap` the evaluator may leave it unscored, error +∞: it cannot
+    /// win under any budget (the cap is [`FIRST_LOOK_LIMIT`] × the best standing).
+    fn evaluate(&mut self, method: usize, params: &Params, cost_cap: f64) -> Option<(f64, f64)>;
     /// Whether to stop now (a time limit).
     fn stop(&mut self) -> bool;
 }
@@ -97,6 +99,7 @@ pub fn search(spaces: &[Space], budgets: &[f64], eval: &mut dyn Evaluator) -> Lo
         seen: BTreeSet::new(),
         expanded: BTreeSet::new(),
         balls: HashMap::new(),
+        budgets: budgets.to_vec(),
     };
     // Every method's defaults first: the standings need one point of each.
     for (m, s) in spaces.iter().enumerate() {
@@ -150,6 +153,7 @@ struct Walk {
     expanded: BTreeSet<String>,
     /// The two-axis balls already enumerated, by their centre's key.
     balls: HashMap<String, Vec<Params>>,
+    budgets: Vec<f64>,
 }
 
 impl Walk {
@@ -163,7 +167,8 @@ impl Walk {
             return true;
         }
         self.log.evaluations += 1;
-        if let Some((error, cost)) = eval.evaluate(m, &p) {
+        let cap = FIRST_LOOK_LIMIT * self.best_standing();
+        if let Some((error, cost)) = eval.evaluate(m, &p, cap) {
             self.log.points.push(Point {
                 method: m,
                 params: p,
@@ -172,6 +177,13 @@ impl Walk {
             });
         }
         true
+    }
+
+    /// The lowest standing (best charged cost) of any method under any budget; +∞ before one.
+    fn best_standing(&self) -> f64 {
+        let points = &self.log.points;
+        let fold = |b: f64| points.iter().map(|p| charged(p, b)).fold(f64::INFINITY, f64::min);
+        self.budgets.iter().map(|&b| fold(b)).fold(f64::INFINITY, f64::min)
     }
 
     /// Whether a configuration of method `m` may still win: its predicted charged cost under
@@ -203,6 +215,7 @@ impl Walk {
             seen,
             expanded,
             balls,
+            ..
         } = self;
         let points = &log.points;
         let methods: BTreeSet<usize> = points.iter().map(|p| p.method).collect();
@@ -288,9 +301,10 @@ fn surrogate(
 
 /// Method `m`'s surrogate fitted on its points.
 fn fit(space: &Space, points: &[Point], m: usize) -> Option<Model> {
+    // Unscored points (error +∞, cost over the cap) say nothing of the error.
     let mine: Vec<(&Params, f64, f64)> = points
         .iter()
-        .filter(|p| p.method == m)
+        .filter(|p| p.method == m && p.error.is_finite())
         .map(|p| (&p.params, p.error, p.cost))
         .collect();
     Model::fit(space, &mine)

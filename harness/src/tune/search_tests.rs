@@ -30,7 +30,7 @@ struct Synthetic {
 }
 
 impl Evaluator for Synthetic {
-    fn evaluate(&mut self, _: usize, p: &Params) -> Option<(f64, f64)> {
+    fn evaluate(&mut self, _: usize, p: &Params, _: f64) -> Option<(f64, f64)> {
         self.calls += 1;
         let (x, y) = xy(p);
         Some((error(x, y), cost(x, y)))
@@ -93,7 +93,7 @@ fn small_spaces_are_enumerated_and_stop_is_obeyed() {
     let mut eval = Synthetic { calls: 0 };
     struct Xy<'a>(&'a mut Synthetic);
     impl Evaluator for Xy<'_> {
-        fn evaluate(&mut self, _: usize, p: &Params) -> Option<(f64, f64)> {
+        fn evaluate(&mut self, _: usize, p: &Params, _: f64) -> Option<(f64, f64)> {
             self.0.calls += 1;
             let (a, b) = (p["a"].as_i64().unwrap(), p["b"].as_i64().unwrap());
             Some((error(a, b), cost(a, b)))
@@ -106,7 +106,7 @@ fn small_spaces_are_enumerated_and_stop_is_obeyed() {
     assert_eq!(log.evaluations, 9);
     struct Stopped;
     impl Evaluator for Stopped {
-        fn evaluate(&mut self, _: usize, _: &Params) -> Option<(f64, f64)> {
+        fn evaluate(&mut self, _: usize, _: &Params, _: f64) -> Option<(f64, f64)> {
             panic!("evaluated after stop")
         }
         fn stop(&mut self) -> bool {
@@ -148,4 +148,36 @@ fn s_knobs() -> Vec<Knob> {
             .requires("unorm8", "resolve", "stencil"),
         Knob::choice("resolve", "per-pixel", &["per-pixel", "stencil"]).sweep(["stencil"]),
     ]
+}
+
+/// The cost cap: the first configuration is evaluated with no cap (+∞); once one is under a
+/// budget, every later call gets FIRST_LOOK_LIMIT × the best standing. A configuration left
+/// unscored (error +∞) is never an incumbent, never expanded, and does not break the
+/// surrogate's fit.
+#[test]
+fn the_cost_cap_follows_the_best_standing_and_unscored_points_are_inert() {
+    struct Capped {
+        caps: Vec<f64>,
+    }
+    impl Evaluator for Capped {
+        fn evaluate(&mut self, m: usize, p: &Params, cap: f64) -> Option<(f64, f64)> {
+            self.caps.push(cap);
+            let (x, y) = xy(p);
+            // Method 1 costs 100× method 0: over every cap, left unscored as an evaluator may.
+            let cost = cost(x, y) * if m == 1 { 100.0 } else { 1.0 };
+            Some((if cost > cap { f64::INFINITY } else { error(x, y) }, cost))
+        }
+        fn stop(&mut self) -> bool {
+            self.caps.len() >= 60
+        }
+    }
+    let mut eval = Capped { caps: Vec::new() };
+    let log = search(&[space(), space()], &[0.1], &mut eval);
+    assert_eq!(eval.caps[0], f64::INFINITY);
+    // The defaults (4, 4) of method 0: cost 12, error 0.094 ≤ 0.1, so the cap is 8 × 12.
+    assert_eq!(eval.caps[1], FIRST_LOOK_LIMIT * 12.0);
+    let unscored: Vec<&Point> = log.points.iter().filter(|p| p.method == 1).collect();
+    assert_eq!(unscored.len(), 1, "method 1's defaults only: never expanded");
+    assert!(unscored[0].error.is_infinite());
+    assert!(log.points.iter().any(|p| p.method == 0 && p.error <= 0.1 && p.cost < 12.0));
 }

@@ -12,6 +12,7 @@
 //! method (the scene's rasterisation: `shadow_map`, `local_shadow_budget`) are not searched,
 //! so every ratio of a scene divides by the same work (`--param` may still fix them).
 
+mod ctx;
 mod screen;
 mod timing;
 
@@ -20,12 +21,13 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use harness::method::{Method, Params, find};
+use harness::method::find;
 use harness::record::RecordSettings;
 use harness::results::Results;
 use harness::tune::{TUNE_FILE, TuneResults, verdict};
 use report::analysis::FLOOR_METHOD;
 
+use self::ctx::Ctx;
 use crate::Registry;
 use crate::args::{self, MethodList, Output, Size};
 
@@ -82,16 +84,6 @@ fn parse_budgets(s: &str) -> Result<Budgets, String> {
     Ok(Budgets(v))
 }
 
-/// What every scene's work shares.
-pub(crate) struct Ctx<'a> {
-    pub gpu: &'a harness::Gpu,
-    pub floor: &'static dyn Method,
-    pub methods: Vec<&'static dyn Method>,
-    pub overrides: std::collections::BTreeMap<String, Params>,
-    pub budgets: Vec<f64>,
-    pub settings: RecordSettings,
-    pub start: Instant,
-}
 
 pub fn run(a: TuneArgs, registry: Registry) -> Result<()> {
     let start = Instant::now();

@@ -13,7 +13,7 @@ use harness::reference::ReferenceImages;
 use harness::tune::search::{Evaluator, Log, search};
 use harness::tune::{MethodSearch, Screened, Space};
 
-use super::Ctx;
+use super::ctx::Ctx;
 
 /// An animated scene is scored on its first frames, at most this many (all of pen-orbit's 8).
 pub const SCORED_FRAMES: u32 = 8;
@@ -115,7 +115,11 @@ pub fn screen(ctx: &Ctx, scene: &scenes::Scene, refs: &References, deadline: Ins
     let mut entries = Vec::new();
     let mut spaces = Vec::new();
     let mut methods = Vec::new();
-    for &m in &ctx.methods {
+    // Baselines (brute force, the un-accelerated forms) last: the search evaluates every
+    // method's defaults in this order, and a costly first one has no cost cap yet.
+    let mut order = ctx.methods.clone();
+    order.sort_by_key(|m| m.info().baseline);
+    for &m in &order {
         let skip = |why: String| MethodSearch {
             method: m.id().into(),
             knobs: Vec::new(),
@@ -182,8 +186,14 @@ struct ScreenEval<'a> {
 
 impl ScreenEval<'_> {
     /// (error, floor ratio) of one configuration: prepared, one pair timed after
-    /// [`SCREEN_WARMUP`] untimed, scored.
-    fn measure(&mut self, entry: &dyn Method, params: &Params) -> Result<(f64, f64), String> {
+    /// [`SCREEN_WARMUP`] untimed, scored; error +∞ (not scored) where the ratio is over
+    /// `cost_cap`: scoring renders frames (8 for pen-orbit), seconds for a costly configuration.
+    fn measure(
+        &mut self,
+        entry: &dyn Method,
+        params: &Params,
+        cost_cap: f64,
+    ) -> Result<(f64, f64), String> {
         let (gpu, scene) = (self.ctx.gpu, self.scene);
         let t0 = Instant::now();
         let mut c = Contender::prepare(
@@ -196,19 +206,23 @@ impl ScreenEval<'_> {
         let t1 = Instant::now();
         let pairs = c.time(gpu, scene, SCREEN_WARMUP, 1)?;
         let t2 = Instant::now();
-        let scored = c.score(gpu, scene, &self.refs)?;
-        self.phases.add([t0, t1, t2, Instant::now()]);
         let pair = pairs.first().ok_or("no pair was timed")?;
         let at = self.ctx.start.elapsed().as_secs_f64();
         self.floor_samples.push((at, pair.floor_ms));
-        Ok((scored.inscatter, pair.method_ms / pair.floor_ms))
+        let ratio = pair.method_ms / pair.floor_ms;
+        let error = match ratio > cost_cap {
+            true => f64::INFINITY,
+            false => c.score(gpu, scene, &self.refs)?.inscatter,
+        };
+        self.phases.add([t0, t1, t2, Instant::now()]);
+        Ok((error, ratio))
     }
 }
 
 impl Evaluator for ScreenEval<'_> {
-    fn evaluate(&mut self, method: usize, params: &Params) -> Option<(f64, f64)> {
+    fn evaluate(&mut self, method: usize, params: &Params, cost_cap: f64) -> Option<(f64, f64)> {
         let entry = self.entries[method];
-        let outcome = self.measure(entry, params);
+        let outcome = self.measure(entry, params, cost_cap);
         let (error, ratio, failed) = match &outcome {
             Ok((e, r)) => (Some(*e), Some(*r), None),
             Err(why) => (None, None, Some(why.clone())),
@@ -216,9 +230,10 @@ impl Evaluator for ScreenEval<'_> {
         self.screened.push(Screened {
             method: entry.id().into(),
             params: params.clone(),
-            error,
+            error: error.filter(|e| e.is_finite()),
             ratio,
             failed,
+            unscored: error.is_some_and(f64::is_infinite),
         });
         outcome.ok()
     }

@@ -12,7 +12,7 @@ use harness::results::Record;
 use harness::tune::search::Point;
 use harness::tune::{BudgetVerdict, Interval, Timed, verdict};
 
-use super::Ctx;
+use super::ctx::Ctx;
 use super::screen::{References, Screening};
 
 /// Per budget and method, configurations within this fraction of the method's cheapest
