@@ -9,14 +9,20 @@
 //! shape names. glTF input: the sample level (`scenes::gltf::sample`) mutated as JSON (through
 //! a scene file's `import` and as a scene by itself) and as .glb bytes, plus arbitrary bytes.
 //!
-//! CI runs a fixed number of cases (`FUZZ_CASES`, default 2000 per property, about a second in
-//! release). A longer manual run: `FUZZ_CASES=20000 cargo test --release -p scenes --test fuzz`.
+//! Deterministic by default: every property draws its cases from a fixed seed (`FUZZ_SEED`,
+//! default [`DEFAULT_SEED`]), so CI draws the same 2000 cases per property (`FUZZ_CASES`) in every
+//! run and a red run is red again. Before its random cases, each property replays the regression
+//! corpus (`tests/fuzz-corpus/<kind>/`): every input that ever failed a property, kept as a file.
+//! A failing random case is written to `target/fuzz-failures/<kind>/`, to be added to the corpus
+//! with its fix. Longer or fresh runs by hand:
+//! `FUZZ_CASES=20000 FUZZ_SEED=random cargo test --release -p scenes --test fuzz` (the seed drawn
+//! is printed, and `FUZZ_SEED=<that number>` repeats the run).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestRunner};
+use proptest::test_runner::{Config, RngSeed, TestRunner};
 use scenes::{library, parse_scene};
 use serde_json::{Map, Value};
 
@@ -293,22 +299,102 @@ fn check(text: &str) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-fn runner() -> TestRunner {
+/// The seed CI uses: any fixed number would do; this one is the suite's name in hex speak.
+const DEFAULT_SEED: u64 = 0x5CA7_7E2B_E4C4;
+
+/// The run's seed: `FUZZ_SEED` as a number, a fresh one for `FUZZ_SEED=random`, else the default.
+fn seed() -> u64 {
+    match std::env::var("FUZZ_SEED").ok().as_deref() {
+        None | Some("") => DEFAULT_SEED,
+        Some("random") => std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(DEFAULT_SEED, |d| d.as_nanos() as u64),
+        Some(s) => s
+            .parse()
+            .unwrap_or_else(|_| panic!("FUZZ_SEED={s}: expected a u64 or `random`")),
+    }
+}
+
+/// FNV-1a: a stable 64-bit hash (std's hasher may change between releases).
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ b as u64).wrapping_mul(0x100_0000_01b3))
+}
+
+/// A runner for one property, seeded from the run's seed and the property's name (so properties
+/// do not draw correlated cases); prints both so that a failure can be repeated.
+fn runner(property: &str) -> TestRunner {
+    let run_seed = seed();
+    let name_hash = fnv1a(property.as_bytes());
+    eprintln!("{property}: FUZZ_SEED={run_seed}, {} cases", cases());
     TestRunner::new(Config {
         cases: cases(),
         failure_persistence: None,
+        rng_seed: RngSeed::Fixed(run_seed ^ name_hash),
         ..Config::default()
     })
 }
 
+/// The corpus of inputs that once failed, one folder per kind of input (`json`, `obj`, `gltf`,
+/// `glb`), sorted by name. A kind with no folder has no entries.
+fn corpus(kind: &str) -> Vec<(String, Vec<u8>)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-corpus").join(kind);
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return Vec::new();
+    };
+    let mut files: Vec<_> = entries.map(|e| e.unwrap().path()).collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| (p.display().to_string(), std::fs::read(&p).unwrap()))
+        .collect()
+}
+
+/// Replays the corpus of `kind` through `check` before any random case; returns how many.
+fn replay(kind: &str, check: impl Fn(&[u8]) -> Result<(), TestCaseError>) -> usize {
+    let entries = corpus(kind);
+    for (path, bytes) in &entries {
+        if let Err(e) = check(bytes) {
+            panic!("regression corpus {path}: {e}");
+        }
+    }
+    entries.len()
+}
+
+/// Keeps a failing random input where it can be added to the corpus, and says where.
+fn keep_failure(kind: &str, ext: &str, bytes: &[u8], e: TestCaseError) -> TestCaseError {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/fuzz-failures").join(kind);
+    let path = dir.join(format!("{:016x}.{ext}", fnv1a(bytes)));
+    let kept = std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&path, bytes));
+    let whereto = match kept {
+        Ok(()) => format!("kept as {} (add it to tests/fuzz-corpus/{kind}/)", path.display()),
+        Err(w) => format!("could not keep it at {}: {w}", path.display()),
+    };
+    TestCaseError::fail(format!("{e}\n{whereto}"))
+}
+
+/// `check` on a scene text, keeping a failing one.
+fn check_kept(text: &str) -> Result<(), TestCaseError> {
+    check(text).map_err(|e| keep_failure("json", "json", text.as_bytes(), e))
+}
+
+/// `check` on a corpus file's bytes (a scene text).
+fn check_bytes(bytes: &[u8]) -> Result<(), TestCaseError> {
+    check(&String::from_utf8_lossy(bytes))
+}
+
 #[test]
 fn arbitrary_json_never_panics_and_refusals_name_the_file() {
-    runner().run(&json(), |v| check(&v.to_string())).unwrap();
+    let replayed = replay("json", check_bytes);
+    // The corpus holds the loader's past failures (far positions, far planes, huge meshes).
+    assert!(replayed >= 3, "the JSON corpus replayed {replayed} files");
+    runner("json").run(&json(), |v| check_kept(&v.to_string())).unwrap();
 }
 
 #[test]
 fn arbitrary_text_never_panics() {
-    runner().run(&".{0,200}", |t: String| check(&t)).unwrap();
+    runner("text").run(&".{0,200}", |t: String| check_kept(&t)).unwrap();
 }
 
 #[test]
@@ -318,13 +404,13 @@ fn mutated_library_scenes_never_panic_and_refusals_name_the_file() {
         .map(|(_, t)| serde_json::from_str(t).unwrap())
         .collect();
     let strategy = (0..scenes.len(), prop::collection::vec(mutation(), 1..4));
-    runner()
+    runner("library")
         .run(&strategy, |(k, ms)| {
             let mut v = scenes[k].clone();
             for m in &ms {
                 mutate(&mut v, m);
             }
-            check(&v.to_string())
+            check_kept(&v.to_string())
         })
         .unwrap();
 }
@@ -429,23 +515,60 @@ fn panics_since_last_call() -> usize {
     COUNT.swap(0, Ordering::SeqCst)
 }
 
-/// The `obj` mesh path end to end: a scene whose object is an OBJ file of arbitrary statements,
-/// loaded from disk through `parse_scene`. Never a panic (counted, contained or not); a refusal
-/// names the scene file and the object; an accepted mesh has finite positions and normals and
-/// in-range indices.
-#[test]
-fn arbitrary_obj_files_never_panic_and_refusals_name_the_object() {
-    let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-obj-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// A scene file whose first object is the mesh `fuzz.obj` in its directory.
+fn obj_scene_text() -> String {
     let mut v: Value = serde_json::from_str(library::LIBRARY[0].1).unwrap();
     let mut shape = Map::new();
     shape.insert("kind".into(), Value::from("obj"));
     shape.insert("path".into(), Value::from("fuzz.obj"));
     v["objects"][0]["shape"] = Value::Object(shape);
-    let scene_text = v.to_string();
+    v.to_string()
+}
+
+/// The `obj` mesh path's contract on one OBJ file, loaded from `dir` through `parse_scene`:
+/// never a panic (counted, contained or not); a refusal names the scene file and the object; an
+/// accepted mesh has finite positions and normals and in-range indices. Ok(true) if accepted.
+fn check_obj(dir: &Path, scene_text: &str, obj: &str) -> Result<bool, TestCaseError> {
+    std::fs::write(dir.join("fuzz.obj"), obj).unwrap();
+    let out = catch_unwind(AssertUnwindSafe(|| parse_scene(scene_text, FILE, "fuzz", dir)));
+    let res =
+        out.map_err(|_| TestCaseError::fail(format!("parse_scene panicked on OBJ:\n{obj}")))?;
+    prop_assert_eq!(panics_since_last_call(), 0, "a panic (contained) on OBJ:\n{}", obj);
+    let scene = match res {
+        Err(e) => {
+            let msg = e.to_string();
+            prop_assert!(msg.starts_with(FILE), "refusal does not name the file: {msg}");
+            prop_assert!(
+                msg.contains("objects[0].shape"),
+                "refusal does not name the object: {msg}"
+            );
+            return Ok(false);
+        }
+        Ok(scene) => scene,
+    };
+    let m = &scene.meshes[0];
+    prop_assert!(!m.indices.is_empty());
+    prop_assert!(m.positions.iter().all(|p| p.is_finite()), "non-finite position from:\n{obj}");
+    prop_assert!(m.normals.iter().all(|n| n.is_finite()), "non-finite normal from:\n{obj}");
+    let n = m.positions.len() as u32;
+    prop_assert!(
+        m.indices.iter().flatten().all(|&i| i < n),
+        "index out of range from:\n{obj}"
+    );
+    Ok(true)
+}
+
+/// The `obj` mesh path end to end: a scene whose object is an OBJ file of arbitrary statements
+/// (`check_obj`), after the OBJ corpus.
+#[test]
+fn arbitrary_obj_files_never_panic_and_refusals_name_the_object() {
+    let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene_text = obj_scene_text();
     panics_since_last_call();
+    replay("obj", |b| check_obj(&dir, &scene_text, &String::from_utf8_lossy(b)).map(drop));
     let accepted = std::cell::Cell::new(0u32);
-    runner()
+    runner("obj")
         .run(
             &(any::<bool>(), prop::collection::vec(obj_line(), 0..24)),
             |(seed, lines)| {
@@ -456,50 +579,9 @@ fn arbitrary_obj_files_never_panic_and_refusals_name_the_object() {
                     ""
                 };
                 let obj = format!("{seed}{}", lines.join("\n"));
-                std::fs::write(dir.join("fuzz.obj"), &obj).unwrap();
-                let out = catch_unwind(AssertUnwindSafe(|| {
-                    parse_scene(&scene_text, FILE, "fuzz", &dir)
-                }));
-                let res = out.map_err(|_| {
-                    TestCaseError::fail(format!("parse_scene panicked on OBJ:\n{obj}"))
-                })?;
-                prop_assert_eq!(
-                    panics_since_last_call(),
-                    0,
-                    "a panic (contained) on OBJ:\n{}",
-                    obj
-                );
-                match res {
-                    Err(e) => {
-                        let msg = e.to_string();
-                        prop_assert!(
-                            msg.starts_with(FILE),
-                            "refusal does not name the file: {msg}"
-                        );
-                        prop_assert!(
-                            msg.contains("objects[0].shape"),
-                            "refusal does not name the object: {msg}"
-                        );
-                    }
-                    Ok(scene) => {
-                        accepted.set(accepted.get() + 1);
-                        let m = &scene.meshes[0];
-                        prop_assert!(!m.indices.is_empty());
-                        prop_assert!(
-                            m.positions.iter().all(|p| p.is_finite()),
-                            "non-finite position from:\n{obj}"
-                        );
-                        prop_assert!(
-                            m.normals.iter().all(|n| n.is_finite()),
-                            "non-finite normal from:\n{obj}"
-                        );
-                        let n = m.positions.len() as u32;
-                        prop_assert!(
-                            m.indices.iter().flatten().all(|&i| i < n),
-                            "index out of range from:\n{obj}"
-                        );
-                    }
-                }
+                let ok = check_obj(&dir, &scene_text, &obj)
+                    .map_err(|e| keep_failure("obj", "obj", obj.as_bytes(), e))?;
+                accepted.set(accepted.get() + ok as u32);
                 Ok(())
             },
         )
@@ -545,34 +627,42 @@ fn check_gltf(
     }
 }
 
+/// One glTF level's text, written as `level.gltf` in `dir` and loaded both through a scene
+/// file's `import` and as a scene by itself (`check_gltf`). Ok(true) if the import accepted it.
+fn check_gltf_text(dir: &Path, text: &str) -> Result<bool, TestCaseError> {
+    let scene_text = r#"{"import": "level.gltf", "medium": {"kind": "homogeneous", "sigma_a": [0.01, 0.01, 0.01], "sigma_s": [0.05, 0.05, 0.05]}}"#;
+    let standalone = dir.join("level.gltf");
+    std::fs::write(&standalone, text).unwrap();
+    let what = || format!("glTF:\n{text}");
+    let imported = catch_unwind(AssertUnwindSafe(|| parse_scene(scene_text, FILE, "fuzz", dir)));
+    let ok = check_gltf(imported, FILE, &what)?;
+    let alone = catch_unwind(AssertUnwindSafe(|| scenes::load_scene(&standalone)));
+    check_gltf(alone, &standalone.display().to_string(), &what)?;
+    Ok(ok)
+}
+
 /// glTF input: the sample level's JSON (`scenes::gltf::sample`, buffer embedded) with fields
-/// replaced, removed or added, loaded both through a scene file's `import` and as a scene by
-/// itself. Same number of cases as the JSON and OBJ properties.
+/// replaced, removed or added (`check_gltf_text`), after the glTF corpus. Same number of cases
+/// as the JSON and OBJ properties.
 #[test]
 fn mutated_gltf_levels_never_panic_and_refusals_name_the_file() {
     let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-gltf-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let level = scenes::gltf::sample::level();
-    let scene_text = r#"{"import": "level.gltf", "medium": {"kind": "homogeneous", "sigma_a": [0.01, 0.01, 0.01], "sigma_s": [0.05, 0.05, 0.05]}}"#;
-    let standalone = dir.join("level.gltf");
-    let standalone_name = standalone.display().to_string();
     panics_since_last_call();
+    let replayed = replay("gltf", |b| check_gltf_text(&dir, &String::from_utf8_lossy(b)).map(drop));
+    // The corpus holds gltf-json's unchecked POSITION index (a panic before 54af581).
+    assert!(replayed >= 1, "the glTF corpus replayed {replayed} files");
     let accepted = std::cell::Cell::new(0u32);
-    runner()
+    runner("gltf")
         .run(&prop::collection::vec(mutation(), 1..4), |ms| {
             let mut v = level.clone();
             for m in &ms {
                 mutate(&mut v, m);
             }
             let text = v.to_string();
-            std::fs::write(&standalone, &text).unwrap();
-            let what = || format!("glTF:\n{text}");
-            let imported = catch_unwind(AssertUnwindSafe(|| {
-                parse_scene(scene_text, FILE, "fuzz", &dir)
-            }));
-            let ok = check_gltf(imported, FILE, &what)?;
-            let alone = catch_unwind(AssertUnwindSafe(|| scenes::load_scene(&standalone)));
-            check_gltf(alone, &standalone_name, &what)?;
+            let ok = check_gltf_text(&dir, &text)
+                .map_err(|e| keep_failure("gltf", "gltf", text.as_bytes(), e))?;
             accepted.set(accepted.get() + ok as u32);
             Ok(())
         })
@@ -603,50 +693,62 @@ fn byte_edit() -> impl Strategy<Value = ByteEdit> {
     ]
 }
 
+/// `glb` with the edits applied in order.
+fn edited(glb: &[u8], edits: &[ByteEdit]) -> Vec<u8> {
+    let mut b = glb.to_vec();
+    for e in edits {
+        match e {
+            ByteEdit::Set(i, x) => {
+                let n = b.len().max(1);
+                if let Some(t) = b.get_mut(i % n) {
+                    *t = *x;
+                }
+            }
+            ByteEdit::Truncate(i) => b.truncate(i % (b.len() + 1)),
+            ByteEdit::Insert(i, x) => {
+                let at = i % (b.len() + 1);
+                b.splice(at..at, x.iter().copied());
+            }
+        }
+    }
+    b
+}
+
+/// One .glb file's bytes, written as `level.glb` in `dir` and loaded as a scene by itself
+/// (`check_gltf`). Ok(true) if accepted.
+fn check_glb(dir: &Path, bytes: &[u8]) -> Result<bool, TestCaseError> {
+    let path = dir.join("level.glb");
+    std::fs::write(&path, bytes).unwrap();
+    let what = || format!("GLB bytes {:?}", &bytes[..bytes.len().min(64)]);
+    let res = catch_unwind(AssertUnwindSafe(|| scenes::load_scene(&path)));
+    check_gltf(res, &path.display().to_string(), &what)
+}
+
 /// .glb input: the sample level as GLB with bytes changed, cut or inserted (header, chunk
 /// lengths, JSON and binary chunk alike), or arbitrary bytes after the magic; loaded as a
-/// scene by itself. Same number of cases as the JSON and OBJ properties.
+/// scene by itself, after the GLB corpus. Same number of cases as the JSON and OBJ properties.
 #[test]
 fn mutated_and_arbitrary_glb_bytes_never_panic_and_refusals_name_the_file() {
     let dir = std::env::temp_dir().join(format!("scatterbench-fuzz-glb-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let glb = scenes::gltf::sample::to_glb(&scenes::gltf::sample::level()).unwrap();
-    let path = dir.join("level.glb");
-    let name = path.display().to_string();
     panics_since_last_call();
+    replay("glb", |b| check_glb(&dir, b).map(drop));
     let accepted = std::cell::Cell::new(0u32);
     let strategy = (
         any::<bool>(),
         prop::collection::vec(byte_edit(), 1..6),
         prop::collection::vec(any::<u8>(), 0..256),
     );
-    runner()
+    runner("glb")
         .run(&strategy, |(arbitrary, edits, noise)| {
             let bytes = if arbitrary {
                 [b"glTF".as_slice(), &noise].concat()
             } else {
-                let mut b = glb.clone();
-                for e in &edits {
-                    match e {
-                        ByteEdit::Set(i, x) => {
-                            let n = b.len().max(1);
-                            if let Some(t) = b.get_mut(i % n) {
-                                *t = *x;
-                            }
-                        }
-                        ByteEdit::Truncate(i) => b.truncate(i % (b.len() + 1)),
-                        ByteEdit::Insert(i, x) => {
-                            let at = i % (b.len() + 1);
-                            b.splice(at..at, x.iter().copied());
-                        }
-                    }
-                }
-                b
+                edited(&glb, &edits)
             };
-            std::fs::write(&path, &bytes).unwrap();
-            let what = || format!("GLB bytes {:?}", &bytes[..bytes.len().min(64)]);
-            let res = catch_unwind(AssertUnwindSafe(|| scenes::load_scene(&path)));
-            accepted.set(accepted.get() + check_gltf(res, &name, &what)? as u32);
+            let ok = check_glb(&dir, &bytes).map_err(|e| keep_failure("glb", "glb", &bytes, e))?;
+            accepted.set(accepted.get() + ok as u32);
             Ok(())
         })
         .unwrap();
