@@ -4,7 +4,7 @@
 use harness::results::{Record, Status};
 use harness::runner::Event;
 
-use crate::Registry;
+use crate::registry::Registry;
 
 /// Prints runner events as they come and counts records by status.
 pub struct Progress<'r> {

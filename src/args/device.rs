@@ -6,7 +6,7 @@ use clap::Args;
 use harness::Gpu;
 use harness::gpu::{DeviceChoice, adapters};
 
-use crate::args::refuse;
+use super::usage::refuse;
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct DeviceArgs {

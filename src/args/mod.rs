@@ -4,6 +4,12 @@
 //! need the registry or a scene file run before any work and fail with [`Usage`], which
 //! `main_with` turns into exit 2 as well.
 
+pub mod device;
+pub mod isolate;
+mod usage;
+
+pub use usage::{Usage, refuse};
+
 use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
 use std::path::PathBuf;
@@ -11,24 +17,7 @@ use std::path::PathBuf;
 use clap::Args;
 use harness::method::{Method, Params, find, parse_knob, resolve_params};
 
-use crate::Registry;
-
-/// A refused argument: exit 2, like clap's own usage errors.
-#[derive(Debug)]
-pub struct Usage(pub String);
-
-impl std::fmt::Display for Usage {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Usage {}
-
-/// `Err(Usage)` as an `anyhow::Error`.
-pub fn refuse<T>(message: impl Into<String>) -> anyhow::Result<T> {
-    Err(Usage(message.into()).into())
-}
+use crate::registry::Registry;
 
 /// Each side of a resolution, px.
 pub const SIDE: RangeInclusive<u32> = 1..=16384;

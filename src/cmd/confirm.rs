@@ -13,7 +13,7 @@ use harness::results::Record;
 use harness::runner::{RunConfig, WorkItem};
 use report::analysis::FLOOR_METHOD;
 
-use crate::Registry;
+use crate::registry::Registry;
 use crate::args::{self, Frames, Output, Resume, refuse};
 use crate::progress::Progress;
 
@@ -35,7 +35,7 @@ pub struct ConfirmArgs {
     #[command(flatten)]
     pub output: Output,
     #[command(flatten)]
-    pub isolate: super::worker::IsolateArgs,
+    pub isolate: crate::args::isolate::IsolateArgs,
 }
 
 pub fn run(a: ConfirmArgs, registry: Registry) -> Result<()> {

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use anyhow::{Result, anyhow};
 use clap::Args;
 
-use crate::Registry;
+use crate::registry::Registry;
 
 #[derive(Args)]
 pub struct ListArgs {

@@ -4,7 +4,6 @@
 pub mod adapters;
 pub mod compare;
 pub mod confirm;
-pub mod device;
 pub mod export;
 pub mod frontier;
 pub mod list;

@@ -7,7 +7,7 @@ use experiments::papers::PAPERS;
 use experiments::reproduce::{self, Options};
 use harness::record::RecordSettings;
 
-use crate::Registry;
+use crate::registry::Registry;
 use crate::args::{Frames, Output, Size};
 use crate::progress::Progress;
 
@@ -26,7 +26,7 @@ pub struct ReproduceArgs {
     #[command(flatten)]
     pub paired_floor: crate::args::PairedFloor,
     #[command(flatten)]
-    pub isolate: super::worker::IsolateArgs,
+    pub isolate: crate::args::isolate::IsolateArgs,
 }
 
 fn paper_names() -> clap::builder::PossibleValuesParser {

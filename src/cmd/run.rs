@@ -9,7 +9,7 @@ use harness::record::RecordSettings;
 use harness::runner::RunConfig;
 use harness::shard::Shard;
 
-use crate::Registry;
+use crate::registry::Registry;
 use crate::args::{self, Frames, MethodList, Output, Resume, Size};
 use crate::progress::Progress;
 
@@ -52,7 +52,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "I/N", value_parser = Shard::parse)]
     pub shard: Option<Shard>,
     #[command(flatten)]
-    pub isolate: super::worker::IsolateArgs,
+    pub isolate: crate::args::isolate::IsolateArgs,
 }
 
 pub fn run(a: RunArgs, registry: Registry) -> Result<()> {

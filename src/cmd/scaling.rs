@@ -7,7 +7,7 @@ use clap::Args;
 use experiments::scaling::{self, Options};
 use harness::record::RecordSettings;
 
-use crate::Registry;
+use crate::registry::Registry;
 use crate::args::{self, Frames, MethodList, Output, Res, refuse};
 use crate::progress::Progress;
 
@@ -50,7 +50,7 @@ pub struct ScalingArgs {
     #[command(flatten)]
     pub output: Output,
     #[command(flatten)]
-    pub isolate: super::worker::IsolateArgs,
+    pub isolate: crate::args::isolate::IsolateArgs,
 }
 
 /// Parsed `--triangles` (an alias: clap would take a field spelled `Vec<…>` as a repeated

@@ -7,7 +7,7 @@ use clap::Args;
 use harness::record::RecordSettings;
 use harness::stress::{self, StressConfig};
 
-use crate::Registry;
+use crate::registry::Registry;
 use crate::args::{self, MethodList, Output, Resume, Size, refuse};
 use crate::progress::Progress;
 
@@ -31,7 +31,7 @@ pub struct StressArgs {
     #[command(flatten)]
     pub output: Output,
     #[command(flatten)]
-    pub isolate: super::worker::IsolateArgs,
+    pub isolate: crate::args::isolate::IsolateArgs,
 }
 
 fn pick_cases(spec: &str) -> Result<Vec<&'static stress::Case>> {

@@ -28,7 +28,7 @@ use harness::tune::{TUNE_FILE, TuneResults, verdict};
 use report::analysis::FLOOR_METHOD;
 
 use self::ctx::Ctx;
-use crate::Registry;
+use crate::registry::Registry;
 use crate::args::{self, MethodList, Output, Size};
 
 /// The share of a scene's time spent screening; the rest times the candidates and writes the
@@ -61,7 +61,7 @@ pub struct TuneArgs {
     #[command(flatten)]
     pub output: Output,
     #[command(flatten)]
-    pub device: super::device::DeviceArgs,
+    pub device: crate::args::device::DeviceArgs,
 }
 
 /// Error budgets, ascending.
