@@ -37,6 +37,15 @@ impl RunConfig {
 
 /// Events the caller may show (progress bars, log lines).
 pub enum Event<'a> {
+    /// A work list is built: this many records follow, resumed ones included. A command that
+    /// runs several work lists (`scaling`) sends one per list.
+    Planned(usize),
+    /// A record is about to be measured (or skipped by its support); not sent for resumed ones.
+    Starting {
+        scene: &'a str,
+        method: &'a str,
+        params: &'a Params,
+    },
     Reference {
         scene: &'a str,
         cached: bool,

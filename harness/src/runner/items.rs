@@ -62,6 +62,7 @@ pub fn run_items(
     let mut dispatch = Dispatch::new(gpu, &cfg.record, &cfg.isolation, floor);
     // The reference of the scene being worked on (the list is grouped by scene).
     let mut reference: Option<(usize, ReferenceImages, ToneMap)> = None;
+    on_event(Event::Planned(work.len()));
     for item in work {
         let (scene, entry, params) = (&scenes[item.scene], item.entry, &item.params);
         let key = record_key(&scene.name, entry.id(), params);
@@ -69,6 +70,11 @@ pub fn run_items(
             on_event(Event::Resumed(&key));
             continue;
         }
+        on_event(Event::Starting {
+            scene: &scene.name,
+            method: entry.id(),
+            params,
+        });
         let support = entry.support(&scene.features(), gpu.features());
         let record = match support {
             Support::No(why) => {

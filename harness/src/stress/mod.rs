@@ -147,6 +147,7 @@ pub fn run(
     } else {
         cfg.cases.clone()
     };
+    on_event(Event::Planned(cases.len() * methods.len()));
     for case in cases {
         let scene = std::panic::catch_unwind(|| case.scene(&ctx))
             .unwrap_or_else(|p| Err(format!("panicked: {}", panic_message(p))));
@@ -160,6 +161,11 @@ pub fn run(
                 on_event(Event::Resumed(&key));
                 continue;
             }
+            on_event(Event::Starting {
+                scene: case.name,
+                method: entry.id(),
+                params: &params,
+            });
             let outcome = match &scene {
                 Err(e) => Err(format!("the case could not be built: {e}")),
                 Ok(scene) => {
