@@ -232,7 +232,7 @@ fn an_invalid_scene_file_exits_2_in_validate_and_in_run() {
     let b = bad.to_str().unwrap();
     refused(
         &["validate", b],
-        &["bad.json", "1 of 1 scene files have problems"],
+        &["bad.json", "1 of 1 scenes have problems"],
     );
     let out = dir.join("out");
     refused(
@@ -241,6 +241,20 @@ fn an_invalid_scene_file_exits_2_in_validate_and_in_run() {
     );
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `validate` takes a library name or variant like every command that takes a scene
+/// (scenes/README.md): it loads the scene and reports its content; an unknown name that is no
+/// file is refused with the valid names.
+#[test]
+fn validate_takes_library_names_and_refuses_unknown_ones() {
+    let (code, out, err) = common::scatterbench(&["validate", "atrium", "sphere-point-sub1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("atrium: ok") && out.contains("sphere-point-sub1: ok"), "{out}");
+    refused(
+        &["validate", "no-such-scene"],
+        &["no-such-scene", "sphere-point", "1 of 1 scenes have problems"],
+    );
 }
 
 /// `run --scenes` takes a `-sub<L>` variant like `reproduce` does: the record carries the
@@ -302,4 +316,78 @@ fn every_command_accepts_scene_variants() {
     for d in [out, cache, ref_out] {
         let _ = std::fs::remove_dir_all(d);
     }
+}
+
+/// `docs/ARCHITECTURE.md` §8, the command line's contract: from its heading to §9's.
+fn section_8() -> String {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/ARCHITECTURE.md");
+    let doc = std::fs::read_to_string(path).expect("docs/ARCHITECTURE.md is readable");
+    let start = doc.find("\n## 8.").expect("ARCHITECTURE has a §8");
+    let end = doc[start..].find("\n## 9.").map_or(doc.len(), |e| start + e);
+    doc[start..end].to_string()
+}
+
+/// The long flags (`--name`) an option line of `--help` declares.
+fn flags_in_help(help: &str) -> Vec<String> {
+    help.lines()
+        .map(str::trim_start)
+        .filter(|l| l.starts_with('-'))
+        .flat_map(|l| {
+            let decl = l.split("  ").next().unwrap_or(l);
+            decl.split([' ', ',', '='])
+                .filter(|w| w.starts_with("--") && w.len() > 2)
+                .map(|w| w.trim_end_matches(|c: char| !c.is_ascii_alphanumeric()).to_string())
+                .collect::<Vec<_>>()
+        })
+        .filter(|f| f != "--help" && f != "--version")
+        .collect()
+}
+
+/// Whether `flag` occurs in `text` as a whole word (`--res` is not found in `--resume`).
+fn mentions(text: &str, flag: &str) -> bool {
+    text.match_indices(flag).any(|(i, _)| {
+        !text[i + flag.len()..]
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+    })
+}
+
+/// Every command `--help` lists and every flag each one's `--help` prints is in ARCHITECTURE
+/// §8: a flag added to the code and not to the contract fails here.
+#[test]
+fn every_commands_flags_are_in_architecture_section_8() {
+    let (code, top, _) = common::scatterbench(&["--help"]);
+    assert_eq!(code, 0);
+    let commands: Vec<&str> = top
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert!(commands.len() >= 10, "commands parsed from --help: {commands:?}");
+    let contract = section_8();
+    let mut missing = Vec::new();
+    let mut seen = 0;
+    for command in &commands {
+        if !mentions(&contract, &format!("scatterbench {command}"))
+            && !mentions(&contract, &format!("`{command}`"))
+        {
+            missing.push(format!("the command {command}"));
+        }
+        let (code, help, err) = common::scatterbench(&[command, "--help"]);
+        assert_eq!(code, 0, "{command} --help: {err}");
+        let flags = flags_in_help(&help);
+        seen += flags.len();
+        for flag in flags {
+            if !mentions(&contract, &flag) {
+                missing.push(format!("{command} {flag}"));
+            }
+        }
+    }
+    // The parser must find flags at all (`run` alone has more than twenty).
+    assert!(seen > 50, "only {seen} flags parsed from the commands' --help");
+    assert!(missing.is_empty(), "missing from ARCHITECTURE §8: {missing:?}");
 }
