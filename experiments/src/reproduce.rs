@@ -499,8 +499,11 @@ fn breakdown_text(registry: Registry, e: &Experiment, results: &Results) -> Stri
 
 /// Each scene × method: the cheapest configuration of this run under each error budget.
 fn equal_error_text(registry: Registry, results: &Results) -> String {
-    let mut t = String::from(
-        "## Equal error: cheapest configuration per method under each in-scatter rel RMSE budget\n\n",
+    let mut t = format!(
+        "## Equal error: cheapest configuration per method under each in-scatter headline budget\n\n\
+         Ranked by the in-scatter headline (`{}`, the verdict metric, ARCHITECTURE §4.4); the \
+         % in each cell is that headline. The profile tables above show the in-scatter rel RMSE.\n\n",
+        harness::verdict::HEADLINE_NAME
     );
     let mut scenes: Vec<&str> = results.records.iter().map(|r| r.scene.as_str()).collect();
     scenes.dedup();
