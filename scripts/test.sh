@@ -39,4 +39,8 @@ fi
 export NODEVICE_SELECT=1
 # Clippy first (it fails fast), so that the test runner's summary closes the output.
 cargo clippy --release --workspace --all-targets -- -D warnings
+# The binary `scripts/bench.sh` runs, built as it builds it (the tests' feature set differs), so
+# that the benchmark after the tests compiles nothing; quiet, so that the tests' summary closes
+# the output.
 cargo test --release --workspace --all-targets "$@"
+cargo build --release --bin scatterbench --quiet
