@@ -1,11 +1,12 @@
-//! The crossing lists' per-pixel sort (`common/wgsl/crossing_lists.wgsl`, `crossing_sorted`) on
+//! The crossing lists' per-pixel sort (`common/shadow_volumes/crossing_lists.wgsl`,
+//! `crossing_sorted`) on
 //! the GPU against a stable sort by |distance| on the CPU: lists of every length class — empty,
 //! one, short, the private merge sort's cap and past it (the pool's insertion-sort fallback),
 //! and nearly sorted lists under the cap (insertion sort too) — with ties of |distance| and both
 //! signs, so every path must order exactly as the walk expects.
 
 use harness::testing::gpu_or_skip;
-use methods::common::crossing_lists::WGSL as CROSSING_LISTS;
+use methods::common::shadow_volumes::crossing_lists::WGSL as CROSSING_LISTS;
 use methods::common::wgsl::compose;
 
 /// One invocation per list: list i is "pixel" (i, 0) of a width × 1 image.

@@ -1,4 +1,5 @@
-//! GPU test of `common::stencil_surfaces` (the §4.3 surface shadows both Biri methods share)
+//! GPU test of `common::shadow_volumes::stencil_surfaces` (the §4.3 surface shadows both Biri
+//! methods share)
 //! against the reference, on the scene that showed its seam defect: `window-sun`, where the floor
 //! runs on under the walls and the sill's lit top meets its unlit inner face. The removal pass
 //! once took a light away from every fragment within a depth bias of the visible surface, so at

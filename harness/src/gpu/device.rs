@@ -77,7 +77,7 @@ impl Gpu {
             // instead of clipped, so z-pass counts from the eye stay exact (Everitt & Kilgard).
             | wgpu::Features::DEPTH_CLIP_CONTROL
             // Per-pixel crossing lists count and store only the plane fragments in front of the
-            // visible surface (methods' common::crossing_lists::passes_wgsl).
+            // visible surface (methods' common::shadow_volumes::crossing_lists::passes_wgsl).
             | wgpu::Features::SHADER_EARLY_DEPTH_TEST;
         let features = adapter.features() & optional;
         let supported = adapter.limits();

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use crate::common::silhouette::LightPos;
+use crate::common::shadow_volumes::silhouette::LightPos;
 
 /// Distance from `c` to the infinite planar sector {apex + s·e1 + u·e2 : s, u ≥ 0}.
 pub fn sector_distance(c: Vec3, apex: Vec3, e1: Vec3, e2: Vec3) -> f32 {

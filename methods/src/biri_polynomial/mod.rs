@@ -17,11 +17,13 @@
 //! Faithful: Γ by the Taylor polynomial of the annex (any order; `fit: taylor`), evaluated per
 //! VERTEX with Gouraud interpolation on subdivided surfaces (`eval: vertex`, `tessellation`) and on
 //! shadow planes meshed into strips at (i/n)² of their length, finer near the light
-//! (`plane_segments`); silhouettes (cached per light, `common::shadow_planes`), the eq. 13/14 sort
+//! (`plane_segments`); silhouettes (cached per light, `common::shadow_volumes::shadow_planes`),
+//! the eq. 13/14 sort
 //! keys (`geometry.rs`), the stencil rules, and the paper's 8-bit frame buffer with additive and
 //! reverse-subtractive blending and its §5.2 clamping problem (`accumulate: unorm8`) — all of it
 //! under `resolve: planes`. Modernised: `resolve: per-pixel` (the default; `pixel.rs`): each
-//! pixel's crossings go into a crossing list (`common::crossing_lists`, cannot overflow), sorted
+//! pixel's crossings go into a crossing list (`common::shadow_volumes::crossing_lists`, cannot
+//! overflow), sorted
 //! and walked from the eye's count, adding Γ(b) − Γ(a) over the lit intervals only — the paper's
 //! whole-plane order has no answer where shadow wedges cross, and §4.4's rules then drop crossings
 //! (the fence-spot band, README); this resolve is per fragment, so `eval: vertex` and
@@ -80,7 +82,7 @@ use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::ResolvePass;
 use crate::common::shadow_maps::ShadowSettings;
-use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::shadow_volumes::stencil_surfaces::StencilSurfaceShadows;
 
 pub mod geometry;
 #[cfg(test)]
@@ -340,7 +342,7 @@ impl State {
             StencilSurfaceShadows::new(
                 ctx.gpu,
                 &renderer,
-                crate::common::stencil::DEPTH_STENCIL,
+                crate::common::shadow_volumes::stencil::DEPTH_STENCIL,
                 ctx.scene.features().lights,
             )
         });

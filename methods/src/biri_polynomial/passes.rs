@@ -20,8 +20,8 @@ use super::types::{Accumulate, Config, Eval, PolyUniform, Resolve, SLOT};
 use crate::common::gpu_scene::{GpuScene, write_vertices};
 use crate::common::layouts::{dynamic_uniform, float_texture, float_texture_array, storage_buffer};
 use crate::common::renderer::SceneRenderer;
-use crate::common::shadow_planes::{Order, ShadowCasters};
-use crate::common::stencil::{DEPTH_STENCIL, PlaneVertex};
+use crate::common::shadow_volumes::shadow_planes::{Order, ShadowCasters};
+use crate::common::shadow_volumes::stencil::{DEPTH_STENCIL, PlaneVertex};
 use crate::common::wgsl;
 
 mod encode;
@@ -107,7 +107,7 @@ impl Passes {
             bytemuck::cast_slice(&spots.data),
             wgpu::BufferUsages::STORAGE,
         );
-        let early_depth_test = crate::common::crossing_lists::early_depth_test(&gpu.device);
+        let early_depth_test = crate::common::shadow_volumes::crossing_lists::early_depth_test(&gpu.device);
         let module = wgsl::module(
             &gpu.device,
             "biri-poly passes",
@@ -197,7 +197,7 @@ impl Passes {
         };
         let mut verts: Vec<PlaneVertex> = Vec::new();
         for (light, state) in planes.iter().zip(&frame.lights) {
-            let lpos = crate::common::shadow_planes::light_pos(state);
+            let lpos = crate::common::shadow_volumes::shadow_planes::light_pos(state);
             let mut keyed: Vec<(f32, &[Vec3; 6])> = light
                 .quads
                 .iter()

@@ -7,7 +7,7 @@ use wgpu::{CompareFunction as C, StencilOperation as S};
 use super::types::{Accumulate, Config, Eval};
 use crate::common::gpu_scene::Vertex;
 use crate::common::pipeline::{ADDITIVE, REVERSE_SUBTRACT, Stage, both};
-use crate::common::stencil::{self, PipelineBuilder};
+use crate::common::shadow_volumes::stencil::{self, PipelineBuilder};
 
 pub(super) struct Pipelines {
     pub depth: wgpu::RenderPipeline,

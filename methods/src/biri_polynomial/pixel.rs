@@ -1,5 +1,6 @@
 //! `resolve: per-pixel` (modernised): per light, the shadow planes go into the pixels' crossing
-//! lists (`common::crossing_lists`: counted, then gathered, so they cannot overflow), and a
+//! lists (`common::shadow_volumes::crossing_lists`: counted, then gathered, so they cannot
+//! overflow), and a
 //! per-pixel pass sorts each list and adds eq. 12's Γ terms over the lit intervals only
 //! (`pixel.wgsl`). It replaces the paper's eq. 13/14 front-to-back order of whole planes and
 //! §4.4's stencil rules, which drop crossings where shadow wedges cross (the fence-spot band,
@@ -12,10 +13,10 @@
 
 use harness::Gpu;
 
-use crate::common::crossing_lists::CrossingLists;
+use crate::common::shadow_volumes::crossing_lists::CrossingLists;
 use crate::common::layouts::{buffer_entry, rgba32f_storage_write, storage_buffer, view_entry};
 use crate::common::pipeline::{self, ComputeStage, Stage};
-use crate::common::stencil::{self, PipelineBuilder};
+use crate::common::shadow_volumes::stencil::{self, PipelineBuilder};
 
 use super::types::Walk;
 

@@ -2,7 +2,8 @@
 //! rays, crossing lists) and the resolve. A leaf, so the passes and the method description can
 //! both use it.
 
-use crate::common::{crossing_lists, resolve, wgsl};
+use crate::common::shadow_volumes::crossing_lists;
+use crate::common::{resolve, wgsl};
 
 /// The WGSL kernel library (Λ, Taylor and Chebyshev segment integrals); the including module
 /// supplies `biri_phase(cos) -> f32`.
@@ -17,7 +18,7 @@ pub fn passes_source(early_depth_test: bool) -> String {
         &format!(
             "{}\n{}\n{}\n{}\n{}\n{}\n{}\n{}",
             KERNEL_WGSL,
-            crate::common::stencil::PLANE_WGSL,
+            crate::common::shadow_volumes::stencil::PLANE_WGSL,
             include_str!("passes.wgsl"),
             include_str!("spot.wgsl"),
             include_str!("spot_rays.wgsl"),

@@ -18,15 +18,18 @@
 //! shader, per-channel σ_t. Surface lighting (step 2) is the shared surface pass shaded without
 //! shadows, then, per light, the stencil count of its shadow volumes (seeded with the eye's count,
 //! so correct with the camera in a shadow) removes the light where the count is not zero
-//! (`common::stencil_surfaces`; knob `surface_shadows = shadow-map` uses shadow maps instead). Shadow planes
-//! (`planes.rs`): silhouettes from `common::silhouette` (recomputed only when a light or caster
+//! (`common::shadow_volumes::stencil_surfaces`; knob `surface_shadows = shadow-map` uses shadow
+//! maps instead). Shadow planes
+//! (`planes.rs`): silhouettes from `common::shadow_volumes::silhouette` (recomputed only when a
+//! light or caster
 //! moved), one per closed piece of a caster (knob `silhouettes`, default `per-piece`: a union of
 //! touching closed solids such as the fence casts one volume per solid; `whole-mesh` keeps the
 //! former rule); open or non-manifold pieces fall back to per-triangle planes, counted in
 //! `nonmanifold_casters` and recorded as a skipped "silhouette of <name>"), extruded past the far
 //! plane. Two resolves (knob `resolve`):
 //! - `per-pixel` (default, modern): per light, every plane fragment in front of the visible
-//!   surface goes into its pixel's crossing list (signed distance; `common::crossing_lists`: a
+//!   surface goes into its pixel's crossing list (signed distance;
+//! `common::shadow_volumes::crossing_lists`: a
 //!   counting pass and a prefix sum size one pool exactly, so lists cannot overflow), and a
 //!   compute pass sorts each list and sums L_dss over the lit intervals only, walking from the
 //!   eye's count (`pixel.rs`). Exact shadow in shadow and eye in shadow, no CPU sort.
@@ -88,9 +91,9 @@ use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
-use crate::common::shadow_planes::Split;
-use crate::common::stencil::DEPTH_STENCIL;
-use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::shadow_volumes::shadow_planes::Split;
+use crate::common::shadow_volumes::stencil::DEPTH_STENCIL;
+use crate::common::shadow_volumes::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::LightMask;
 use crate::common::wgsl;
 use types::{Options, Resolve};

@@ -1,6 +1,7 @@
 //! `resolve: per-pixel` (a modern replacement of steps 4–5): per light, the shadow planes in
 //! front of the visible surface are drawn into the pixels' crossing lists (distance along the
-//! view ray, signed by facing; `common::crossing_lists`, sized by a counting pass so they cannot
+//! view ray, signed by facing; `common::shadow_volumes::crossing_lists`, sized by a counting pass
+//! so they cannot
 //! overflow), and a compute pass sorts every list and sums L_dss over the lit intervals only
 //! (`pixel.wgsl`). Exact shadow in shadow, whatever the planes' order.
 //!
@@ -10,14 +11,14 @@
 use harness::gpu::{PhaseTimer, depth_stencil_attachment, phases};
 use harness::{FrameReport, Gpu};
 
-use crate::common::crossing_lists::{CrossingLists, GROUP};
+use crate::common::shadow_volumes::crossing_lists::{CrossingLists, GROUP};
 use crate::common::layouts::{
     buffer_entry, dynamic_uniform, float_texture, rgba32f_storage_write, slot_entry,
     storage_buffer, view_entry,
 };
 use crate::common::pipeline::{ComputeStage, Stage};
 use crate::common::renderer::SceneRenderer;
-use crate::common::stencil::{DEPTH_STENCIL, PLANE_LAYOUT};
+use crate::common::shadow_volumes::stencil::{DEPTH_STENCIL, PLANE_LAYOUT};
 
 use super::types::{LightRange, SLOT_BYTES, VOLUMES, WALK, slot_offset};
 
@@ -81,7 +82,7 @@ impl PixelPass {
             Stage::new(label, "vs_plane")
                 .vertices(PLANE_LAYOUT)
                 .front_face(wgpu::FrontFace::Cw)
-                .unclipped_depth(crate::common::stencil::near_plane_safe(&gpu.device))
+                .unclipped_depth(crate::common::shadow_volumes::stencil::near_plane_safe(&gpu.device))
                 .fragment(entry, &[])
                 .depth(wgpu::DepthStencilState {
                     format: DEPTH_STENCIL,

@@ -1,5 +1,6 @@
 // `resolve: per-pixel`: exact shadow in shadow without a CPU sort, on the shared crossing lists
-// (common/wgsl/crossing_lists.wgsl, crossing_passes.wgsl; group 2). For one light (cfg.light.x)
+// (common/shadow_volumes/crossing_lists.wgsl, crossing_passes.wgsl; group 2). For one light
+// (cfg.light.x)
 // the shadow planes, depth-tested against the scene, are drawn twice: `fs_crossing_count` sizes
 // each pixel's list, `fs_crossing_gather` stores each fragment's crossing (distance along the
 // view ray, signed: + front-facing = entering a volume, − leaving). `cs_walk` sorts each list,

@@ -1,5 +1,6 @@
 //! Shadow planes (steps 1, 4, 5 of Biri et al.): silhouettes per light on the CPU
-//! (`common::shadow_planes`), quads sorted back to front, the scene depth, then either the
+//! (`common::shadow_volumes::shadow_planes`), quads sorted back to front, the scene depth, then
+//! either the
 //! stencil resolve (z-pass count of the volumes at each visible point, lit surfaces' term, the
 //! planes one by one under step 5's rules, in float or the paper's unorm8) or the per-pixel
 //! resolve (`pixel.rs`), into `acc_view`.
@@ -9,13 +10,13 @@ use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu};
 use scenes::FrameState;
 
-use crate::common::crossing_lists;
+use crate::common::shadow_volumes::crossing_lists;
 use crate::common::gpu_scene::write_vertices;
 use crate::common::layouts::{dynamic_uniform, fragment_texture, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
-use crate::common::shadow_planes::{Order, ShadowCasters};
-use crate::common::stencil::{DEPTH_STENCIL, PipelineBuilder, PlaneVertex};
-use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::shadow_volumes::shadow_planes::{Order, ShadowCasters};
+use crate::common::shadow_volumes::stencil::{DEPTH_STENCIL, PipelineBuilder, PlaneVertex};
+use crate::common::shadow_volumes::stencil_surfaces::StencilSurfaceShadows;
 use crate::common::uniforms::LightMask;
 use crate::common::wgsl;
 
@@ -37,7 +38,7 @@ pub fn source(early_depth_test: bool) -> String {
         &format!(
             "{}\n{}\n{}\n{}\n{PLANES_WGSL}\n{SPOT_FIT_WGSL}\n{PIXEL_WGSL}",
             wgsl::LDSS,
-            crate::common::stencil::PLANE_WGSL,
+            crate::common::shadow_volumes::stencil::PLANE_WGSL,
             crossing_lists::WGSL,
             crossing_lists::passes_wgsl(early_depth_test)
         ),
@@ -319,7 +320,8 @@ impl Planes {
     }
 
     /// `resolve = per-pixel`: the lists are sized before the frame goes on — the scene depth and
-    /// the counts in their own submission (`common::crossing_lists`) — then gathered and walked.
+    /// the counts in their own submission (`common::shadow_volumes::crossing_lists`) — then
+    /// gathered and walked.
     fn encode_per_pixel(
         &mut self,
         f: &Frame,

@@ -14,7 +14,8 @@ struct PlaneCfg {
 @group(1) @binding(1) var<uniform> cfg: PlaneCfg;
 @group(1) @binding(2) var ray_distance: texture_2d<f32>;
 
-// Invariant: `common::stencil_surfaces` redraws the scene over this depth with depth test Equal.
+// Invariant: `common::shadow_volumes::stencil_surfaces` redraws the scene over this depth with
+// depth test Equal.
 @vertex
 fn vs_scene(v: VertexIn) -> @builtin(position) @invariant vec4<f32> {
     return camera.clip_from_world * (objects[v.object].world_from_local * vec4<f32>(v.position, 1.0));

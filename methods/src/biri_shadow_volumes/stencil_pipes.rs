@@ -7,7 +7,7 @@ use wgpu::{CompareFunction as C, StencilOperation as S};
 use super::types::Options;
 use crate::common::gpu_scene::Vertex;
 use crate::common::pipeline::{ADD, REVERSE_SUBTRACT, Stage, color_only};
-use crate::common::stencil::{self, PLANE_LAYOUT, PipelineBuilder};
+use crate::common::shadow_volumes::stencil::{self, PLANE_LAYOUT, PipelineBuilder};
 
 /// The plane pipelines of the stencil resolve.
 pub(super) struct StencilPipes {

@@ -2,7 +2,7 @@
 //! stencil pipelines of `stencil_pipes.rs`): the resolve's options, each light's range of
 //! planes, and the per-light uniform slot. A leaf: it imports none of them.
 
-use crate::common::shadow_planes::Split;
+use crate::common::shadow_volumes::shadow_planes::Split;
 
 /// How the plane crossings become in-scatter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -121,7 +121,8 @@ impl SceneRenderer {
     }
 
     /// `shadow_maps = false`: surfaces are shaded unshadowed (for methods whose surface shadows
-    /// come from stencil shadow volumes, `common::stencil_surfaces`) and no shadow map is drawn.
+    /// come from stencil shadow volumes, `common::shadow_volumes::stencil_surfaces`) and no
+    /// shadow map is drawn.
     pub fn with_shadow_maps(
         ctx: &PrepareContext,
         shadow_settings: ShadowSettings,

@@ -78,7 +78,7 @@ impl ResolvePass {
 
     /// One pipeline (not per light) with the pass's own overrides (`constants`, beside the
     /// scene's) and a group 2 the method owns, laid out by `group2` and bound with
-    /// [`ResolvePass::encode_with_group`] (e.g. `common::particle_trace`'s grid).
+    /// [`ResolvePass::encode_with_group`] (e.g. `common::particles::trace`'s grid).
     pub fn with_group(
         gpu: &Gpu,
         renderer: &SceneRenderer,

@@ -68,7 +68,7 @@ use passes::{COUNTERS, EpiUniform, Passes, Sizes};
 
 pub use passes::compute_source;
 
-pub use crate::common::published::PUBLISHED_RESOLVE as RESOLVE_WGSL;
+pub use crate::common::epipolar::published::PUBLISHED_RESOLVE as RESOLVE_WGSL;
 
 /// The method (a description; [`State`] is the prepared instance).
 pub struct EpipolarMinMax;

@@ -27,7 +27,8 @@
 //! sampled); `extinction` builds one light-space extinction grid per light (orthographic along
 //! the sun, a perspective cone or a cube of six from a local light: exact chords per column ray,
 //! prefix-summed per slab) from which `inject` takes the cloud's self-shadowing and `particle-shadow` its shadow on
-//! surfaces (one redraw per light removing that light's blocked share, `common::surface_shadow`);
+//! surfaces (one redraw per light removing that light's blocked share,
+//! `common::particles::surface_shadow`);
 //! `integrate` adds the froxels' τ to the background's σ_t and stores the particles'
 //! transmittance, which attenuates the surfaces and the sky behind the cloud.
 //!

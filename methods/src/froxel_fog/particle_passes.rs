@@ -2,7 +2,8 @@
 //! light grids' optical depths, the particle uniform — 16-byte stubs for homogeneous media), and
 //! for particle scenes the `voxelise` and `extinction` passes, the bins they walk (rebuilt on
 //! the CPU only when the camera or a light changed), the cloud's shadow on surfaces per light
-//! (`common::surface_shadow` with particle_shadow.wgsl) and the pass that attenuates the surface
+//! (`common::particles::surface_shadow` with particle_shadow.wgsl) and the pass that attenuates
+//! the surface
 //! AOV by the cloud toward the eye (particle_surface.wgsl).
 
 use anyhow::Result;
@@ -18,7 +19,7 @@ use crate::common::layouts::{
 };
 use crate::common::pipeline::{self, ComputeStage};
 use crate::common::renderer::SceneRenderer;
-use crate::common::surface_shadow::SurfaceShadow;
+use crate::common::particles::surface_shadow::SurfaceShadow;
 use crate::common::wgsl;
 
 /// Light grids the particle uniform holds (`grids` in extinction.wgsl's `ParticleMedium`): one

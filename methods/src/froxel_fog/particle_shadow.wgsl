@@ -1,4 +1,5 @@
-// Particle media: the cloud's shadow on surfaces, per light (common::surface_shadow). The shared
+// Particle media: the cloud's shadow on surfaces, per light (common::particles::surface_shadow).
+// The shared
 // surface pass summed every light unshadowed by the cloud; this fragment removes light
 // SURFACE_LIGHT's contribution times 1 − e^(−τ), τ the particle optical depth toward that light
 // from its extinction grid, so that after one pass per light each light's term carries its own

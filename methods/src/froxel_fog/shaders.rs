@@ -50,7 +50,7 @@ pub fn particle_surface_source() -> String {
     resolve::source(&wgsl::compose(&shared, PARTICLE_SURFACE_WGSL))
 }
 
-/// The per-light cloud-shadow pass over the surfaces (`common::surface_shadow`).
+/// The per-light cloud-shadow pass over the surfaces (`common::particles::surface_shadow`).
 pub fn particle_shadow_source() -> String {
     let mut shared: Vec<&str> = wgsl::PRELUDE.to_vec();
     shared.extend([EXTINCTION_WGSL, wgsl::SURFACE_PASS]);

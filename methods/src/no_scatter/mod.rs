@@ -24,7 +24,7 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
-use crate::common::particle_surfaces::particle_trace_support;
+use crate::common::particles::surfaces::particle_trace_support;
 use crate::common::renderer::{SceneRenderer, unsupported};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;

@@ -1,17 +1,17 @@
 //! no-scatter in particle media (issue 32): the floor of particle scenes. Attenuation only —
 //! the surface (or the sky) times the eye leg's exact transmittance through the particles
-//! (`common::particle_trace`) and the background medium; the cloud's in-scatter is zero. As in
+//! (`common::particles::trace`) and the background medium; the cloud's in-scatter is zero. As in
 //! homogeneous media, where the surface pass attenuates each light's leg by e^(−σ_t r), the
 //! medium's attenuation of the light reaching surfaces is kept: each light's cloud shadow on
-//! the surfaces is removed with the exact optical depth toward it (`common::particle_surfaces`).
+//! the surfaces is removed with the exact optical depth toward it (`common::particles::surfaces`).
 
 use anyhow::Result;
 use harness::method::PrepareContext;
 use harness::{FrameReport, Gpu, Targets};
 use scenes::FrameState;
 
-use crate::common::particle_surfaces::ParticleSurfaces;
-use crate::common::particle_trace::{self, GpuParticleGrid, ParticleGrid};
+use crate::common::particles::surfaces::ParticleSurfaces;
+use crate::common::particles::trace::{self, GpuParticleGrid, ParticleGrid};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::ResolvePass;
 
@@ -19,7 +19,7 @@ pub const PARTICLES_WGSL: &str = include_str!("particles.wgsl");
 
 /// particles.wgsl after the particle trace and particle_resolve.wgsl (the resolve pass adds PRELUDE and FULLSCREEN).
 pub static PARTICLES_COMPOSED: std::sync::LazyLock<String> =
-    std::sync::LazyLock::new(|| particle_trace::resolve_source(PARTICLES_WGSL));
+    std::sync::LazyLock::new(|| trace::resolve_source(PARTICLES_WGSL));
 
 /// The grid, the surfaces with their cloud shadows and the attenuating resolve.
 pub struct ParticleFloor {

@@ -1,5 +1,5 @@
 // no-scatter in particle media: the surface (its lights' cloud shadows already removed,
-// common::particle_surfaces) or the sky, attenuated on the eye leg by the particles' exact
+// common::particles::surfaces) or the sky, attenuated on the eye leg by the particles' exact
 // optical depth (particle_trace.wgsl) and the background's e^(−σ_t d); no in-scattering. Needs
 // PRELUDE, FULLSCREEN, particle_trace.wgsl and particle_resolve.wgsl.
 

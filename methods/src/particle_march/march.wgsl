@@ -1,7 +1,7 @@
 // particle-march: the camera ray streamed through the particle grid (particle_trace.wgsl), each
 // sphere's piece in each cell integrated per light by Gauss–Legendre quadrature, exact optical
 // depth on every leg; the background medium's in-scatter marched over the whole ray. Writes the
-// in-scatter and the eye-attenuated surface (common::particle_surfaces). Needs PRELUDE,
+// in-scatter and the eye-attenuated surface (common::particles::surfaces). Needs PRELUDE,
 // FULLSCREEN, particle_trace.wgsl and particle_resolve.wgsl.
 
 // Gauss–Legendre nodes per piece and light: 1, 2, 4 or 8 (the `points` knob).

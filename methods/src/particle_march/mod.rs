@@ -3,11 +3,11 @@
 //! by piece by Gauss–Legendre quadrature, exact shadow rays through the same grid toward every
 //! light.
 //!
-//! Algorithm: at prepare, a uniform grid over the spheres (`common::particle_trace`, cells
+//! Algorithm: at prepare, a uniform grid over the spheres (`common::particles::trace`, cells
 //! listing the spheres that overlap them). Per frame: shadow maps (objects' shadows only) and
 //! the surface pass into a target of its own, one pass per light removing that light's
 //! contribution × (1 − e^(−τ)) with τ the exact optical depth toward it
-//! (`common::particle_surfaces`), then one full-screen pass (march.wgsl): the camera ray from
+//! (`common::particles::surfaces`), then one full-screen pass (march.wgsl): the camera ray from
 //! the eye to the visible surface or the far plane is walked cell by cell (3-D DDA); in each
 //! cell every listed sphere's chord clipped to the cell's t-range is a piece of constant σ_s =
 //! a_j τ_j, and its in-scatter a_j τ_j ∫ p(θ) L(x) T_eye(x) dt is integrated per light with
@@ -48,8 +48,8 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::knobs;
-use crate::common::particle_surfaces::{ParticleSurfaces, particle_trace_support};
-use crate::common::particle_trace::{self, GpuParticleGrid, ParticleGrid};
+use crate::common::particles::surfaces::{ParticleSurfaces, particle_trace_support};
+use crate::common::particles::trace::{self, GpuParticleGrid, ParticleGrid};
 use crate::common::renderer::SceneRenderer;
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
@@ -112,7 +112,7 @@ impl State {
 
 /// march.wgsl after the particle trace and particle_resolve.wgsl (the resolve pass adds PRELUDE and FULLSCREEN first).
 static MARCH_WGSL_COMPOSED: std::sync::LazyLock<String> =
-    std::sync::LazyLock::new(|| particle_trace::resolve_source(MARCH_WGSL));
+    std::sync::LazyLock::new(|| trace::resolve_source(MARCH_WGSL));
 
 impl Prepared for State {
     fn render(
@@ -194,12 +194,12 @@ impl Method for ParticleMarch {
             ),
             ShaderCheck::combinations(
                 "particle-march/surface-shadow",
-                &crate::common::particle_surfaces::shadow_source(),
+                &crate::common::particles::surfaces::shadow_source(),
                 &[],
             ),
             ShaderCheck::combinations(
                 "particle-march/total",
-                &crate::common::particle_surfaces::total_source(),
+                &crate::common::particles::surfaces::total_source(),
                 &[],
             ),
         ]

@@ -3,7 +3,8 @@
 //! prefiltered once per frame (a rectified shadow map expanded in a basis and prefix-summed
 //! along its rows), and each pixel reads its ray's mean visibility in a few lookups.
 //!
-//! Algorithm, per light: (1) `slice_rows`: N epipolar slices (common::rectification, as in
+//! Algorithm, per light: (1) `slice_rows`: N epipolar slices (common::epipolar::rectification, as
+//! in
 //! epipolar-minmax) and the range of eye angles α of each slice's camera rays (α: the angle at
 //! the eye between the ray and the direction toward the light). (2) `rectify`: K texels per
 //! slice over its rectified coordinate u ∈ [0, u_max] (the angle about a local light from its
@@ -68,7 +69,7 @@ use scenes::{FrameState, SceneFeatures};
 
 use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
-use crate::common::published::PUBLISHED_RESOLVE;
+use crate::common::epipolar::published::PUBLISHED_RESOLVE;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
 use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;

@@ -10,8 +10,8 @@ use crate::common::layouts::{
     buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
 };
 use crate::common::pipeline::{self, ComputeStage};
-use crate::common::published::{published_texture, scratch_buffer as buffer};
-use crate::common::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
+use crate::common::epipolar::published::{published_texture, scratch_buffer as buffer};
+use crate::common::epipolar::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::wgsl;

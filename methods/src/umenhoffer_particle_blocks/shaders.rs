@@ -28,4 +28,4 @@ pub fn surface_shadow_source() -> String {
 }
 
 /// The total AOV's full-screen pass (in-scatter + surface), shared with the particle tracers.
-pub use crate::common::particle_surfaces::total_source;
+pub use crate::common::particles::surfaces::total_source;

@@ -20,8 +20,8 @@ use crate::common::gpu_scene::write_vertices;
 use crate::common::layered::Layered;
 use crate::common::pipeline::{self, MAX, MIN, Stage, both, target};
 use crate::common::renderer::SceneRenderer;
-use crate::common::shadow_planes::{ShadowCasters, light_pos};
-use crate::common::silhouette::extrude;
+use crate::common::shadow_volumes::shadow_planes::{ShadowCasters, light_pos};
+use crate::common::shadow_volumes::silhouette::extrude;
 use crate::common::wgsl;
 
 /// The nearest and farthest polygon distance targets.

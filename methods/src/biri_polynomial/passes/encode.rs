@@ -9,11 +9,11 @@ use harness::{FrameReport, Gpu};
 use super::{LightDraws, Passes, PixelPass};
 use crate::biri_polynomial::pixel::WalkPass;
 use crate::biri_polynomial::types::{Accumulate, PolyUniform, SLOT};
-use crate::common::crossing_lists::GROUP;
+use crate::common::shadow_volumes::crossing_lists::GROUP;
 use crate::common::gpu_scene::GpuScene;
 use crate::common::layouts::{buffer_entry, slot_entry, view_entry};
 use crate::common::renderer::SceneRenderer;
-use crate::common::stencil_surfaces::StencilSurfaceShadows;
+use crate::common::shadow_volumes::stencil_surfaces::StencilSurfaceShadows;
 
 impl Passes {
     /// Every pass of every light into `acc_view`.
@@ -33,7 +33,7 @@ impl Passes {
             bind: &bind,
         };
         // resolve = per-pixel: the depth and the crossing counts go first, on their own, so the
-        // lists' pool is sized before the gather (`common::crossing_lists`).
+        // lists' pool is sized before the gather (`common::shadow_volumes::crossing_lists`).
         let eye: Vec<u32> = self.draws.iter().map(|d| d.eye_count).collect();
         match self
             .pixel

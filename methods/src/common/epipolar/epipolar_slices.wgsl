@@ -1,6 +1,7 @@
 // Epipolar slices and the rectified shadow-map coordinate (Engelhardt & Dachsbacher 2010; Chen,
 // Baran, Kavan & Durand 2011; slices on the screen border as Yusov 2013 places them), shared by
-// epipolar-minmax and prefiltered-single-scattering (common::rectification). Every camera ray
+// epipolar-minmax and prefiltered-single-scattering (common::epipolar::rectification). Every
+// camera ray
 // lies in one epipolar plane through the eye and the light; N slices from the epipole to evenly
 // spaced points of the screen border stand for N such planes, and in each the light's rays are
 // indexed by the rectified coordinate u: the angle about a local light from its axis toward the

@@ -1,5 +1,6 @@
 // The shadow-plane vertex stage shared by the methods that draw extruded shadow planes (both Biri
-// methods; vertices as `common::stencil::PLANE_LAYOUT`), and the distance at which a fragment's
+// methods; vertices as `common::shadow_volumes::stencil::PLANE_LAYOUT`), and the distance at which
+// a fragment's
 // pixel ray crosses its plane. Needs PRELUDE.
 
 struct PlaneFrag {

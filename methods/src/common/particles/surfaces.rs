@@ -1,5 +1,5 @@
 //! The surfaces of a particle scene for methods that trace the particle grid
-//! (`common::particle_trace`): the shared surface pass drawn into a target of its own, then one
+//! (`common::particles::trace`): the shared surface pass drawn into a target of its own, then one
 //! additive pass per light removing that light's contribution × (1 − e^(−τ)), τ the exact
 //! particle optical depth toward the light (`wgsl/particle_surfaces.wgsl`). A method's resolve
 //! then reads that target, writes the in-scatter and the eye-attenuated surface into the
@@ -11,16 +11,16 @@ use harness::gpu::color_attachment;
 use harness::method::AOV_FORMAT;
 use harness::{FrameReport, Gpu, Targets};
 
-use super::layouts::{fragment_texture, view_entry};
-use super::particle_trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL};
-use super::pipeline::{self, target};
-use super::renderer::{SceneRenderer, renderer_limits};
-use super::resolve::fullscreen_pipeline;
+use crate::common::layouts::{fragment_texture, view_entry};
+use super::trace::{GpuParticleGrid, PARTICLE_TRACE_WGSL};
+use crate::common::pipeline::{self, target};
+use crate::common::renderer::{SceneRenderer, renderer_limits};
+use crate::common::resolve::fullscreen_pipeline;
 use super::surface_shadow::SurfaceShadow;
-use super::wgsl;
+use crate::common::wgsl;
 
-const SURFACES_WGSL: &str = include_str!("wgsl/particle_surfaces.wgsl");
-const TOTAL_WGSL: &str = include_str!("wgsl/aov_total.wgsl");
+const SURFACES_WGSL: &str = include_str!("particle_surfaces.wgsl");
+const TOTAL_WGSL: &str = include_str!("aov_total.wgsl");
 
 pub struct ParticleSurfaces {
     /// The surface pass's output with every light's cloud shadow removed (not yet attenuated by

@@ -35,16 +35,16 @@
 
 use harness::{FrameReport, Gpu};
 
-use super::counters::CounterReadback;
-use super::layouts::{buffer_entry, dynamic_uniform, slot_entry, storage_buffer};
-use super::pipeline::ComputeStage;
+use crate::common::counters::CounterReadback;
+use crate::common::layouts::{buffer_entry, dynamic_uniform, slot_entry, storage_buffer};
+use crate::common::pipeline::ComputeStage;
 
 /// The shared WGSL: bindings, count, append, scan, sort.
-pub const WGSL: &str = include_str!("wgsl/crossing_lists.wgsl");
+pub const WGSL: &str = include_str!("crossing_lists.wgsl");
 /// The count and gather fragment entries and the walk (after PRELUDE and [`WGSL`]); the
 /// including module supplies `crossing_lit(px, a, b) -> vec3<f32>`. Compose it through
 /// [`passes_wgsl`].
-const PASSES_WGSL: &str = include_str!("wgsl/crossing_passes.wgsl");
+const PASSES_WGSL: &str = include_str!("crossing_passes.wgsl");
 /// Where the count and gather entries take the early depth test.
 const EARLY_DEPTH_MARK: &str = "/* early depth test */";
 
@@ -188,14 +188,14 @@ impl CrossingLists {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        let module = super::wgsl::module(&gpu.device, "crossing scan", WGSL);
+        let module = crate::common::wgsl::module(&gpu.device, "crossing scan", WGSL);
         let empty = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("empty"),
                 entries: &[],
             });
-        let pl = super::pipeline::layout(&gpu.device, "crossing scan", &[&empty, &empty, &layout]);
+        let pl = crate::common::pipeline::layout(&gpu.device, "crossing scan", &[&empty, &empty, &layout]);
         let scan = ComputeStage::new("crossing scan", "cs_crossing_scan").build(
             &gpu.device,
             &pl,

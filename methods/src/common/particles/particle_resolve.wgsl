@@ -17,7 +17,7 @@ fn pixel_ray(px: vec2<i32>, frag: vec2<f32>) -> PixelRay {
 }
 
 // The radiance behind the medium's particles: the surface (its lights' cloud shadows removed,
-// common::particle_surfaces) or the sky through the background medium.
+// common::particles::surfaces) or the sky through the background medium.
 fn surface_or_sky(px: vec2<i32>, ray: PixelRay) -> vec3<f32> {
     var behind = grid.sky.rgb * transmittance(medium, ray.d);
     if (ray.hit) {

@@ -1,4 +1,5 @@
-// Per-pixel crossing lists that cannot overflow (`common::crossing_lists`), group 2 of the
+// Per-pixel crossing lists that cannot overflow (`common::shadow_volumes::crossing_lists`), group
+// 2 of the
 // passes that use them. A list holds signed distances along a pixel's view ray: + where the ray
 // enters a shadow volume (front-facing plane), − where it leaves one. Lists live back to back in
 // one pool; list i occupies pool[offset[i] .. offset[i + 1]], sized by a counting pass:

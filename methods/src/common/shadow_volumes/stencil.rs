@@ -1,5 +1,5 @@
 //! Pipeline state of stencil shadow-volume passes, shared by the methods that draw shadow planes
-//! into a depth-stencil buffer (both Biri methods, `common::stencil_surfaces`).
+//! into a depth-stencil buffer (both Biri methods, `common::shadow_volumes::stencil_surfaces`).
 
 use glam::Vec3;
 
@@ -18,7 +18,7 @@ pub const PLANE_LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLa
 /// The WGSL side of [`PLANE_LAYOUT`]: `vs_plane`, its output `PlaneFrag` and `plane_distance`
 /// (where a fragment's pixel ray crosses its plane, exact whatever the rasteriser's sub-pixel
 /// precision). Needs PRELUDE.
-pub const PLANE_WGSL: &str = include_str!("wgsl/shadow_plane.wgsl");
+pub const PLANE_WGSL: &str = include_str!("shadow_plane.wgsl");
 
 /// One shadow-plane vertex as [`PLANE_LAYOUT`] reads it.
 #[repr(C)]
@@ -128,7 +128,8 @@ pub struct PipelineBuilder<'a> {
 
 impl<'a> PipelineBuilder<'a> {
     /// `groups`: the bind group layouts, group 0 first (the renderer's frame group, the
-    /// method's group 1, and for the crossing-list passes `common::crossing_lists`' group 2).
+    /// method's group 1, and for the crossing-list passes
+    /// `common::shadow_volumes::crossing_lists`' group 2).
     pub fn new<const N: usize>(
         device: &'a wgpu::Device,
         label: &str,

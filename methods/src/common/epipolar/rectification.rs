@@ -11,7 +11,7 @@
 //! (rectification: one shadow-map row per slice); Yusov, GPU Pro 5, 2014 (slices on the border).
 
 /// The shared WGSL: `Slice` and the functions above.
-pub const EPIPOLAR_SLICES: &str = include_str!("wgsl/epipolar_slices.wgsl");
+pub const EPIPOLAR_SLICES: &str = include_str!("epipolar_slices.wgsl");
 
 /// Bytes of one WGSL `Slice` (three vec4s) in a storage buffer.
 pub const SLICE_BYTES: u64 = 48;

@@ -5,7 +5,7 @@
 //! each light's term gets its own. The method supplies the fragment `fs_cloud_shadow` (composed
 //! after the shared surface pass, reading `SURFACE_LIGHT`) and its groups from 1 on; used by
 //! umenhoffer-particle-blocks / particle-splat (τ from their light slices), froxel-fog (τ from
-//! its light-space extinction grids) and the particle tracers (`common::particle_surfaces`: τ
+//! its light-space extinction grids) and the particle tracers (`common::particles::surfaces`: τ
 //! exact through the particle grid).
 
 use harness::method::AOV_FORMAT;

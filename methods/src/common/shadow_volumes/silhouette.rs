@@ -353,7 +353,8 @@ mod tests {
 
     /// +1 when the segment p → q crosses the triangle along (b − a) × (c − a), which points
     /// into the volume of an extruded quad (wound counter-clockwise seen from inside, clockwise
-    /// on screen from outside: `common::stencil`'s front face), −1 against it, None when it
+    /// on screen from outside: `common::shadow_volumes::stencil`'s front face), −1 against it,
+    /// None when it
     /// misses.
     fn crossing_sign(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> Option<i32> {
         let n = (b - a).cross(c - a);

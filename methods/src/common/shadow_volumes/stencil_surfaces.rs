@@ -22,9 +22,9 @@ use harness::gpu::PassCounter;
 use harness::gpu::{color_attachment, depth_stencil_attachment};
 use harness::method::AOV_FORMAT;
 
-use super::gpu_scene::Vertex;
-use super::renderer::{SceneRenderer, surface_source};
-use super::wgsl;
+use crate::common::gpu_scene::Vertex;
+use crate::common::renderer::{SceneRenderer, surface_source};
+use crate::common::wgsl;
 use crate::common::pipeline::{self, Stage};
 
 pub struct StencilSurfaceShadows {

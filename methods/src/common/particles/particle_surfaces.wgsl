@@ -1,4 +1,4 @@
-// The cloud's shadow on surfaces, per light (common::particle_surfaces): the scene redrawn over
+// The cloud's shadow on surfaces, per light (common::particles::surfaces): the scene redrawn over
 // the surface pass's depth (additive), removing light SURFACE_LIGHT's contribution times
 // 1 − e^(−τ), τ the particles' exact optical depth toward that light (particle_trace.wgsl). The
 // shared surface pass summed every light unshadowed by the cloud, so after one such pass per

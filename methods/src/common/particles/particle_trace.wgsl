@@ -1,9 +1,9 @@
-// Exact particle optical depth through a uniform grid over the spheres (common::particle_trace,
+// Exact particle optical depth through a uniform grid over the spheres (common::particles::trace,
 // built on the CPU): a 3-D DDA walks the cells a segment crosses, front to back, and each listed
 // sphere's chord is clipped to the current cell's t-range, so every chord is counted exactly
 // once without deduplication (ARCHITECTURE §1: τ = Σ τ_j · chord_j). Group 2. Needs PRELUDE.
 
-// Mirrors common::particle_trace::GridInfo.
+// Mirrors common::particles::trace::GridInfo.
 struct GridInfo {
     // xyz: the grid's low corner (m)
     lo: vec4<f32>,
@@ -15,7 +15,7 @@ struct GridInfo {
     sky: vec4<f32>,
 };
 
-// Mirrors common::particle_trace::GpuSphere.
+// Mirrors common::particles::trace::GpuSphere.
 struct Sphere {
     // xyz: centre (m); w: radius (m)
     center_radius: vec4<f32>,

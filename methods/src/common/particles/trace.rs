@@ -22,7 +22,7 @@ use glam::Vec3;
 use harness::Gpu;
 use scenes::Particles;
 
-use super::layouts::{buffer_entry, storage_buffer, uniform_buffer};
+use crate::common::layouts::{buffer_entry, storage_buffer, uniform_buffer};
 
 /// Target cells per particle (grid resolution from the particle count).
 pub const CELLS_PER_PARTICLE: f32 = 1.0;
@@ -255,11 +255,11 @@ fn grid_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 }
 
 /// The particle trace's WGSL (group 2 bindings, the DDA, `optical_depth`); needs PRELUDE.
-pub const PARTICLE_TRACE_WGSL: &str = include_str!("wgsl/particle_trace.wgsl");
+pub const PARTICLE_TRACE_WGSL: &str = include_str!("particle_trace.wgsl");
 
 /// What the particle resolves share (`pixel_ray`, `surface_or_sky`); composed after
 /// [`PARTICLE_TRACE_WGSL`] in a `common::resolve` pass.
-pub const PARTICLE_RESOLVE_WGSL: &str = include_str!("wgsl/particle_resolve.wgsl");
+pub const PARTICLE_RESOLVE_WGSL: &str = include_str!("particle_resolve.wgsl");
 
 /// A particle resolve's own WGSL after the trace and [`PARTICLE_RESOLVE_WGSL`] (the resolve
 /// pass adds PRELUDE, FULLSCREEN and its I/O first).
