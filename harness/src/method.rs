@@ -37,6 +37,30 @@ pub struct MethodInfo {
     pub source: &'static str,
 }
 
+/// A method's [`MethodInfo`], with its `README.md` and `mod.rs` read from the folder of the
+/// file that invokes it (which must be the method's `mod.rs`):
+/// `method_info!(id, medium, paper, summary)`, or `method_info!(baseline id, …)` for a baseline.
+#[macro_export]
+macro_rules! method_info {
+    (baseline $id:expr, $medium:expr, $paper:expr, $summary:expr $(,)?) => {
+        $crate::method_info!(@info true, $id, $medium, $paper, $summary)
+    };
+    (@info $baseline:expr, $id:expr, $medium:expr, $paper:expr, $summary:expr) => {
+        $crate::MethodInfo {
+            id: $id,
+            paper: $paper,
+            summary: $summary,
+            baseline: $baseline,
+            medium: $medium,
+            readme: include_str!("README.md"),
+            source: include_str!("mod.rs"),
+        }
+    };
+    ($id:expr, $medium:expr, $paper:expr, $summary:expr $(,)?) => {
+        $crate::method_info!(@info false, $id, $medium, $paper, $summary)
+    };
+}
+
 /// The participating media a method renders (`scenes::SceneFeatures::medium` names a scene's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]

@@ -29,7 +29,28 @@ pub enum LightState {
     },
 }
 
+/// A spot light's cone, for the tests of what it can reach: its apex, its direction as given and
+/// the cosine of its outer half-angle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotCone {
+    pub apex: Vec3,
+    pub direction: Vec3,
+    pub cos_outer: f32,
+}
+
 impl LightState {
+    /// The cone of a spot light; None for the other kinds, which reach every direction.
+    pub fn spot_cone(&self) -> Option<SpotCone> {
+        match *self {
+            LightState::Spot { position, direction, cos_outer, .. } => Some(SpotCone {
+                apex: position,
+                direction,
+                cos_outer,
+            }),
+            _ => None,
+        }
+    }
+
     pub fn kind(&self) -> &'static str {
         match self {
             LightState::Point { .. } => "point",

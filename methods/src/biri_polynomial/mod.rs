@@ -186,15 +186,12 @@ fn config(ctx: &PrepareContext) -> Result<Config> {
 
 impl Method for BiriPolynomial {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "biri-polynomial",
-            paper: "Biri, Michelin & Arquès, Real-time single scattering with volumetric shadows (software-assisted precursor of Biri et al. 2006)",
-            summary: "Angular RTE with a polynomial kernel: constant-time Γ per vertex or fragment, shadow planes front to back with stencil counting",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "biri-polynomial",
+            Medium::Homogeneous,
+            "Biri, Michelin & Arquès, Real-time single scattering with volumetric shadows (software-assisted precursor of Biri et al. 2006)",
+            "Angular RTE with a polynomial kernel: constant-time Γ per vertex or fragment, shadow planes front to back with stencil counting",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
@@ -382,8 +379,7 @@ impl Prepared for State {
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
         self.passes.update(gpu, frame, &mut report);
-        self.renderer.encode_shadows(enc, &mut report);
-        self.renderer.encode_surface(enc, targets, &mut report);
+        self.renderer.encode_lit_surfaces(enc, targets, &mut report);
         self.passes.encode(
             gpu,
             enc,

@@ -38,25 +38,19 @@ pub fn build(scene: &Scene, n: u32) -> SpotTables {
     let mut data: Vec<[f32; 4]> = Vec::new();
     let mut slots = Vec::new();
     for light in &frame.lights {
-        let LightState::Spot {
-            position,
-            direction,
-            cos_outer,
-            ..
-        } = light
-        else {
+        let Some(cone) = light.spot_cone() else {
             slots.push(([0; 4], [0.0; 4]));
             continue;
         };
-        let axis = direction.as_dvec3();
+        let axis = cone.direction.as_dvec3();
         let (r, u) = spot_frame(axis);
         let l = unit(light);
-        let p = position.as_dvec3();
+        let p = cone.apex.as_dvec3();
         let f = |w: DVec3| {
             l.intensity_toward(p + r * w.x + u * w.y + axis * w.z)
                 .to_array()
         };
-        let outer = (*cos_outer as f64).clamp(-1.0, 1.0).acos();
+        let outer = (cone.cos_outer as f64).clamp(-1.0, 1.0).acos();
         let n = n as usize;
         match HalfCircles::new(STORED_ORDER, n, 2 * n, GAMMA_SAMPLES, outer, SUB, f) {
             Ok(t) => {

@@ -29,8 +29,7 @@
 //! plane. Two resolves (knob `resolve`):
 //! - `per-pixel` (default, modern): per light, every plane fragment in front of the visible
 //!   surface goes into its pixel's crossing list (signed distance;
-//! `common::shadow_volumes::crossing_lists`: a
-//!   counting pass and a prefix sum size one pool exactly, so lists cannot overflow), and a
+//!   `common::shadow_volumes::crossing_lists`: a counting pass and a prefix sum size one pool exactly, so lists cannot overflow), and a
 //!   compute pass sorts each list and sums L_dss over the lit intervals only, walking from the
 //!   eye's count (`pixel.rs`). Exact shadow in shadow and eye in shadow, no CPU sort.
 //! - `stencil` (the paper's steps 4–5): quads sorted back to front by edge-midpoint distance, the
@@ -146,15 +145,12 @@ pub struct State {
 
 impl Method for BiriShadowVolumes {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "biri-shadow-volumes",
-            paper: "Biri, Arquès, Michelin, Real time rendering of atmospheric scattering and volumetric shadows, J. WSCG 14, 2006",
-            summary: "Precomputed Γ(λ,γ) table: direct single scattering from two lookups per ray (eq. 7)",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "biri-shadow-volumes",
+            Medium::Homogeneous,
+            "Biri, Arquès, Michelin, Real time rendering of atmospheric scattering and volumetric shadows, J. WSCG 14, 2006",
+            "Precomputed Γ(λ,γ) table: direct single scattering from two lookups per ray (eq. 7)",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
@@ -358,8 +354,7 @@ impl Prepared for State {
             );
         }
         phases::mark(&mut self.timer, enc, "first_pass");
-        self.renderer.encode_shadows(enc, &mut report);
-        self.renderer.encode_surface(enc, targets, &mut report);
+        self.renderer.encode_lit_surfaces(enc, targets, &mut report);
         match &self.indirect {
             Some(pass) => {
                 pass.encode(enc, &self.renderer, targets);

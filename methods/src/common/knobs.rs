@@ -36,3 +36,10 @@ pub fn local_shadow_budget() -> Knob {
         .unit("MiB")
         .meaning("shadow-map memory for all local lights' cube faces together; each face's side is shadow_map, halved until they fit")
 }
+
+/// A method's own knobs followed by those of the shared shadow maps and spot patterns:
+/// `shadow_map` (the method's default and sweep), `local_shadow_budget` and `pattern_res` (512).
+pub fn with_shadow_maps(mut own: Vec<Knob>, shadow_map: Knob) -> Vec<Knob> {
+    own.extend([shadow_map, local_shadow_budget(), pattern_res(512)]);
+    own
+}

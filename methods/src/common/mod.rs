@@ -7,6 +7,7 @@
 //! - [`shadow_volumes`]: silhouette shadow planes, stencil counting, crossing lists;
 //! - [`epipolar`]: epipolar slices, their compute skeleton and resolve;
 //! - [`particles`]: the particle grid traced exactly, and particle shadows on surfaces.
+//!
 //! Kits build on the framework, never on each other; the framework never uses a kit.
 
 pub mod counters;

@@ -219,9 +219,19 @@ impl SceneRenderer {
         targets: &Targets,
     ) -> FrameReport {
         let mut report = self.start_frame(gpu, frame);
-        self.encode_shadows(enc, &mut report);
-        self.encode_surface(enc, targets, &mut report);
+        self.encode_lit_surfaces(enc, targets, &mut report);
         report
+    }
+
+    /// The shadow-map passes, then the surface pass that reads them.
+    pub fn encode_lit_surfaces(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        report: &mut FrameReport,
+    ) {
+        self.encode_shadows(enc, report);
+        self.encode_surface(enc, targets, report);
     }
 
     /// A counted compute pass with the frame group (0) and a method's `group1` bound: how every

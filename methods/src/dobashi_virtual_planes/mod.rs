@@ -111,15 +111,12 @@ impl State {
 
 impl Method for DobashiVirtualPlanes {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "dobashi-virtual-planes",
-            paper: "Dobashi, Yamamoto & Nishita, Interactive Rendering Method for Displaying Shafts of Light, Pacific Graphics 2000",
-            summary: "Screen-parallel virtual planes: ξ on a lattice, light maps, shadow maps, additive blending",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "dobashi-virtual-planes",
+            Medium::Homogeneous,
+            "Dobashi, Yamamoto & Nishita, Interactive Rendering Method for Displaying Shafts of Light, Pacific Graphics 2000",
+            "Screen-parallel virtual planes: ξ on a lattice, light maps, shadow maps, additive blending",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {

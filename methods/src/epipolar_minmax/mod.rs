@@ -51,7 +51,6 @@
 mod passes;
 
 use anyhow::{Result, bail};
-use harness::gpu::phases;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
@@ -60,9 +59,9 @@ use harness::{
 use scenes::{FrameState, SceneFeatures};
 
 use crate::common::counters::CounterReadback;
+use crate::common::epipolar::skeleton;
 use crate::common::knobs;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
-use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
 use passes::{COUNTERS, EpiUniform, Passes, Sizes};
 
@@ -78,9 +77,8 @@ pub struct State {
     pub renderer: SceneRenderer,
     passes: Passes,
     base: EpiUniform,
-    resolve: ResolvePass,
+    frame: skeleton::Frame,
     readback: CounterReadback,
-    timer: Option<harness::gpu::PhaseTimer>,
 }
 
 /// Slice and sample counts: the knob, or Yusov's "best quality" rule when it is 0 (at least 1
@@ -137,16 +135,13 @@ impl State {
             refine_threshold: p.knob("refine_threshold")?,
             _pad: [0.0; 3],
         };
-        let resolve =
-            ResolvePass::with_textures(gpu, &renderer, "epipolar resolve", RESOLVE_WGSL, None, 1);
-        let lights = renderer.scene.desc.lights.len() as u32;
         Ok(State {
             readback: CounterReadback::new(gpu, COUNTERS.len() as u32),
-            timer: harness::gpu::PhaseTimer::new(gpu, 5 * lights.max(1) + 2),
+            // Five phases per light: sampling, trees, march, interpolate, fixup.
+            frame: skeleton::Frame::new(gpu, &renderer, "epipolar resolve", 5),
             renderer,
             passes,
             base,
-            resolve,
         })
     }
 }
@@ -159,28 +154,17 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let mut report = self.renderer.start_frame(gpu, frame);
         self.readback.begin_frame(gpu, &self.passes.counters);
         self.passes.write_uniforms(gpu, self.base);
-        phases::mark(&mut self.timer, enc, "surfaces");
-        self.renderer.encode_shadows(enc, &mut report);
-        self.renderer.encode_surface(enc, targets, &mut report);
-        self.passes
-            .encode(gpu, enc, &self.renderer, &mut self.timer);
+        let mut report = self.frame.open(&mut self.renderer, gpu, frame, targets, enc);
+        let encoding = self.frame.encoding(gpu, &self.renderer);
+        self.passes.encode(enc, encoding);
         report.ran("epipolar");
         if !self.renderer.shadows_on {
             report.skip("min-max-trees", "no object casts a volumetric shadow");
         }
-        phases::mark(&mut self.timer, enc, "resolve");
-        self.resolve.encode_with(
-            gpu,
-            enc,
-            &self.renderer,
-            targets,
-            &[&self.passes.published_view],
-        );
-        report.ran("resolve");
-        phases::finish(&mut self.timer, enc);
+        let published = &self.passes.published;
+        (self.frame).close(&self.renderer, published, gpu, targets, enc, &mut report);
         self.readback.end_frame(enc, &self.passes.counters);
         let s = self.passes.sizes;
         report.count("slices", s.slices as f64);
@@ -194,7 +178,7 @@ impl Prepared for State {
     }
 
     fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
-        self.timer.as_ref()
+        self.frame.timer.as_ref()
     }
 }
 
@@ -204,19 +188,16 @@ const STEPS: &[i64] = &[1, 2, 4, 8, 16, 32, 64];
 
 impl Method for EpipolarMinMax {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "epipolar-minmax",
-            paper: "Engelhardt & Dachsbacher, Epipolar sampling for shadows and crepuscular rays in participating media with single scattering, I3D 2010; Chen, Baran, Kavan & Durand, Real-time volumetric shadows using 1D min-max mipmaps, I3D 2011; Yusov, Outdoor light scattering, GPU Pro 5, 2014",
-            summary: "Epipolar slices and refined samples, marched over a min-max tree of the rectified shadow map, interpolated to pixels",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "epipolar-minmax",
+            Medium::Homogeneous,
+            "Engelhardt & Dachsbacher, Epipolar sampling for shadows and crepuscular rays in participating media with single scattering, I3D 2010; Chen, Baran, Kavan & Durand, Real-time volumetric shadows using 1D min-max mipmaps, I3D 2011; Yusov, Outdoor light scattering, GPU Pro 5, 2014",
+            "Epipolar slices and refined samples, marched over a min-max tree of the rectified shadow map, interpolated to pixels",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
-        vec![
+        let own = vec![
             Knob::int("slices", 0, 0..=4096)
                 .sweep([64, 128, 512])
                 .unit("slices")
@@ -239,10 +220,8 @@ impl Method for EpipolarMinMax {
                 .sweep([128, 256, 1024, 2048])
                 .unit("leaves")
                 .meaning("leaves of a rectified shadow-map row: the march's finest step"),
-            knobs::shadow_map(1024),
-            knobs::local_shadow_budget(),
-            knobs::pattern_res(512),
-        ]
+        ];
+        knobs::with_shadow_maps(own, knobs::shadow_map(1024))
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
@@ -254,19 +233,8 @@ impl Method for EpipolarMinMax {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        [
-            ShaderCheck::combinations(
-                "epipolar-minmax/compute",
-                &compute_source(),
-                &[("MIN_MAX", &[0.0, 1.0]), ("SHADOWED", &[0.0, 1.0])],
-            ),
-            ShaderCheck::combinations(
-                "epipolar-minmax/resolve",
-                &resolve::source(RESOLVE_WGSL),
-                &[],
-            ),
-        ]
-        .concat()
+        let axes: &[(&str, &[f64])] = &[("MIN_MAX", &[0.0, 1.0]), ("SHADOWED", &[0.0, 1.0])];
+        skeleton::shader_checks("epipolar-minmax", &compute_source(), axes, RESOLVE_WGSL)
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {

@@ -2,14 +2,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use harness::Gpu;
-use harness::gpu::{PhaseTimer, phases};
+use harness::gpu::phases;
 
-use crate::common::layouts::{
-    buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
-};
-use crate::common::pipeline::{self, ComputeStage};
-use crate::common::epipolar::published::{published_texture, scratch_buffer as buffer};
+use crate::common::epipolar::published::scratch_buffer as buffer;
 use crate::common::epipolar::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
+use crate::common::epipolar::skeleton::{self, Compiler, Constants, Encoding, Published};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::wgsl;
@@ -96,26 +93,15 @@ struct Shared {
 pub struct Passes {
     pub sizes: Sizes,
     pub counters: wgpu::Buffer,
-    pub published_view: wgpu::TextureView,
+    pub published: Published,
     lights: Vec<LightSlot>,
     shared: Shared,
     shadowed: bool,
 }
 
-/// Group 1 of every compute pass (epipolar.wgsl's bindings).
-fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-    let cs = wgpu::ShaderStages::COMPUTE;
-    let mut entries = vec![uniform_buffer(0, cs)];
-    entries.extend((1..=6).map(|b| storage_buffer(b, cs, false)));
-    entries.push(float_texture(7, cs));
-    entries.push(storage_buffer(8, cs, false));
-    entries.push(rgba32f_storage_write(9, cs));
-    gpu.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("epipolar"),
-            entries: &entries,
-        })
-}
+/// Method buffers at bindings 1..=6 of group 1 (epipolar.wgsl; the rest is
+/// [`skeleton::group_layout`]'s).
+const STORAGE: u32 = 6;
 
 /// The buffers and textures every light's passes share (lights run in turn).
 struct Scratch {
@@ -124,8 +110,7 @@ struct Scratch {
     work: wgpu::Buffer,
     tree: wgpu::Buffer,
     counters: wgpu::Buffer,
-    accum: wgpu::Buffer,
-    published_view: wgpu::TextureView,
+    published: Published,
 }
 
 impl Scratch {
@@ -156,35 +141,8 @@ impl Scratch {
                 4 * COUNTERS.len() as u64,
                 storage | copies,
             ),
-            accum: buffer(gpu, "epipolar accumulator", 16 * pixels, storage),
-            published_view: published_texture(
-                gpu,
-                "epipolar in-scatter",
-                sizes.width,
-                sizes.height,
-            ),
+            published: Published::new(gpu, "epipolar", sizes.width, sizes.height),
         }
-    }
-}
-
-/// The method's compute entry points, compiled from one module under one layout with the
-/// scene's constants and each pipeline's own.
-struct Compiler<'a> {
-    gpu: &'a Gpu,
-    renderer: &'a SceneRenderer,
-    layout: wgpu::PipelineLayout,
-    module: wgpu::ShaderModule,
-}
-
-impl Compiler<'_> {
-    fn pipeline(&self, entry: &str, own: &[(&'static str, f64)]) -> wgpu::ComputePipeline {
-        let constants = self.renderer.specialization.with(own);
-        ComputeStage::new(entry, entry).build(
-            &self.gpu.device,
-            &self.layout,
-            &self.module,
-            &constants,
-        )
     }
 }
 
@@ -208,19 +166,9 @@ impl Shared {
 impl LightSlot {
     /// Light k's uniform, header, dispatch arguments and group 1 over the shared `scratch`;
     /// `own`: its march and fix-up pipelines' constants.
-    fn new(
-        c: &Compiler,
-        layout: &wgpu::BindGroupLayout,
-        scratch: &Scratch,
-        own: &[(&'static str, f64)],
-    ) -> LightSlot {
+    fn new(c: &Compiler, scratch: &Scratch, own: &Constants) -> LightSlot {
         let gpu = c.gpu;
-        let uniform = buffer(
-            gpu,
-            "epipolar light",
-            std::mem::size_of::<EpiUniform>() as u64,
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        );
+        let uniform = skeleton::light_uniform(gpu, "epipolar light", size_of::<EpiUniform>());
         let header = buffer(
             gpu,
             "epipolar header",
@@ -236,28 +184,8 @@ impl LightSlot {
             wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
         );
         let s = scratch;
-        let resources: [&wgpu::Buffer; 7] = [
-            &uniform,
-            &s.slices,
-            &s.samples,
-            &s.work,
-            &header,
-            &s.tree,
-            &s.counters,
-        ];
-        let mut entries: Vec<wgpu::BindGroupEntry> = resources
-            .iter()
-            .enumerate()
-            .map(|(b, buf)| buffer_entry(b as u32, buf))
-            .collect();
-        entries.push(view_entry(7, &c.renderer.distance_view));
-        entries.push(buffer_entry(8, &s.accum));
-        entries.push(view_entry(9, &s.published_view));
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("epipolar"),
-            layout,
-            entries: &entries,
-        });
+        let storage = [&s.slices, &s.samples, &s.work, &header, &s.tree, &s.counters];
+        let bind = c.light_group("epipolar", &uniform, &storage, &s.published);
         LightSlot {
             uniform,
             header,
@@ -272,13 +200,7 @@ impl LightSlot {
 impl Passes {
     pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes, min_max: bool) -> Passes {
         let scratch = Scratch::new(gpu, &sizes);
-        let layout = layout(gpu);
-        let c = Compiler {
-            gpu,
-            renderer,
-            layout: pipeline::layout(&gpu.device, "epipolar", &[&renderer.frame_layout, &layout]),
-            module: wgsl::module(&gpu.device, "epipolar", &compute_source()),
-        };
+        let c = Compiler::new(gpu, renderer, "epipolar", STORAGE, &compute_source(), vec![]);
         let shared = Shared::new(&c);
         let shadowed = renderer.shadows_on;
         let lights = (0..renderer.scene.desc.lights.len())
@@ -288,13 +210,13 @@ impl Passes {
                     ("MIN_MAX", flag(min_max)),
                     ("SHADOWED", flag(shadowed)),
                 ];
-                LightSlot::new(&c, &layout, &scratch, &own)
+                LightSlot::new(&c, &scratch, &own)
             })
             .collect();
         Passes {
             sizes,
             counters: scratch.counters,
-            published_view: scratch.published_view,
+            published: scratch.published,
             lights,
             shared,
             shadowed,
@@ -318,13 +240,8 @@ impl Passes {
     }
 
     /// Every light's passes in turn, then the publish pass. `timer` marks the phases.
-    pub fn encode(
-        &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
-        timer: &mut Option<PhaseTimer>,
-    ) {
+    pub fn encode(&self, enc: &mut wgpu::CommandEncoder, e: Encoding) {
+        let Encoding { gpu, renderer, timer } = e;
         let s = self.sizes;
         let sh = &self.shared;
         let per_sample = (s.samples.div_ceil(64), s.slices, 1);
@@ -381,11 +298,8 @@ impl Passes {
             mark(enc, "fixup");
             run(enc, &[(&slot.fixup, Dispatch::Indirect(12))]);
         }
-        if let Some(slot) = self.lights.first() {
-            let mut pass = renderer.compute_pass(gpu, enc, "epipolar publish", &slot.bind);
-            pass.set_pipeline(&sh.publish);
-            pass.dispatch_workgroups(per_pixel.0, per_pixel.1, 1);
-        }
+        let group1 = self.lights.first().map(|slot| &slot.bind);
+        skeleton::encode_publish(renderer, gpu, enc, group1, &sh.publish);
     }
 }
 

@@ -110,19 +110,16 @@ pub struct FroxelFog;
 
 impl Method for FroxelFog {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "froxel-fog",
-            paper: "Wronski, Volumetric fog: unified compute shader based solution to atmospheric scattering, SIGGRAPH 2014 Advances; Hillaire, Physically based and unified volumetric rendering in Frostbite, SIGGRAPH 2015",
-            summary: "Frustum-aligned froxel grid: inject, integrate front to back (Hillaire's slice integral), one lookup per pixel",
-            baseline: false,
-            medium: Medium::Both,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "froxel-fog",
+            Medium::Both,
+            "Wronski, Volumetric fog: unified compute shader based solution to atmospheric scattering, SIGGRAPH 2014 Advances; Hillaire, Physically based and unified volumetric rendering in Frostbite, SIGGRAPH 2015",
+            "Frustum-aligned froxel grid: inject, integrate front to back (Hillaire's slice integral), one lookup per pixel",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
-        vec![
+        let own = vec![
             Knob::int("columns", 64, 0..=1024)
                 .sweep([32, 128])
                 .unit("froxels")
@@ -172,10 +169,8 @@ impl Method for FroxelFog {
                 .sweep([32, 128])
                 .unit("texels")
                 .meaning("particle media: columns per side and slabs of each light's extinction grid (the cloud's self-shadowing and its shadow on surfaces)"),
-            knobs::shadow_map(1024),
-            knobs::local_shadow_budget(),
-            knobs::pattern_res(512),
-        ]
+        ];
+        knobs::with_shadow_maps(own, knobs::shadow_map(1024))
     }
 
     fn converge_frames(&self, params: &harness::Params) -> u32 {

@@ -30,21 +30,16 @@ pub fn cone_outside_plane(apex: Vec3, axis: Vec3, sin_half: f32, plane: Vec4) ->
 
 /// Whether `light` can contribute to any point of the frustum of `clip_from_world`.
 pub fn reaches(light: &LightState, clip_from_world: Mat4) -> bool {
-    let LightState::Spot {
-        position,
-        direction,
-        cos_outer,
-        ..
-    } = light
-    else {
+    let Some(cone) = light.spot_cone() else {
         return true;
     };
+    let cos_outer = cone.cos_outer;
     let sin_half = (1.0 - cos_outer * cos_outer).max(0.0).sqrt();
-    let sin_half = if *cos_outer < 0.0 { 1.0 } else { sin_half };
-    let axis = direction.normalize_or_zero();
+    let sin_half = if cos_outer < 0.0 { 1.0 } else { sin_half };
+    let axis = cone.direction.normalize_or_zero();
     !frustum_planes(clip_from_world)
         .iter()
-        .any(|&p| cone_outside_plane(*position, axis, sin_half, p))
+        .any(|&p| cone_outside_plane(cone.apex, axis, sin_half, p))
 }
 
 #[cfg(test)]

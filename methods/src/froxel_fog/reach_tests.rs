@@ -32,25 +32,18 @@ fn spot(position: Vec3, direction: Vec3, outer_deg: f32) -> LightState {
 
 /// Whether any point of a dense sampling of the cone (to 60 m) projects inside the frustum.
 fn cone_meets_frustum(light: &LightState, m: Mat4) -> bool {
-    let LightState::Spot {
-        position,
-        direction,
-        cos_outer,
-        ..
-    } = light
-    else {
-        unreachable!()
-    };
-    let half = cos_outer.acos();
+    let cone = light.spot_cone().expect("a spot light");
+    let (position, direction) = (cone.apex, cone.direction);
+    let half = cone.cos_outer.acos();
     let (r, u) = scenes::light::spot_frame(direction.as_dvec3());
     let (r, u) = (r.as_vec3(), u.as_vec3());
     for i in 0..=16 {
         let a = half * i as f32 / 16.0;
         for j in 0..32 {
             let phi = std::f32::consts::TAU * j as f32 / 32.0;
-            let d = *direction * a.cos() + (r * phi.cos() + u * phi.sin()) * a.sin();
+            let d = direction * a.cos() + (r * phi.cos() + u * phi.sin()) * a.sin();
             for s in 1..=600 {
-                let p = m * (*position + d * (0.1 * s as f32)).extend(1.0);
+                let p = m * (position + d * (0.1 * s as f32)).extend(1.0);
                 let n = p.truncate() / p.w;
                 if p.w > 0.0 && n.x.abs() <= 1.0 && n.y.abs() <= 1.0 && (0.0..=1.0).contains(&n.z) {
                     return true;

@@ -78,15 +78,12 @@ impl Prepared for State {
 
 impl Method for NoScatter {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "no-scatter",
-            paper: "baseline (fixed-function fog: attenuation only)",
-            summary: "Attenuated surfaces, no in-scattering",
-            baseline: true,
-            medium: Medium::Both,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            baseline "no-scatter",
+            Medium::Both,
+            "baseline (fixed-function fog: attenuation only)",
+            "Attenuated surfaces, no in-scattering",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {

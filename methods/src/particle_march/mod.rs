@@ -138,19 +138,16 @@ impl Prepared for State {
 
 impl Method for ParticleMarch {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "particle-march",
-            paper: "baseline (exact chords through a uniform grid over the spheres, Gauss–Legendre in-scatter per piece)",
-            summary: "Converging particle baseline: exact optical depths, quadrature per sphere piece",
-            baseline: true,
-            medium: Medium::Particles,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            baseline "particle-march",
+            Medium::Particles,
+            "baseline (exact chords through a uniform grid over the spheres, Gauss–Legendre in-scatter per piece)",
+            "Converging particle baseline: exact optical depths, quadrature per sphere piece",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
-        vec![
+        let own = vec![
             // No 8 in the sweep: on lavapipe 8 nodes per piece exceed its per-invocation loop
             // budget on dense pixels (README "Limits").
             Knob::int_of("points", 4, &[1, 2, 4, 8])
@@ -165,10 +162,8 @@ impl Method for ParticleMarch {
                 .sweep([16, 32, 128, 256])
                 .unit("steps")
                 .meaning("midpoint steps per light of the background medium's in-scatter over the whole ray"),
-            knobs::shadow_map(1024).sweep([512, 2048]),
-            knobs::local_shadow_budget(),
-            knobs::pattern_res(512),
-        ]
+        ];
+        knobs::with_shadow_maps(own, knobs::shadow_map(1024).sweep([512, 2048]))
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {

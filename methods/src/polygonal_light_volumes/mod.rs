@@ -188,15 +188,12 @@ impl State {
 
 impl Method for PolygonalLightVolumes {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "polygonal-light-volumes",
-            paper: "Billeter, Sintorn, Assarsson, Real time volumetric shadows using polygonal light volumes, HPG 2010",
-            summary: "Shadow-map grid displaced into closed light volumes; signed per-fragment unshadowed in-scatter from the eye",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "polygonal-light-volumes",
+            Medium::Homogeneous,
+            "Billeter, Sintorn, Assarsson, Real time volumetric shadows using polygonal light volumes, HPG 2010",
+            "Shadow-map grid displaced into closed light volumes; signed per-fragment unshadowed in-scatter from the eye",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {

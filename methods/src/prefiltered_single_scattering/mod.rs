@@ -59,7 +59,6 @@
 mod passes;
 
 use anyhow::Result;
-use harness::gpu::phases;
 use harness::method::{PrepareContext, ShaderCheck};
 use harness::{
     Aov, ConformanceCase, FrameReport, Gpu, Knob, KnobRead, Medium, Method, MethodInfo, Prepared,
@@ -70,8 +69,8 @@ use scenes::{FrameState, SceneFeatures};
 use crate::common::height_fog::constant_sigma_only;
 use crate::common::knobs;
 use crate::common::epipolar::published::PUBLISHED_RESOLVE;
+use crate::common::epipolar::skeleton;
 use crate::common::renderer::{SceneRenderer, homogeneous_support};
-use crate::common::resolve::{self, ResolvePass};
 use crate::common::shadow_maps::ShadowSettings;
 use passes::Passes;
 pub use passes::{BASIS_WGSL, Basis, Sizes, compute_source};
@@ -83,8 +82,7 @@ pub struct PrefilteredSingleScattering;
 pub struct State {
     pub renderer: SceneRenderer,
     passes: Passes,
-    resolve: ResolvePass,
-    timer: Option<harness::gpu::PhaseTimer>,
+    frame: skeleton::Frame,
 }
 
 /// The basis the knobs name.
@@ -122,20 +120,11 @@ impl State {
             height: renderer.height,
         };
         let passes = Passes::new(gpu, &renderer, sizes);
-        let resolve = ResolvePass::with_textures(
-            gpu,
-            &renderer,
-            "prefiltered resolve",
-            PUBLISHED_RESOLVE,
-            None,
-            1,
-        );
-        let lights = renderer.scene.desc.lights.len() as u32;
         Ok(State {
-            timer: harness::gpu::PhaseTimer::new(gpu, 2 * lights.max(1) + 2),
+            // Two phases per light: rows, shade.
+            frame: skeleton::Frame::new(gpu, &renderer, "prefiltered resolve", 2),
             renderer,
             passes,
-            resolve,
         })
     }
 }
@@ -148,29 +137,18 @@ impl Prepared for State {
         targets: &Targets,
         enc: &mut wgpu::CommandEncoder,
     ) -> Result<FrameReport> {
-        let mut report = self.renderer.start_frame(gpu, frame);
         self.passes.write_uniforms(gpu);
-        phases::mark(&mut self.timer, enc, "surfaces");
-        self.renderer.encode_shadows(enc, &mut report);
-        self.renderer.encode_surface(enc, targets, &mut report);
-        self.passes
-            .encode(gpu, enc, &self.renderer, &mut self.timer);
+        let mut report = self.frame.open(&mut self.renderer, gpu, frame, targets, enc);
+        let encoding = self.frame.encoding(gpu, &self.renderer);
+        self.passes.encode(enc, encoding);
         report.ran("shade");
         if self.renderer.shadows_on {
             report.ran("rows");
         } else {
             report.skip("rows", "no object casts a volumetric shadow");
         }
-        phases::mark(&mut self.timer, enc, "resolve");
-        self.resolve.encode_with(
-            gpu,
-            enc,
-            &self.renderer,
-            targets,
-            &[&self.passes.published_view],
-        );
-        report.ran("resolve");
-        phases::finish(&mut self.timer, enc);
+        let published = &self.passes.published;
+        (self.frame).close(&self.renderer, published, gpu, targets, enc, &mut report);
         let s = self.passes.sizes;
         report.count("slices", s.slices as f64);
         report.count("texels_per_row", s.texels as f64);
@@ -180,7 +158,7 @@ impl Prepared for State {
     }
 
     fn phase_timer(&self) -> Option<&harness::gpu::PhaseTimer> {
-        self.timer.as_ref()
+        self.frame.timer.as_ref()
     }
 }
 
@@ -189,19 +167,16 @@ const TERMS: &[i64] = &[2, 4, 8, 16, 32];
 
 impl Method for PrefilteredSingleScattering {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "prefiltered-single-scattering",
-            paper: "Klehm, Seidel & Eisemann, Prefiltered Single Scattering, I3D 2014; Peters, Münstermann, Wetzstein & Klein, Beyond Hard Shadows: Moment Shadow Maps for Single Scattering, Soft Shadows and Translucent Occluders, I3D 2016 (JCGT 2017)",
-            summary: "Rectified shadow-map rows per epipolar slice in a Fourier or moment basis, prefix-summed: each pixel's filtered visibility in a few lookups",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "prefiltered-single-scattering",
+            Medium::Homogeneous,
+            "Klehm, Seidel & Eisemann, Prefiltered Single Scattering, I3D 2014; Peters, Münstermann, Wetzstein & Klein, Beyond Hard Shadows: Moment Shadow Maps for Single Scattering, Soft Shadows and Translucent Occluders, I3D 2016 (JCGT 2017)",
+            "Rectified shadow-map rows per epipolar slice in a Fourier or moment basis, prefix-summed: each pixel's filtered visibility in a few lookups",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
-        vec![
+        let own = vec![
             Knob::choice("basis", "moments", &["moments", "fourier"])
                 .sweep(["fourier"])
                 .meaning("visibility basis of the rectified rows: Peters et al.'s four moments or Klehm et al.'s Fourier series"),
@@ -231,10 +206,8 @@ impl Method for PrefilteredSingleScattering {
                 .sweep([1, 4])
                 .unit("panels")
                 .meaning("two-node Gauss–Legendre panels per piece for a point or spot light's unshadowed in-scatter"),
-            knobs::shadow_map(1024),
-            knobs::local_shadow_budget(),
-            knobs::pattern_res(512),
-        ]
+        ];
+        knobs::with_shadow_maps(own, knobs::shadow_map(1024))
     }
 
     fn support(&self, scene: &SceneFeatures, device: wgpu::Features) -> Support {
@@ -252,23 +225,10 @@ impl Method for PrefilteredSingleScattering {
     }
 
     fn shaders(&self) -> Vec<ShaderCheck> {
-        [
-            ShaderCheck::combinations(
-                "prefiltered-single-scattering/compute",
-                &compute_source(),
-                &[
-                    ("BASIS", &[0.0, 1.0]),
-                    ("LANCZOS", &[0.0, 1.0]),
-                    ("SHADOWED", &[0.0, 1.0]),
-                ],
-            ),
-            ShaderCheck::combinations(
-                "prefiltered-single-scattering/resolve",
-                &resolve::source(PUBLISHED_RESOLVE),
-                &[],
-            ),
-        ]
-        .concat()
+        let on_off: &[f64] = &[0.0, 1.0];
+        let axes = [("BASIS", on_off), ("LANCZOS", on_off), ("SHADOWED", on_off)];
+        let id = "prefiltered-single-scattering";
+        skeleton::shader_checks(id, &compute_source(), &axes, PUBLISHED_RESOLVE)
     }
 
     fn conformance(&self) -> Vec<ConformanceCase> {

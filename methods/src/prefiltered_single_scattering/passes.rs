@@ -4,14 +4,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use harness::Gpu;
-use harness::gpu::{PhaseTimer, phases};
+use harness::gpu::phases;
 
-use crate::common::layouts::{
-    buffer_entry, float_texture, rgba32f_storage_write, storage_buffer, uniform_buffer, view_entry,
-};
-use crate::common::pipeline::{self, ComputeStage};
-use crate::common::epipolar::published::{published_texture, scratch_buffer as buffer};
+use crate::common::epipolar::published::scratch_buffer as buffer;
 use crate::common::epipolar::rectification::{EPIPOLAR_SLICES, SLICE_BYTES};
+use crate::common::epipolar::skeleton::{self, Compiler, Constants, Encoding, Published};
 use crate::common::renderer::SceneRenderer;
 use crate::common::specialize::flag;
 use crate::common::wgsl;
@@ -104,26 +101,15 @@ struct Shared {
 
 pub struct Passes {
     pub sizes: Sizes,
-    pub published_view: wgpu::TextureView,
+    pub published: Published,
     lights: Vec<LightSlot>,
     shared: Shared,
     shadowed: bool,
 }
 
-/// Group 1 of every compute pass (rows.wgsl's bindings).
-fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-    let cs = wgpu::ShaderStages::COMPUTE;
-    let mut entries = vec![uniform_buffer(0, cs)];
-    entries.extend((1..=3).map(|b| storage_buffer(b, cs, false)));
-    entries.push(float_texture(4, cs));
-    entries.push(storage_buffer(5, cs, false));
-    entries.push(rgba32f_storage_write(6, cs));
-    gpu.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("prefiltered"),
-            entries: &entries,
-        })
-}
+/// Method buffers at bindings 1..=3 of group 1 (rows.wgsl; the rest is
+/// [`skeleton::group_layout`]'s).
+const STORAGE: u32 = 3;
 
 /// Bytes of the prefix-sum rows: per slice K + 1 entries of `channels` vec4s.
 pub fn rows_bytes(sizes: &Sizes) -> u64 {
@@ -135,70 +121,27 @@ struct Scratch {
     slices: wgpu::Buffer,
     angle_range: wgpu::Buffer,
     sums: wgpu::Buffer,
-    accum: wgpu::Buffer,
-    published_view: wgpu::TextureView,
+    published: Published,
 }
 
 impl Scratch {
     fn new(gpu: &Gpu, sizes: &Sizes) -> Scratch {
         let storage = wgpu::BufferUsages::STORAGE;
         let n = sizes.slices as u64;
-        let pixels = sizes.width as u64 * sizes.height as u64;
         Scratch {
             slices: buffer(gpu, "prefiltered slices", SLICE_BYTES * n, storage),
             angle_range: buffer(gpu, "prefiltered angle ranges", 8 * n, storage),
             sums: buffer(gpu, "prefiltered rows", rows_bytes(sizes), storage),
-            accum: buffer(gpu, "prefiltered accumulator", 16 * pixels, storage),
-            published_view: published_texture(
-                gpu,
-                "prefiltered in-scatter",
-                sizes.width,
-                sizes.height,
-            ),
+            published: Published::new(gpu, "prefiltered", sizes.width, sizes.height),
         }
-    }
-}
-
-/// The method's compute entry points, compiled from one module under one layout with the
-/// scene's constants, the basis' and each pipeline's own.
-struct Compiler<'a> {
-    gpu: &'a Gpu,
-    renderer: &'a SceneRenderer,
-    layout: wgpu::PipelineLayout,
-    module: wgpu::ShaderModule,
-    basis: Vec<(&'static str, f64)>,
-}
-
-impl Compiler<'_> {
-    fn pipeline(&self, entry: &str, own: &[(&'static str, f64)]) -> wgpu::ComputePipeline {
-        let constants = self
-            .renderer
-            .specialization
-            .with(&[&self.basis[..], own].concat());
-        ComputeStage::new(entry, entry).build(
-            &self.gpu.device,
-            &self.layout,
-            &self.module,
-            &constants,
-        )
     }
 }
 
 impl Passes {
     pub fn new(gpu: &Gpu, renderer: &SceneRenderer, sizes: Sizes) -> Passes {
         let scratch = Scratch::new(gpu, &sizes);
-        let layout = layout(gpu);
-        let c = Compiler {
-            gpu,
-            renderer,
-            layout: pipeline::layout(
-                &gpu.device,
-                "prefiltered",
-                &[&renderer.frame_layout, &layout],
-            ),
-            module: wgsl::module(&gpu.device, "prefiltered", &compute_source()),
-            basis: sizes.basis.constants(sizes.moment_bias),
-        };
+        let basis = sizes.basis.constants(sizes.moment_bias);
+        let c = Compiler::new(gpu, renderer, "prefiltered", STORAGE, &compute_source(), basis);
         let shared = Shared {
             slice_rows: c.pipeline("slice_rows", &[]),
             rectify: c.pipeline("rectify", &[]),
@@ -214,12 +157,12 @@ impl Passes {
                     ("PANELS", sizes.panels as f64),
                     ("SHADOWED", flag(shadowed)),
                 ];
-                light_slot(&c, &layout, &scratch, &own)
+                light_slot(&c, &scratch, &own)
             })
             .collect();
         Passes {
             sizes,
-            published_view: scratch.published_view,
+            published: scratch.published,
             lights,
             shared,
             shadowed,
@@ -241,13 +184,8 @@ impl Passes {
     }
 
     /// Every light's passes in turn, then the publish pass. `timer` marks the phases.
-    pub fn encode(
-        &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        renderer: &SceneRenderer,
-        timer: &mut Option<PhaseTimer>,
-    ) {
+    pub fn encode(&self, enc: &mut wgpu::CommandEncoder, e: Encoding) {
+        let Encoding { gpu, renderer, timer } = e;
         let s = self.sizes;
         let sh = &self.shared;
         let per_pixel = (s.width.div_ceil(8), s.height.div_ceil(8));
@@ -269,46 +207,19 @@ impl Passes {
             pass.set_pipeline(&slot.shade);
             pass.dispatch_workgroups(per_pixel.0, per_pixel.1, 1);
         }
-        if let Some(slot) = self.lights.first() {
-            let mut pass = renderer.compute_pass(gpu, enc, "prefiltered publish", &slot.bind);
-            pass.set_pipeline(&sh.publish);
-            pass.dispatch_workgroups(per_pixel.0, per_pixel.1, 1);
-        }
+        let group1 = self.lights.first().map(|slot| &slot.bind);
+        skeleton::encode_publish(renderer, gpu, enc, group1, &sh.publish);
     }
 }
 
 /// Light k's uniform and group 1 over the shared `scratch`; `own`: its shade pipeline's constants.
-fn light_slot(
-    c: &Compiler,
-    layout: &wgpu::BindGroupLayout,
-    scratch: &Scratch,
-    own: &[(&'static str, f64)],
-) -> LightSlot {
-    let gpu = c.gpu;
-    let uniform = buffer(
-        gpu,
-        "prefiltered light",
-        std::mem::size_of::<PssUniform>() as u64,
-        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-    );
+fn light_slot(c: &Compiler, scratch: &Scratch, own: &Constants) -> LightSlot {
+    let uniform = skeleton::light_uniform(c.gpu, "prefiltered light", size_of::<PssUniform>());
     let s = scratch;
-    let entries = [
-        buffer_entry(0, &uniform),
-        buffer_entry(1, &s.slices),
-        buffer_entry(2, &s.angle_range),
-        buffer_entry(3, &s.sums),
-        view_entry(4, &c.renderer.distance_view),
-        buffer_entry(5, &s.accum),
-        view_entry(6, &s.published_view),
-    ];
-    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("prefiltered"),
-        layout,
-        entries: &entries,
-    });
+    let storage = [&s.slices, &s.angle_range, &s.sums];
     LightSlot {
+        bind: c.light_group("prefiltered", &uniform, &storage, &s.published),
         uniform,
-        bind,
         shade: c.pipeline("shade", own),
     }
 }

@@ -109,15 +109,12 @@ impl Prepared for State {
 
 impl Method for RaymarchBrute {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "raymarch-brute",
-            paper: "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008 (brute-force baseline)",
-            summary: "Fixed-step per-pixel ray march with shadow-map visibility",
-            baseline: true,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            baseline "raymarch-brute",
+            Medium::Homogeneous,
+            "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008 (brute-force baseline)",
+            "Fixed-step per-pixel ray march with shadow-map visibility",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {

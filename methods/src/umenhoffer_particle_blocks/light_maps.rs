@@ -74,19 +74,13 @@ pub fn light_views(
 /// Whether the light can light any primitive: false only for a spot whose cone (its outer
 /// angle) misses every primitive's bounding sphere.
 fn reaches(light: &LightState, prims: &[Prim]) -> bool {
-    let LightState::Spot {
-        position,
-        direction,
-        cos_outer,
-        ..
-    } = light
-    else {
+    let Some(cone) = light.spot_cone() else {
         return true;
     };
-    let (axis, outer) = (direction.normalize(), cos_outer.clamp(-1.0, 1.0).acos());
+    let (axis, outer) = (cone.direction.normalize(), cone.cos_outer.clamp(-1.0, 1.0).acos());
     prims
         .iter()
-        .any(|p| cone_reaches_sphere(*position, axis, outer, centre(p), p.center[3] * BOUNDS))
+        .any(|p| cone_reaches_sphere(cone.apex, axis, outer, centre(p), p.center[3] * BOUNDS))
 }
 
 /// S slices spread evenly over [dmin, dmax]: slice s at dmin + (dmax − dmin)(s + 1)/S

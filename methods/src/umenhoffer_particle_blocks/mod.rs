@@ -272,15 +272,12 @@ fn support_for(scene: &SceneFeatures, device: wgpu::Features) -> Support {
 
 impl Method for UmenhofferParticleBlocks {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "umenhoffer-particle-blocks",
-            paper: "Umenhoffer, Szirmay-Kalos, Szijártó, Participating media as hierarchies of particle blocks (2006)",
-            summary: "Particle blocks as depth impostors; RGBA light slices; back-to-front gathering; depth-interval opacity at objects",
-            baseline: false,
-            medium: Medium::Particles,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "umenhoffer-particle-blocks",
+            Medium::Particles,
+            "Umenhoffer, Szirmay-Kalos, Szijártó, Participating media as hierarchies of particle blocks (2006)",
+            "Particle blocks as depth impostors; RGBA light slices; back-to-front gathering; depth-interval opacity at objects",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
@@ -356,15 +353,12 @@ impl Method for UmenhofferParticleBlocks {
 
 impl Method for ParticleSplat {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "particle-splat",
-            paper: "baseline: per-particle billboards with a slice light pass and back-to-front gathering (the \"no block\" row of Umenhoffer et al. 2006, Fig. 5)",
-            summary: "Every particle splatted with its exact sphere chord; no blocks",
-            baseline: true,
-            medium: Medium::Particles,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            baseline "particle-splat",
+            Medium::Particles,
+            "baseline: per-particle billboards with a slice light pass and back-to-front gathering (the \"no block\" row of Umenhoffer et al. 2006, Fig. 5)",
+            "Every particle splatted with its exact sphere chord; no blocks",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {

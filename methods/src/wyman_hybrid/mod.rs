@@ -228,15 +228,12 @@ impl LowRes {
 
 impl Method for WymanHybrid {
     fn info(&self) -> MethodInfo {
-        MethodInfo {
-            id: "wyman-hybrid",
-            paper: "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008",
-            summary: "Shadow volumes bound where to march; Sun et al.'s analytic airlight elsewhere",
-            baseline: false,
-            medium: Medium::Homogeneous,
-            readme: include_str!("README.md"),
-            source: include_str!("mod.rs"),
-        }
+        harness::method_info!(
+            "wyman-hybrid",
+            Medium::Homogeneous,
+            "Wyman & Ramsey, Interactive Volumetric Shadows in Participating Media with Single-Scattering, IEEE RT 2008",
+            "Shadow volumes bound where to march; Sun et al.'s analytic airlight elsewhere",
+        )
     }
 
     fn knobs(&self) -> Vec<Knob> {
@@ -459,8 +456,7 @@ impl Prepared for State {
             report.count("pixels_marched", c[0] as f64);
             report.count("steps", c[1] as f64);
         }
-        self.renderer.encode_shadows(enc, &mut report);
-        self.renderer.encode_surface(enc, targets, &mut report);
+        self.renderer.encode_lit_surfaces(enc, targets, &mut report);
         self.volumes.update(gpu, frame, &mut report);
         self.volumes.encode(gpu, enc, &self.renderer, &mut report);
         self.encode_scattering(gpu, enc, targets, &mut report);

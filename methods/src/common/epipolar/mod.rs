@@ -16,4 +16,5 @@
 //! It builds on the framework (`common::{renderer, resolve, pipeline, layouts, wgsl}`) only.
 
 pub mod published;
+pub mod skeleton;
 pub mod rectification;
