@@ -36,3 +36,25 @@ pub fn crossings(ms: &[Module], edges: &[Edge], shared: &str) -> Vec<String> {
         })
         .collect()
 }
+
+/// Under `root` (`common`), the imports that break the kits' rule: the framework (every module
+/// of `root` outside `kits`) never imports a kit, and no kit imports another.
+pub fn kit_crossings(ms: &[Module], edges: &[Edge], root: &str, kits: &[&str]) -> Vec<String> {
+    // Some(kit) for a kit's module, Some("") for the framework's, None outside `root`.
+    let side = |m: usize| match ms[m].path.as_slice() {
+        [r, k, ..] if r == root && kits.contains(&k.as_str()) => Some(k.as_str()),
+        [r, ..] if r == root => Some(""),
+        _ => None,
+    };
+    edges
+        .iter()
+        .filter_map(|e| {
+            let (a, b) = (side(e.from)?, side(e.to)?);
+            (a != b && !b.is_empty()).then(|| {
+                let from = ms[e.from].path.join("::");
+                let file = ms[e.from].file.display();
+                format!("  {from} -> {}  ({file}:{}: {})", ms[e.to].path.join("::"), e.line, e.what)
+            })
+        })
+        .collect()
+}

@@ -1,5 +1,6 @@
 //! No module imports one that imports it back (ARCHITECTURE §2.1), in any crate of the
-//! workspace, and no method imports another method.
+//! workspace, no method imports another method, and `methods::common`'s kits build on its
+//! framework only.
 //!
 //! The scan reads every crate's module tree from its root file (`src/lib.rs`, `src/main.rs`)
 //! and the imports of every module (`use` declarations, `pub use` re-exports and paths written
@@ -158,6 +159,34 @@ fn no_method_imports_another_method() {
     assert!(
         crossings.is_empty(),
         "a method imports another method (shared code belongs in common/):\n{}",
+        crossings.join("\n")
+    );
+}
+
+#[test]
+fn common_kits_build_on_the_framework_only() {
+    let krate = crates()
+        .into_iter()
+        .find(|c| c.name == "methods")
+        .expect("methods");
+    let mut ms = tree::modules(&krate.root, &read).expect("methods crate");
+    relative(&mut ms);
+    let edges = resolve::edges(&ms);
+    let kits = ["shadow_volumes", "epipolar", "particles"];
+    // Not vacuous: every kit is a folder of modules, and each imports the framework.
+    for kit in kits {
+        let in_kit = |m: usize| ms[m].path.len() > 2 && ms[m].path[..2] == ["common", kit];
+        let framework = |m: usize| {
+            let p = &ms[m].path;
+            p.len() == 2 && p[0] == "common" && !kits.contains(&p[1].as_str())
+        };
+        let uses = edges.iter().filter(|e| in_kit(e.from) && framework(e.to)).count();
+        assert!(uses > 0, "common::{kit}: no module of it imports the framework");
+    }
+    let crossings = folders::kit_crossings(&ms, &edges, "common", &kits);
+    assert!(
+        crossings.is_empty(),
+        "the framework imports a kit, or a kit another kit:\n{}",
         crossings.join("\n")
     );
 }
