@@ -61,29 +61,43 @@ fn rendered(results: &Results, scene: &str) -> bool {
     results.records.iter().any(|r| r.scene == scene)
 }
 
-/// Which run each column is: id, adapter, resolution, commit.
+/// The verdict metric of a run in a word ("headline"; "rel. RMSE" for a run written before
+/// the headline) and in full (`metric::Metric::label`).
+fn metric_names(results: &Results) -> (&'static str, String) {
+    let headline = results.run.headline.as_deref();
+    (
+        Metric::Verdict.short(headline),
+        Metric::Verdict.label(headline),
+    )
+}
+
+/// Which run each column is: id, adapter, resolution, commit, and the metric it ranks by.
 fn runs_block(out: &mut String, columns: &[Column]) {
-    out.push_str("| run | id | adapter | resolution | commit |\n|---|---|---|---|---|\n");
+    out.push_str(
+        "| run | id | adapter | resolution | commit | ranked by |\n|---|---|---|---|---|---|\n",
+    );
     for c in columns {
         let run = &c.results.run;
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {}×{} | {} |",
+            "| {} | {} | {} | {}×{} | {} | {} |",
             c.name,
             run.id,
             run.machine.adapter,
             run.resolution[0],
             run.resolution[1],
-            run.git_commit
+            run.git_commit,
+            metric_names(c.results).1
         );
     }
     out.push_str(
-        "\nEach cell: the fastest configuration under the budget (verdict metric, ARCHITECTURE \
-         §4.4), its median frame time and that time as a multiple of the same run's floor \
-         (no-scatter, §4.5). Times compare only within one run; the floor ratios compare \
-         across runs. In a `--paired-floor` run the floor is the median of the scene's paired \
-         floors, each ratio divides by the record's own paired floor, and configurations are \
-         ranked and shown at ratio × floor (drift-corrected, §4.5).\n\n",
+        "\nEach cell: the fastest configuration under the budget of the run's verdict metric \
+         (ranked by, above; ARCHITECTURE §4.4), its median frame time and that time as a \
+         multiple of the same run's floor (no-scatter, §4.5). Times compare only within one \
+         run; the floor ratios compare across runs. In a `--paired-floor` run the floor is the \
+         median of the scene's paired floors, each ratio divides by the record's own paired \
+         floor, and configurations are ranked and shown at ratio × floor (drift-corrected, \
+         §4.5).\n\n",
     );
 }
 
@@ -93,7 +107,13 @@ fn table(out: &mut String, scenes: &[String], columns: &[Column]) {
     let mut rule = String::from("|---|---|");
     for b in FRONTIER_BUDGETS {
         for c in columns {
-            let _ = write!(out, " ≤ {} ({}) |", pct(b), c.name);
+            let _ = write!(
+                out,
+                " ≤ {} {} ({}) |",
+                pct(b),
+                metric_names(c.results).0,
+                c.name
+            );
             rule.push_str("---|");
         }
     }
@@ -346,6 +366,58 @@ mod tests {
             .retain(|r| r.scene == "a" && r.params != knobs(32, 64));
         let md = markdown(&defaults_win, None);
         assert!(md.contains("fog `defaults` · 6.00 ms"), "{md}");
+    }
+
+    /// The table names the metric it ranks by, per run: the runs block in full, each budget's
+    /// head in short: "headline" for a run that records it, "rel. RMSE" for one written before
+    /// (whose verdict metric that is). What it names is what it ranks by: "fast" is under 5 %
+    /// by its headline (3 %) but not by its rel. RMSE (20 %), and wins 5 % only after.
+    #[test]
+    fn heads_name_the_metric_each_run_ranks_by() {
+        let rows = [
+            ("a", FLOOR_METHOD, 1.0, 1.0),
+            ("a", "fast", 2.0, 0.03),
+            ("a", "exact", 8.0, 0.004),
+        ];
+        let after = with(&rows);
+        let mut before = with(&rows);
+        before.run.headline = None;
+        for r in &mut before.records {
+            let m = r.errors.get_mut("inscatter").unwrap();
+            m.headline = None;
+            m.rel_rmse = if r.method == "fast" { 0.2 } else { m.rel_rmse };
+        }
+        let md = markdown(&after, Some(&before));
+        let head = md
+            .lines()
+            .find(|l| l.starts_with("| scene | floor |"))
+            .unwrap_or_else(|| panic!("no table head in\n{md}"));
+        assert_eq!(
+            head,
+            "| scene | floor | ≤ 1 % rel. RMSE (before) | ≤ 1 % headline (after) | \
+             ≤ 5 % rel. RMSE (before) | ≤ 5 % headline (after) |"
+        );
+        let run = |name: &str| {
+            md.lines()
+                .find(|l| l.starts_with(&format!("| {name} |")))
+                .unwrap()
+                .to_string()
+        };
+        let headline = Metric::Verdict.label(Some(harness::verdict::HEADLINE_NAME));
+        assert!(headline.contains(harness::verdict::HEADLINE_NAME));
+        assert!(run("after").ends_with(&format!("| {headline} |")), "{md}");
+        let old = Metric::Verdict.label(None);
+        assert!(run("before").ends_with(&format!("| {old} |")), "{md}");
+        let a: Vec<&str> = md
+            .lines()
+            .find(|l| l.starts_with("| a |"))
+            .unwrap()
+            .split('|')
+            .map(str::trim)
+            .filter(|c| !c.is_empty())
+            .collect();
+        assert!(a[4].starts_with("exact · 8.00 ms"), "{a:?}");
+        assert!(a[5].starts_with("fast · 2.00 ms"), "{a:?}");
     }
 
     /// A winner faster than the floor is flagged per run and scene; a run without one is not.

@@ -1,6 +1,7 @@
-//! Knob response: how a method's in-scatter error moves along one numeric knob, the other knobs
-//! held fixed — e.g. `biri-polynomial`'s error vs polynomial `order`, one line per `fit`. Any
-//! sweep gets these plots; a knob needs at least three values on one line to be drawn.
+//! Knob response: how a method's verdict error (the in-scatter headline,
+//! `metric::verdict_error`) moves along one numeric knob, the other knobs held fixed — e.g.
+//! `biri-polynomial`'s error vs polynomial `order`, one line per `fit`. Any sweep gets these
+//! plots; a knob needs at least three values on one line to be drawn.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -96,8 +97,9 @@ pub struct KnobPlot {
     pub note: String,
 }
 
-/// Every scene × method × knob response of the run, plotted into `plots`.
-pub fn view(results: &Results, plots: &Path) -> Result<Vec<KnobPlot>> {
+/// Every scene × method × knob response of the run, plotted into `plots`; `y_label` names the
+/// error drawn, the verdict metric's label ([`crate::metric::Metric::label`]).
+pub fn view(results: &Results, plots: &Path, y_label: &str) -> Result<Vec<KnobPlot>> {
     let mut groups: BTreeMap<(String, String), Vec<&Record>> = BTreeMap::new();
     for r in results.records.iter().filter(|r| r.status == Status::Ok) {
         groups
@@ -128,7 +130,7 @@ pub fn view(results: &Results, plots: &Path) -> Result<Vec<KnobPlot>> {
             let (plot, note) = match loglog(
                 &title,
                 &resp.knob,
-                "verdict error (headline, else in-scatter rel. RMSE)",
+                y_label,
                 &lines,
                 &plots.join(&png),
                 &plots.join(&svg),

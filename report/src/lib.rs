@@ -115,7 +115,7 @@ pub fn generate(run_dir: &Path) -> Result<PathBuf> {
     // A `scatterbench scaling` run: frame time vs triangles and vs pixels per method.
     let scaling = scaling::view(run_dir, &results, &plots)?;
     // Error vs each numeric knob of a sweep, the other knobs fixed per line.
-    let knobs = knobs::view(&results, &plots)?;
+    let knobs = knobs::view(&results, &plots, &metric_views[0].label)?;
 
     let page = page::Page {
         title: format!("scatterbench report — {}", results.run.id),

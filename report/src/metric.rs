@@ -36,8 +36,10 @@ pub enum Metric {
 pub struct MetricView {
     /// CSS-safe id ("verdict", "rel_rmse", …).
     pub id: &'static str,
-    /// Short label for buttons and axis titles.
+    /// Label for buttons, axis titles and table captions: names the metric in full.
     pub label: String,
+    /// A word or two for table heads ("fastest ≤ 1 % headline"), [`Metric::short`].
+    pub short: &'static str,
 }
 
 impl Metric {
@@ -62,6 +64,18 @@ impl Metric {
             Metric::RelMse => "in-scatter relative MSE".into(),
             Metric::Flip => "mean FLIP, total".into(),
             Metric::LightCore => "light-core error, in-scatter".into(),
+        }
+    }
+
+    /// The metric in a word or two, for table heads: the verdict reads "headline" where the run
+    /// names one (else it is rel. RMSE, and says so).
+    pub fn short(self, headline: Option<&str>) -> &'static str {
+        match self {
+            Metric::Verdict if headline.is_some() => "headline",
+            Metric::Verdict | Metric::RelRmse => "rel. RMSE",
+            Metric::RelMse => "rel. MSE",
+            Metric::Flip => "FLIP",
+            Metric::LightCore => "light core",
         }
     }
 
@@ -117,6 +131,7 @@ pub fn views(headline: Option<&str>, metrics: &[Metric]) -> Vec<MetricView> {
         .map(|m| MetricView {
             id: m.id(),
             label: m.label(headline),
+            short: m.short(headline),
         })
         .collect()
 }

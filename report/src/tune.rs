@@ -9,6 +9,14 @@ use harness::tune::{BudgetVerdict, Interval, SceneTune, Timed, TuneResults};
 
 use crate::verdict::pct;
 
+/// The headline a tune ranks by: the one its run names, else this build's.
+fn headline(t: &TuneResults) -> &str {
+    t.run
+        .headline
+        .as_deref()
+        .unwrap_or(harness::verdict::HEADLINE_NAME)
+}
+
 /// An error with the digits a small one needs: "0.61 %", "0.0047 %".
 pub fn error_text(e: f64) -> String {
     let p = 100.0 * e;
@@ -94,12 +102,16 @@ pub fn markdown(t: &TuneResults) -> String {
     );
     let _ = writeln!(
         out,
-        "Per scene and budget (verdict metric: in-scatter headline, ARCHITECTURE §4.4), the \
-         cheapest configuration found and timed, its floor ratio (its frame time over the \
-         floor's, no-scatter, paired frame by frame) with the ratio's 95 % interval, and its \
-         error; the runner-up is the best of another method. Interval: {}. Times compare \
-         only as ratios within one run. Wall time {:.0} s of a {:.0} s limit.\n",
-        t.interval, t.wall_s, t.time_limit_s
+        "Per scene and budget of the in-scatter headline (`{}`, the verdict metric, \
+         ARCHITECTURE §4.4), the cheapest configuration found and timed, its floor ratio (its \
+         frame time over the floor's, no-scatter, paired frame by frame) with the ratio's 95 % \
+         interval, and its headline (the % in each cell); the runner-up is the best of another \
+         method. Interval: {}. Times compare only as ratios within one run. Wall time {:.0} s \
+         of a {:.0} s limit.\n",
+        headline(t),
+        t.interval,
+        t.wall_s,
+        t.time_limit_s
     );
     if let Some(c) = &run.machine.calibration {
         let _ = writeln!(
@@ -125,7 +137,7 @@ pub fn markdown(t: &TuneResults) -> String {
         for v in &s.verdicts {
             let _ = writeln!(
                 out,
-                "| {} | ≤ {} | {} | {} |",
+                "| {} | ≤ {} headline | {} | {} |",
                 s.scene,
                 pct(v.budget),
                 winner_cell(s, v),
@@ -163,6 +175,8 @@ pub struct TuneView {
     pub scenes: Vec<TuneSceneRow>,
     pub wall: String,
     pub interval: String,
+    /// The headline the budgets are of (`run.headline`).
+    pub headline: String,
 }
 
 /// One scene × budget.
@@ -263,5 +277,47 @@ pub fn view(run_dir: &std::path::Path) -> anyhow::Result<Option<TuneView>> {
         scenes,
         wall: format!("{:.0} s of a {:.0} s limit", t.wall_s, t.time_limit_s),
         interval: t.interval.clone(),
+        headline: headline(&t).to_string(),
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use harness::verdict::HEADLINE_NAME;
+
+    /// tune.md names the headline its budgets are of: the caption names the definition, each
+    /// budget cell says "headline", and the % in each cell is the candidate's headline.
+    #[test]
+    fn tune_md_names_the_headline_it_ranks_by() {
+        let run = crate::fixture::synthetic::run("lavapipe", 64);
+        let md = markdown(&crate::fixture::synthetic::tune(&run));
+        assert!(
+            md.contains(&format!(
+                "budget of the in-scatter headline (`{HEADLINE_NAME}`"
+            )),
+            "{md}"
+        );
+        let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| s |")).collect();
+        assert_eq!(rows.len(), 3 + 1, "three budgets and the search row:\n{md}");
+        for (row, b) in rows.iter().zip(["1 %", "5 %", "10 %"]) {
+            assert!(
+                row.starts_with(&format!("| s | ≤ {b} headline | ")),
+                "{row}"
+            );
+        }
+        // m-exact's headline is 0.5 %, m-fast's 3 %.
+        assert!(
+            rows[0].contains("| m-exact `defaults` · 4.00× ["),
+            "{}",
+            rows[0]
+        );
+        assert!(rows[0].contains("] · 0.50 % |"), "{}", rows[0]);
+        assert!(
+            rows[1].contains("| m-fast `defaults` · 1.50× ["),
+            "{}",
+            rows[1]
+        );
+        assert!(rows[1].contains("] · 3.00 % |"), "{}", rows[1]);
+    }
 }

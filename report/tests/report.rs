@@ -880,6 +880,13 @@ fn scaling_section_fits_the_slopes_of_the_records() {
         .find(|r| r[0] == "raymarch-brute")
         .unwrap();
     assert_eq!(rb_slopes[1..], [format!("{expect:.2}")], "{rb_slopes:?}");
+    // The errors under the times are the verdict metric's, and the sweep's caption names it
+    // (this fixture predates the headline: rel. RMSE).
+    let label = report::metric::Metric::Verdict.label(None);
+    assert!(
+        text(section).contains(&format!("under each time, the record's {label}")),
+        "{label}"
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -966,4 +973,233 @@ fn animated_scenes_get_per_frame_error_and_time_plots_of_each_methods_best_recor
             assert!(svg.contains("GPU time"), "every frame has GPU time");
         }
     }
+}
+
+/// The text of every element under `root` with tag `tag` and class `class`.
+fn texts_of(root: roxmltree::Node, tag: &str, class: &str) -> Vec<String> {
+    root.descendants()
+        .filter(|n| n.has_tag_name(tag) && has_class(n, class))
+        .map(text)
+        .collect()
+}
+
+/// The header cells (`th` of the first row) of a table.
+fn head_cells(table: roxmltree::Node) -> Vec<String> {
+    table
+        .descendants()
+        .find(|n| n.has_tag_name("tr"))
+        .map(|tr| {
+            tr.children()
+                .filter(|c| c.has_tag_name("th"))
+                .map(text)
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Every table that ranks by a metric names it, in the rendered page, for every metric of the
+/// switch (`mv-<id>`): the verdict tables' captions and budget heads, the matrix's caption,
+/// the verdict in words, each scene's budget and equal-error tables, the records' columns,
+/// the knob plots' caption and the tune's table; the default view is the verdict metric, the
+/// headline. And what a table names is what it ranks by: on "s" the headline and rel. RMSE
+/// disagree (m-fast: headline 3 %, rel. RMSE 20 %), so the 5 % winner differs between the
+/// headline's table and rel. RMSE's. A run written before the headline names rel. RMSE.
+#[test]
+fn every_table_names_the_metric_it_ranks_by() {
+    use harness::verdict::HEADLINE_NAME;
+    use report::fixture::synthetic::{Measured, every_pair, params, record};
+    use report::metric::{Metric, available, views};
+    let measured = |_, m: usize| {
+        let (time_ms, headline) = [(1.0, 1.0), (2.0, 0.03), (8.0, 0.004)][m];
+        Some(Measured { time_ms, headline })
+    };
+    let mut results = every_pair(
+        "Synthetic",
+        &["s"],
+        &["no-scatter", "m-fast", "m-exact"],
+        &measured,
+    );
+    results.records[1]
+        .errors
+        .get_mut("inscatter")
+        .unwrap()
+        .rel_rmse = 0.2;
+    // A sweep of m-exact's steps: three values, so the knob section has a plot; both slower
+    // than steps=128 (8 ms), so they win no budget.
+    for (steps, time_ms, headline) in [(16, 10.0, 0.02), (32, 12.0, 0.01)] {
+        let mut p = params();
+        p.insert("steps".into(), harness::method::ParamValue::Int(steps));
+        let m = Measured { time_ms, headline };
+        results.records.push(record("s", "m-exact", &p, Some(m)));
+    }
+    let dir = tmp("metric-names");
+    report::fixture::write_results(&dir, &results).expect("fixture");
+    report::fixture::synthetic::tune(&results)
+        .save(&dir.join(harness::tune::TUNE_FILE))
+        .expect("tune.json");
+    let html = std::fs::read_to_string(report::generate(&dir).expect("report")).unwrap();
+    let doc = parse(&html);
+    let metrics = views(Some(HEADLINE_NAME), &available(&results));
+    assert_eq!(metrics.len(), 5, "every metric is offered");
+    assert_eq!(metrics[0].label, Metric::Verdict.label(Some(HEADLINE_NAME)));
+    assert!(metrics[0].label.contains(HEADLINE_NAME) && metrics[0].short == "headline");
+
+    // The default view is the headline: the body shows it, its button is on.
+    let body = doc.descendants().find(|n| n.has_tag_name("body")).unwrap();
+    assert!(has_class(&body, "metric-verdict"));
+    let on: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("button") && has_class(n, "on"))
+        .map(text)
+        .collect();
+    assert_eq!(on, [metrics[0].label.clone()]);
+
+    let section = |id: &str| {
+        doc.descendants()
+            .find(|n| n.attribute("id") == Some(id))
+            .unwrap_or_else(|| panic!("no #{id}"))
+    };
+    let (verdict, matrix, scene) = (section("verdict"), section("matrix"), section("scene-s"));
+    for m in &metrics {
+        let class = format!("mv-{}", m.id);
+        // The verdict table: its caption names the metric in full, each budget head in short.
+        let table = verdict
+            .descendants()
+            .find(|n| n.has_tag_name("table") && has_class(n, &class))
+            .unwrap_or_else(|| panic!("no verdict table for {}", m.id));
+        assert_eq!(
+            texts_of(table, "caption", "small"),
+            [format!("Ranked by the {}.", m.label)]
+        );
+        let heads = head_cells(table);
+        let budgets: Vec<&String> = heads
+            .iter()
+            .filter(|h| h.starts_with("fastest ≤"))
+            .collect();
+        assert_eq!(budgets.len(), 3, "{heads:?}");
+        for h in budgets {
+            assert!(h.ends_with(&format!(" {}", m.short)), "{h}");
+        }
+        // The matrix's caption and the verdict in words.
+        let caption = matrix
+            .descendants()
+            .find(|n| n.has_tag_name("p") && has_class(n, "matrix-metric"))
+            .unwrap();
+        assert_eq!(
+            texts_of(caption, "b", &class),
+            std::slice::from_ref(&m.label)
+        );
+        let words = matrix
+            .descendants()
+            .find(|n| n.has_tag_name("h3") && has_class(n, "words-head"))
+            .unwrap();
+        assert_eq!(
+            texts_of(words, "span", &class),
+            [format!(", by the {}", m.label)]
+        );
+        // The scene's budget and equal-error tables.
+        let div = scene
+            .descendants()
+            .find(|n| {
+                n.has_tag_name("div")
+                    && has_class(n, &class)
+                    && n.descendants().any(|d| d.has_tag_name("table"))
+            })
+            .unwrap_or_else(|| panic!("no budget tables for {}", m.id));
+        let h3: Vec<String> = div
+            .descendants()
+            .filter(|n| n.has_tag_name("h3"))
+            .map(text)
+            .collect();
+        assert_eq!(h3.len(), 2);
+        for h in &h3 {
+            assert!(h.contains(&format!(" {} budget", m.short)), "{h}");
+        }
+        let budget = div
+            .descendants()
+            .find(|n| n.has_tag_name("table") && has_class(n, "budget"))
+            .unwrap();
+        let heads = head_cells(budget);
+        assert_eq!(heads[0], format!("{} budget", m.short));
+        assert_eq!(heads[heads.len() - 1], m.short);
+        assert!(texts_of(div, "p", "small")[0].starts_with(&format!("Ranked by the {}.", m.label)));
+        // The records table has a column of it.
+        let records = scene
+            .descendants()
+            .find(|n| n.has_tag_name("table") && has_class(n, "records"))
+            .unwrap();
+        assert!(head_cells(records).contains(&m.label), "{}", m.label);
+    }
+
+    // What the tables name is what they rank by: ≤ 5 % headline is m-fast (3 %), ≤ 5 % rel.
+    // RMSE m-exact (m-fast's is 20 %).
+    let five_percent = |id: &str| {
+        let table = verdict
+            .descendants()
+            .find(|n| n.has_tag_name("table") && has_class(n, &format!("mv-{id}")))
+            .unwrap();
+        let row = body_rows_of(table);
+        text(
+            row[0]
+                .children()
+                .filter(|c| c.has_tag_name("td"))
+                .nth(3)
+                .unwrap(),
+        )
+    };
+    assert!(
+        five_percent("verdict").starts_with("m-fast"),
+        "{}",
+        five_percent("verdict")
+    );
+    assert!(
+        five_percent("rel_rmse").starts_with("m-exact"),
+        "{}",
+        five_percent("rel_rmse")
+    );
+
+    // The knob plots and the tune name the headline.
+    let knobs = text(section("knobs"));
+    assert!(
+        knobs.contains(&format!("The {} against", metrics[0].label)),
+        "{knobs}"
+    );
+    let tune = section("tune");
+    let table = tune
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "tune"))
+        .unwrap();
+    let heads = head_cells(table);
+    assert_eq!(
+        (heads[1].as_str(), heads[4].as_str()),
+        ("headline budget", "headline")
+    );
+    assert!(text(tune).contains(&format!("in-scatter headline ({HEADLINE_NAME}")));
+    let _ = std::fs::remove_dir_all(dir);
+
+    // Before the headline the verdict metric is rel. RMSE, and the tables say so.
+    let (dir, old, html) = build("metric-names-old");
+    let doc = parse(&html);
+    let label = Metric::Verdict.label(None);
+    assert!(label.contains("relative RMSE"));
+    assert_eq!(views(None, &available(&old))[0].label, label);
+    let table = doc
+        .descendants()
+        .find(|n| n.has_tag_name("table") && has_class(n, "mv-verdict"))
+        .unwrap();
+    assert_eq!(
+        texts_of(table, "caption", "small"),
+        [format!("Ranked by the {label}.")]
+    );
+    assert!(head_cells(table).contains(&"fastest ≤ 1 % rel. RMSE".to_string()));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The body rows (after the header row) of `table`.
+fn body_rows_of<'a, 'i>(table: roxmltree::Node<'a, 'i>) -> Vec<roxmltree::Node<'a, 'i>> {
+    table
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .collect()
 }

@@ -60,6 +60,7 @@ pub fn compare(runs: &[Run]) -> Comparison {
         frames: first.frames,
         warmup: first.warmup,
         metric: Metric::Verdict.label(first.headline.as_deref()),
+        metric_short: Metric::Verdict.short(first.headline.as_deref()),
         floor_method: FLOOR_METHOD,
         budgets: BUDGETS.to_vec(),
         tolerance: tolerance::TOLERANCE,

@@ -22,6 +22,9 @@ pub struct Comparison {
     pub warmup: u32,
     /// The error every verdict and headline column reads (the report's verdict metric).
     pub metric: String,
+    /// The same in a word, for the page's table heads (`Metric::short`; not in compare.json).
+    #[serde(skip)]
+    pub metric_short: &'static str,
     /// The method whose time is each scene's floor; not a contender in the verdicts.
     pub floor_method: &'static str,
     /// The error budgets of the "fastest under" verdicts (fractions).

@@ -231,6 +231,53 @@ fn json_and_page_state_the_tolerance_and_the_summary_names_the_changes() {
             })
             .count()
     };
+    // Every table that shows or ranks by an error names it: the verdicts' caption in full and
+    // each budget head in short, the headline values of the flags, the per-scene heads.
+    let label = Metric::Verdict.label(Some(harness::verdict::HEADLINE_NAME));
+    assert_eq!(c.metric, label);
+    let node_text = |n: roxmltree::Node| -> String {
+        n.descendants()
+            .filter(|d| d.is_text())
+            .filter_map(|d| d.text())
+            .collect()
+    };
+    let table = |class: &str| {
+        doc.descendants()
+            .find(|n| {
+                n.has_tag_name("table")
+                    && n.attribute("class")
+                        .is_some_and(|c| c.split(' ').any(|x| x == class))
+            })
+            .unwrap_or_else(|| panic!("no table.{class}"))
+    };
+    let heads = |t: roxmltree::Node| -> Vec<String> {
+        t.descendants()
+            .find(|n| n.has_tag_name("tr"))
+            .unwrap()
+            .children()
+            .filter(|c| c.has_tag_name("th"))
+            .map(node_text)
+            .collect()
+    };
+    let verdicts = table("verdicts");
+    let caption = verdicts
+        .children()
+        .find(|n| n.has_tag_name("caption"))
+        .map(node_text);
+    assert_eq!(caption, Some(format!("Ranked by the {label}.")));
+    assert_eq!(
+        heads(verdicts)[4..],
+        [
+            "fastest ≤ 1 % headline",
+            "fastest ≤ 5 % headline",
+            "fastest ≤ 10 % headline"
+        ]
+    );
+    assert!(html.contains(&format!("Values: each run's {label}.")));
+    assert_eq!(
+        heads(table("ratios"))[3..],
+        ["headline A", "headline B", "headlines agree"]
+    );
     // s1's front, ≤ 5 % and ≤ 10 % are marked; m-c's row in the flag table and in s1's table.
     assert_eq!(with_class("td", "changed"), 3);
     assert_eq!(with_class("tr", "differ"), 2);
