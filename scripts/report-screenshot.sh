@@ -3,9 +3,11 @@
 # 1280×800 window (what a laptop shows first: the verdict and the top of the matrix) and the
 # script checks that the screenshot is a real, non-blank page of the requested size.
 #
-#   scripts/report-screenshot.sh [RUN_DIR] [OUT.png] [WIDTHxHEIGHT]
+#   scripts/report-screenshot.sh [RUN_DIR] [OUT.png] [WIDTHxHEIGHT] [ANCHOR]
 #
-# Without RUN_DIR it builds the report of the synthetic fixture run (no GPU needed).
+# Without RUN_DIR (or with "") it builds the report of the synthetic fixture run (no GPU
+# needed). ANCHOR (an element id, e.g. a scene's section `sphere-point`) opens the page there
+# instead of at the top: the scene's image viewer.
 # Skipped, with a message, when Chromium is not installed (`apt-get install -y chromium`);
 # not a CI requirement.
 set -euo pipefail
@@ -22,6 +24,7 @@ OUT=${2:-}
 SIZE=${3:-1280x800}
 WIDTH=${SIZE%x*}
 HEIGHT=${SIZE#*x}
+ANCHOR=${4:-}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 
@@ -37,7 +40,7 @@ OUT=${OUT:-$WORK/report.png}
 "$CHROMIUM" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
     --disable-background-networking --disable-component-update --disable-sync \
     --user-data-dir="$WORK/profile" --screenshot="$OUT" --window-size="$WIDTH,$HEIGHT" \
-    "file://$INDEX" >"$WORK/chromium.log" 2>&1 || {
+    "file://$INDEX${ANCHOR:+#$ANCHOR}" >"$WORK/chromium.log" 2>&1 || {
     cat "$WORK/chromium.log"
     echo "report-screenshot: 0 passed, 1 failed"
     exit 1

@@ -391,3 +391,14 @@ fn every_commands_flags_are_in_architecture_section_8() {
     assert!(seen > 50, "only {seen} flags parsed from the commands' --help");
     assert!(missing.is_empty(), "missing from ARCHITECTURE §8: {missing:?}");
 }
+
+/// ARCHITECTURE.md stays a contract one can read: at most 40 000 bytes, its history in
+/// docs/results/ARCHITECTURE-history.md (which must exist, since it links there).
+#[test]
+fn architecture_is_at_most_40_kb_and_its_history_link_resolves() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("docs/ARCHITECTURE.md")).expect("readable");
+    assert!(doc.len() <= 40_000, "docs/ARCHITECTURE.md is {} bytes (≤ 40 000)", doc.len());
+    assert!(doc.contains("results/ARCHITECTURE-history.md"));
+    assert!(root.join("docs/results/ARCHITECTURE-history.md").is_file());
+}

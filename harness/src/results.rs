@@ -28,6 +28,10 @@ pub struct RunInfo {
     /// Timed frames per record.
     pub frames: u32,
     pub warmup: u32,
+    /// The per-record time budget (`run --time-budget`, ARCHITECTURE §4.2) in seconds, under
+    /// which slow records get fewer frames (their counters say how many); absent without one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_budget_s: Option<f64>,
     pub machine: Machine,
     /// Frame whose images are scored against the reference.
     pub scored_frame: u32,

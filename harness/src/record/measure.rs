@@ -17,19 +17,29 @@ use crate::method::{FrameReport, Method, Params, PrepareContext, Prepared};
 use crate::results::{Passes, Record, Stat, Status, Timing};
 use crate::sequence::FrameScorer;
 
-/// Fewest timed frames a record gets under a time budget (a median needs a few samples).
-pub const MIN_TIMED_FRAMES: u32 = 3;
+/// Fewest timed frames a record gets under a time budget: one, where that frame alone uses the
+/// budget (a frame of seconds varies little; more of them would only multiply the record's cost).
+pub const MIN_TIMED_FRAMES: u32 = 1;
 
 /// Under a time budget B: warm-up stops after its first frame once warm-up has used B/4,
 /// and timing stops once [`MIN_TIMED_FRAMES`] frames are timed and the timed frames have used
-/// B. Fast methods still get the full W + K frames; a 9 s/frame method gets 1 + 3 instead of
-/// 3 + 10. Returns whether to render another frame of the phase.
+/// B. Fast methods still get the full W + K frames; a 3 s/frame method under 8 s gets 1 + 3
+/// instead of 3 + 10 (and see [`first_frame_is_timed`]). Returns whether to render another
+/// frame of the phase.
 pub fn another_frame(budget_ms: Option<f64>, warmup: bool, done: u32, used_ms: f64) -> bool {
     match budget_ms {
         None => true,
         Some(b) if warmup => done < 1 || used_ms < 0.25 * b,
         Some(b) => done < MIN_TIMED_FRAMES || used_ms < b,
     }
+}
+
+/// Under a time budget B, a first warm-up frame that alone took B or more is the record's one
+/// timed frame (`warmup_frames` 0, `timed_frames` 1): what a warm-up would spare it (first-use
+/// costs) is a small part of a frame that long, and rendering it again would double the
+/// record's cost. Not with a paired floor, whose timed frames pair with the method's.
+pub fn first_frame_is_timed(budget_ms: Option<f64>, paired_floor: bool, first_ms: f64) -> bool {
+    budget_ms.is_some_and(|b| first_ms >= b) && !paired_floor
 }
 
 /// What the frames of a record measured.
@@ -174,37 +184,29 @@ fn timed_frames(
     let mut out = Frames::default();
     let mut work: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     let (mut f, mut warm_ms, mut timed_ms) = (0u32, 0.0, 0.0);
+    let mut warmed = None;
     while f < settings.warmup && another_frame(budget, true, f, warm_ms) {
         if let Some(floor) = floor.as_deref_mut() {
             floor.frame(gpu, scene, f, aovs, timer.as_ref(), false);
         }
-        warm_ms += render_frame(gpu, method, scene, f, aovs, timer.as_ref())?.wall_ms;
+        let t = render_frame(gpu, method, scene, f, aovs, timer.as_ref())?;
+        warm_ms += t.wall_ms;
         f += 1;
+        if f == 1 && settings.frames > 0 && first_frame_is_timed(budget, floor.is_some(), warm_ms) {
+            timed_ms = t.wall_ms;
+            keep_timed(gpu, &mut out, &mut work, t, 0, aovs, scorer.as_deref_mut())?;
+            warmed = Some(0);
+            break;
+        }
     }
-    let warmed = f;
+    let warmed = warmed.unwrap_or(f);
     while f - warmed < settings.frames && another_frame(budget, false, f - warmed, timed_ms) {
         if let Some(floor) = floor.as_deref_mut() {
             floor.frame(gpu, scene, f, aovs, timer.as_ref(), true);
         }
         let t: FrameTiming = render_frame(gpu, method, scene, f, aovs, timer.as_ref())?;
         timed_ms += t.wall_ms;
-        out.cpu.push(t.cpu_ms);
-        out.wall.push(t.wall_ms);
-        if let Some(g) = t.gpu_ms {
-            out.gpu.push(g);
-        }
-        for name in WORK_COUNTERS {
-            if let Some(n) = t.report.counters.get(name) {
-                work.entry(name).or_default().push(*n);
-            }
-        }
-        out.report = t.report;
-        // Read back and score outside the timed region (the next frame's clock starts after
-        // its own clear and wait).
-        if let Some(scorer) = scorer.as_deref_mut() {
-            scorer.timed_frame(f, &aovs.read(gpu)?)?;
-            scorer.time_last_frame(t.wall_ms, t.gpu_ms);
-        }
+        keep_timed(gpu, &mut out, &mut work, t, f, aovs, scorer.as_deref_mut())?;
         f += 1;
     }
     // Work counts are per frame, median over the timed frames (an animated scene's frames differ).
@@ -219,6 +221,35 @@ fn timed_frames(
     }
     (out.rendered, out.warmed) = (f, warmed);
     Ok(out)
+}
+
+/// Keeps timed frame `f`'s times, work counts and report, then reads it back and scores it
+/// outside the timed region (the next frame's clock starts after its own clear and wait).
+fn keep_timed(
+    gpu: &Gpu,
+    out: &mut Frames,
+    work: &mut BTreeMap<&'static str, Vec<f64>>,
+    t: FrameTiming,
+    f: u32,
+    aovs: &AovTargets,
+    scorer: Option<&mut FrameScorer>,
+) -> Result<(), String> {
+    out.cpu.push(t.cpu_ms);
+    out.wall.push(t.wall_ms);
+    if let Some(g) = t.gpu_ms {
+        out.gpu.push(g);
+    }
+    for name in WORK_COUNTERS {
+        if let Some(n) = t.report.counters.get(name) {
+            work.entry(name).or_default().push(*n);
+        }
+    }
+    out.report = t.report;
+    if let Some(scorer) = scorer {
+        scorer.timed_frame(f, &aovs.read(gpu)?)?;
+        scorer.time_last_frame(t.wall_ms, t.gpu_ms);
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -248,9 +279,22 @@ mod budget_tests {
         assert_eq!(frames(Some(8000.0), 3, 10, 500.0), (3, 10));
         // 1 s/frame: warm-up stops at 2 s (B/4), timing at 8 s.
         assert_eq!(frames(Some(8000.0), 3, 10, 1000.0), (2, 8));
-        // 9 s/frame: one warm-up frame, the minimum of timed frames.
+        // 3 s/frame: one warm-up frame, timing stops once past 8 s.
+        assert_eq!(frames(Some(8000.0), 3, 10, 3000.0), (1, 3));
+        // 5 s/frame: one warm-up frame, then two timed (10 s ≥ 8 s).
+        assert_eq!(frames(Some(8000.0), 3, 10, 5000.0), (1, 2));
+        // 9 s/frame: the minimum of timed frames, one (and see the first-frame rule below).
         assert_eq!(frames(Some(8000.0), 3, 10, 9000.0), (1, MIN_TIMED_FRAMES));
         // A budget never asks for more than requested.
-        assert_eq!(frames(Some(8000.0), 0, 2, 9000.0), (0, 2));
+        assert_eq!(frames(Some(8000.0), 0, 2, 500.0), (0, 2));
+    }
+
+    #[test]
+    fn only_a_first_frame_past_the_whole_budget_is_timed_and_never_with_a_paired_floor() {
+        assert!(first_frame_is_timed(Some(8000.0), false, 8000.0));
+        assert!(first_frame_is_timed(Some(8000.0), false, 35000.0));
+        assert!(!first_frame_is_timed(Some(8000.0), false, 7999.0));
+        assert!(!first_frame_is_timed(None, false, 35000.0));
+        assert!(!first_frame_is_timed(Some(8000.0), true, 35000.0));
     }
 }

@@ -165,6 +165,7 @@ pub fn fresh_results(gpu: &Gpu, s: &RecordSettings, run_id: &str, shard: Option<
             resolution: [s.width, s.height],
             frames: s.frames,
             warmup: s.warmup,
+            time_budget_s: s.budget_ms.map(|ms| ms / 1e3),
             machine: Machine {
                 calibration: calibration(gpu),
                 ..Machine::detect(&gpu.summary)
