@@ -31,7 +31,7 @@ pub struct RunArgs {
     /// methods get the full W + K; a 35 s/frame method on a software adapter gets 0 + 1. The
     /// counts are in each record's counters (warmup_frames, timed_frames), the budget in
     /// run.time_budget_s.
-    #[arg(long, default_value = "4", value_parser = args::parse_seconds)]
+    #[arg(long, default_value = "2", value_parser = args::parse_seconds)]
     pub time_budget: f64,
     /// METHOD.KNOB=VALUE (repeatable).
     #[arg(long = "param")]

@@ -142,14 +142,20 @@ fn no_module_imports_one_that_imports_it_back() {
     assert!(report.is_empty(), "import cycles:\n{report}");
 }
 
-#[test]
-fn no_method_imports_another_method() {
+/// The `methods` crate's module tree, paths relative to the workspace.
+fn methods_modules() -> Vec<tree::Module> {
     let krate = crates()
         .into_iter()
         .find(|c| c.name == "methods")
         .expect("methods");
     let mut ms = tree::modules(&krate.root, &read).expect("methods crate");
     relative(&mut ms);
+    ms
+}
+
+#[test]
+fn no_method_imports_another_method() {
+    let ms = methods_modules();
     let crossings = folders::crossings(&ms, &resolve::edges(&ms), "common");
     assert!(
         ms[0].children.len() > 5,
@@ -165,12 +171,7 @@ fn no_method_imports_another_method() {
 
 #[test]
 fn common_kits_build_on_the_framework_only() {
-    let krate = crates()
-        .into_iter()
-        .find(|c| c.name == "methods")
-        .expect("methods");
-    let mut ms = tree::modules(&krate.root, &read).expect("methods crate");
-    relative(&mut ms);
+    let ms = methods_modules();
     let edges = resolve::edges(&ms);
     let kits = ["shadow_volumes", "epipolar", "particles"];
     // Not vacuous: every kit is a folder of modules, and each imports the framework.
