@@ -8,7 +8,7 @@
 //! (≤ [`MAX_DOMINANT`]). On the library's clouds (σ·2r ≤ 0.36, no viewer inside) there are
 //! none, and nothing changes.
 //!
-//! What is exact about them (common.wgsl, gather.wgsl):
+//! What is exact about them (blocks.wgsl, gather.wgsl):
 //! - **light leg**: they are left out of every light's list (and of the light maps' extents);
 //!   `light_optical_depth` adds their exact chords between the light and the point. A dense
 //!   particle around a light, or the eye's, was a kink the slices interpolated across (a light
@@ -32,7 +32,7 @@ use scenes::{LightState, Scene};
 
 use super::primitives::Prim;
 
-/// The most dominant spheres the uniform holds (common.wgsl `Pb.dominant`, two rows each).
+/// The most dominant spheres the uniform holds (blocks.wgsl `Pb.dominant`, two rows each).
 pub const MAX_DOMINANT: usize = 8;
 /// A sphere of optical diameter σ·2r at least this is thick: across it the light's optical
 /// depth bends too much for the closed form, and the slices interpolate across its surface.

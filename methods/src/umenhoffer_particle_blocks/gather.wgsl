@@ -13,7 +13,7 @@
 // the resolve. With EYE_SLICES (knob `eye_slices`) each primitive's in-scatter is attenuated by
 // the eye's slices instead — everything in front, overlapping particles included — and added;
 // the opacity is still composited "over". With CHORD_STEPS > 0 the in-scatter over the interval
-// is a quadrature (`chord_inscatter`) instead of the closed form. Needs PRELUDE and common.wgsl.
+// is a quadrature (`chord_inscatter`) instead of the closed form. Needs PRELUDE and blocks.wgsl.
 
 struct GatherOut {
     @builtin(position) clip: vec4<f32>,

@@ -9,7 +9,7 @@
 //! of the block's cluster or declared instance ([`Members`], from `BlockSet::members`) — also for
 //! a prototype instance, whose impostor models the prototype's particles instead: near a viewer
 //! the real geometry is drawn. Primitives (a block, or a sphere) still holding the
-//! viewer are drawn over the whole view (common.wgsl `covers_viewer`).
+//! viewer are drawn over the whole view (blocks.wgsl `covers_viewer`).
 
 use glam::Vec3;
 use scenes::particles::Particle;
@@ -60,7 +60,7 @@ impl Members {
 }
 
 /// A viewer nearer a primitive's centre than this times its radius is "inside": the same factor
-/// as `covers_viewer` in common.wgsl (passed to it as the override `COVERS`).
+/// as `covers_viewer` in blocks.wgsl (passed to it as the override `COVERS`).
 pub const COVERS: f32 = 1.1;
 
 fn centre(p: &Prim) -> Vec3 {

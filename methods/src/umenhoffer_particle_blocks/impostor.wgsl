@@ -2,10 +2,10 @@
 // into its tile, one pass computing three things with one blend state — front depth (min),
 // back depth (min of its negation) and optical depth Σ τ·chord (additive alpha, the
 // separate-alpha blend) — and, in a second additive target, the optical depth's first two
-// moments in depth (`interval = moments`, a modernisation; common.wgsl, prim_interval).
+// moments in depth (`interval = moments`, a modernisation; blocks.wgsl, prim_interval).
 // Instance i draws particle i mod M: groups g = i / M < K into camera tile (its tile + g) — K
 // direction bins of the prototype (camera_bins.rs), else 1 — and group K + k into light k's
-// tile (the first light's tile index + k·T). Needs PRELUDE and common.wgsl.
+// tile (the first light's tile index + k·T). Needs PRELUDE and blocks.wgsl.
 
 struct ImpOut {
     @builtin(position) clip: vec4<f32>,

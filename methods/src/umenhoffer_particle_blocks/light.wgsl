@@ -12,7 +12,7 @@
 // still holding the light (a sphere) is drawn over the
 // whole face instead of as a billboard (no billboard can pass through the light), each fragment
 // finding its interval along its own light ray, the part behind the light cut off. Needs
-// PRELUDE and common.wgsl.
+// PRELUDE and blocks.wgsl.
 
 struct LightOut {
     @builtin(position) clip: vec4<f32>,

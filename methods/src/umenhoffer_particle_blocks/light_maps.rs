@@ -84,7 +84,7 @@ fn reaches(light: &LightState, prims: &[Prim]) -> bool {
 }
 
 /// S slices spread evenly over [dmin, dmax]: slice s at dmin + (dmax − dmin)(s + 1)/S
-/// (common.wgsl `slice_depth`).
+/// (blocks.wgsl `slice_depth`).
 fn with_slices(mut v: ViewUniform, dmin: f32, dmax: f32, slices: u32) -> ViewUniform {
     v.range = [dmin, dmax, slices.max(1) as f32, 0.0];
     v
@@ -174,7 +174,7 @@ pub fn eye_view(eye: Vec3, axis: Vec3, tan: f32, prims: &[Prim], slices: u32) ->
 
 /// Six 90° perspective maps around `lp`; each face's depth range covers the primitives whose
 /// bounding spheres reach into its frustum (a plane test against its four sides).
-// Faces in `CUBE_FACE_AXES` order, the order common.wgsl's `view_of` indexes them.
+// Faces in `CUBE_FACE_AXES` order, the order blocks.wgsl's `view_of` indexes them.
 fn cube(lp: Vec3, prims: &[Prim], slices: u32) -> Vec<ViewUniform> {
     let side = (1.0 + CUBE_TAN * CUBE_TAN).sqrt();
     CUBE_FACE_AXES

@@ -1,7 +1,7 @@
 //! GPU side: the impostor atlas (and its depth moments, `interval = moments`), the light slices (one layer per light map), the gather
 //! targets, the four pipelines (impostor, light, gather, resolve) and their bind groups (the
 //! per-light surface-shadow pass is `surface_shadow.rs`). Every pass uses the shared frame bind
-//! group at group 0 and its own subset of the method's bindings (common.wgsl) at group 1.
+//! group at group 0 and its own subset of the method's bindings (blocks.wgsl) at group 1.
 
 use bytemuck::{Pod, Zeroable};
 use harness::gpu::{Counted, color_attachment};
@@ -27,7 +27,7 @@ pub const FACES: usize = 6;
 /// the reason not to size the uniform for all of them.)
 pub const MAX_LIGHTS: usize = 16;
 
-/// One light map; mirrors `View` in common.wgsl.
+/// One light map; mirrors `View` in blocks.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct ViewUniform {
@@ -38,7 +38,7 @@ pub struct ViewUniform {
     pub range: [f32; 4],
 }
 
-/// Mirrors `Pb` in common.wgsl.
+/// Mirrors `Pb` in blocks.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct PbUniform {
@@ -83,7 +83,7 @@ pub struct Sizes {
     pub camera_tiles: u32,
 }
 
-/// What the shaders compile in (common.wgsl's overrides), beside the scene's light layout.
+/// What the shaders compile in (blocks.wgsl's overrides), beside the scene's light layout.
 pub struct Modes {
     /// Primitives are impostor blocks (false: analytic spheres, `particle-splat`).
     pub blocks: bool,
@@ -100,7 +100,7 @@ pub struct Modes {
     pub dominant: bool,
 }
 
-/// The buffers and textures the stages bind (common.wgsl's group 1, by binding number).
+/// The buffers and textures the stages bind (blocks.wgsl's group 1, by binding number).
 pub struct Resources {
     pub uniform: wgpu::Buffer,
     pub prims: wgpu::Buffer,
@@ -158,7 +158,7 @@ pub fn slice_layers_for(lights: usize, slices: u32) -> u32 {
     (FACES * lights.max(1) + 1) as u32 * slice_passes(slices)
 }
 
-/// Binding `b` of common.wgsl's group 1, as a layout entry: the uniform, the primitive, tile
+/// Binding `b` of blocks.wgsl's group 1, as a layout entry: the uniform, the primitive, tile
 /// and impostor-particle lists, the slice arrays (5, 6) and 2-D textures.
 fn entry(b: u32) -> wgpu::BindGroupLayoutEntry {
     let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -271,7 +271,7 @@ impl Resources {
 }
 
 /// Builds one stage: its group-1 layout and bind group from a subset of the bindings, its module
-/// (common.wgsl plus its own source) and its pipeline (no vertex buffers, no depth).
+/// (blocks.wgsl plus its own source) and its pipeline (no vertex buffers, no depth).
 struct StageBuilder<'a> {
     pub device: &'a wgpu::Device,
     pub renderer: &'a SceneRenderer,

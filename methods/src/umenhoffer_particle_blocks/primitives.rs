@@ -1,13 +1,13 @@
 //! What the GPU draws from the blocks (Umenhoffer et al.'s hierarchy): one *primitive* per
 //! block (or per particle, unblocked), the impostor *tiles* and the particles rendered into
-//! them — the records common.wgsl mirrors — and each tile's frame for a frame. `blocks.rs`
+//! them — the records blocks.wgsl mirrors — and each tile's frame for a frame. `blocks.rs`
 //! builds a [`BlockSet`] of them once; the passes draw it every frame.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use scenes::particles::Particle;
 
-/// One billboard the light pass and the final gathering draw. Mirrors `Prim` in common.wgsl.
+/// One billboard the light pass and the final gathering draw. Mirrors `Prim` in blocks.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct Prim {
@@ -20,7 +20,7 @@ pub struct Prim {
     pub extra: [f32; 4],
 }
 
-/// One particle splatted into an impostor tile. Mirrors `ImpParticle` in common.wgsl.
+/// One particle splatted into an impostor tile. Mirrors `ImpParticle` in blocks.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct ImpParticle {
@@ -30,7 +30,7 @@ pub struct ImpParticle {
     pub data: [f32; 4],
 }
 
-/// An impostor tile's orthographic frame for this frame. Mirrors `Tile` in common.wgsl.
+/// An impostor tile's orthographic frame for this frame. Mirrors `Tile` in blocks.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct Tile {
@@ -71,7 +71,7 @@ pub struct BlockSet {
 }
 
 /// A stable orthonormal (right, up) pair perpendicular to `dir`; the same rule as `basis_of`
-/// in common.wgsl, so a cluster's tile and its billboard share their orientation.
+/// in blocks.wgsl, so a cluster's tile and its billboard share their orientation.
 pub fn basis_of(dir: Vec3) -> (Vec3, Vec3) {
     let up_ref = if dir.y.abs() > 0.99 { Vec3::X } else { Vec3::Y };
     let right = dir.cross(up_ref).normalize();

@@ -6,7 +6,7 @@
 // transmittance 1 before the nearest depth where the cloud contributes, the gathered 1 − α
 // beyond the farthest, and in between the optical depth −ln(1 − α) growing linearly with depth
 // (uniform density across the cloud's span on that ray), the dominant spheres' share exactly
-// along their chords (dominant.rs) — or, with EYE_SLICES, the eye's slices at each step. Needs PRELUDE, FULLSCREEN and common.wgsl.
+// along their chords (dominant.rs) — or, with EYE_SLICES, the eye's slices at each step. Needs PRELUDE, FULLSCREEN and blocks.wgsl.
 
 // The index of the first light that is not directional (light_count() if none).
 fn first_local_light() -> u32 {

@@ -4,5 +4,5 @@
 
 pub use crate::common::particles::surface_shadow::SurfaceShadow;
 
-/// The bindings of common.wgsl's group 1 the pass reads: the uniform and both slice arrays.
+/// The bindings of blocks.wgsl's group 1 the pass reads: the uniform and both slice arrays.
 pub const BINDINGS: [u32; 3] = [0, 5, 6];

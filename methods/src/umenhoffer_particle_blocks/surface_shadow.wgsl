@@ -2,7 +2,7 @@
 // (additive), removing light SURFACE_LIGHT's contribution times 1 − e^(−τ), τ the particle
 // optical depth toward that light from its slices. The shared surface pass summed every light
 // unshadowed by the cloud, so after one such pass per light each light's contribution carries
-// its own cloud transmittance. Needs PRELUDE, common.wgsl and the shared surface_pass.wgsl.
+// its own cloud transmittance. Needs PRELUDE, blocks.wgsl and the shared surface_pass.wgsl.
 
 @fragment
 fn fs_cloud_shadow(i: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
