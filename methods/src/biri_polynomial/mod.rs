@@ -84,6 +84,7 @@ use crate::common::resolve::ResolvePass;
 use crate::common::shadow_maps::ShadowSettings;
 use crate::common::shadow_volumes::stencil_surfaces::StencilSurfaceShadows;
 
+mod encode;
 pub mod geometry;
 #[cfg(test)]
 mod measure_tests;
@@ -379,7 +380,7 @@ impl Prepared for State {
     ) -> Result<FrameReport> {
         let mut report = self.renderer.start_frame(gpu, frame);
         self.passes.update(gpu, frame, &mut report);
-        self.renderer.encode_lit_surfaces(enc, targets, &mut report);
+        self.renderer.encode_shadows_and_surface(enc, targets, &mut report);
         self.passes.encode(
             gpu,
             enc,

@@ -22,7 +22,7 @@ struct Poly {
     // x: u_max; y: 1 when the light is a spot (Γ by eq. 7)
     spot_f: vec4<f32>,
 };
-// The order n (≤ 8) and the fit (0 Taylor, 1 Chebyshev), baked (passes/mod.rs): the kernel's loops
+// The order n (≤ 8) and the fit (0 Taylor, 1 Chebyshev), baked (passes.rs): the kernel's loops
 // to n get constant trip counts, so their small arrays stay in registers, and the fit not chosen
 // is not evaluated (lavapipe runs both sides of a branch on a uniform value).
 override ORDER: u32 = 4u;
@@ -60,7 +60,7 @@ fn biri_light_scale() -> vec3<f32> {
     return medium.sigma_s.rgb * lights.lights[poly.light].intensity.rgb;
 }
 
-// Which of the scene's lights are spots, baked (passes/mod.rs): the light index is a uniform here,
+// Which of the scene's lights are spots, baked (passes.rs): the light index is a uniform here,
 // and lavapipe runs both sides of a branch on a uniform, so without these a point light paid for
 // the spot path and a spot for the point path.
 override ANY_SPOT: bool = true;

@@ -1,5 +1,6 @@
 //! The knob-derived configuration and the per-light uniform every pass of the method shares
-//! (`passes/`, `pipelines.rs`, `spot_rays.rs`, `pixel.rs`). A leaf: it imports none of them.
+//! (`passes.rs`, `encode.rs`, `pipelines.rs`, `spot_rays.rs`, `pixel.rs`). A leaf: it imports
+//! none of them.
 
 /// Where Γ is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

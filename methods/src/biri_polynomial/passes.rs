@@ -24,34 +24,32 @@ use crate::common::shadow_volumes::shadow_planes::{Order, ShadowCasters};
 use crate::common::shadow_volumes::stencil::{DEPTH_STENCIL, PlaneVertex};
 use crate::common::wgsl;
 
-mod encode;
-
 /// One light's planes in the vertex buffer: (vertex range, faces the eye), in drawing order.
-struct LightDraws {
-    eye_count: u32,
-    runs: Vec<(Range<u32>, bool)>,
+pub(super) struct LightDraws {
+    pub(super) eye_count: u32,
+    pub(super) runs: Vec<(Range<u32>, bool)>,
 }
 
 pub struct Passes {
-    cfg: Config,
-    casters: Option<ShadowCasters>,
+    pub(super) cfg: Config,
+    pub(super) casters: Option<ShadowCasters>,
     /// The tessellated scene (vertex evaluation) — None: draw the renderer's own meshes.
-    tess: Option<GpuScene>,
-    grid: Option<(wgpu::Buffer, u32)>,
-    depth_view: wgpu::TextureView,
+    pub(super) tess: Option<GpuScene>,
+    pub(super) grid: Option<(wgpu::Buffer, u32)>,
+    pub(super) depth_view: wgpu::TextureView,
     pub acc_view: wgpu::TextureView,
-    layout: wgpu::BindGroupLayout,
-    uniform: wgpu::Buffer,
+    pub(super) layout: wgpu::BindGroupLayout,
+    pub(super) uniform: wgpu::Buffer,
     /// eq. 7's Δ_i tables of every spot (`spot_tables`), one dummy entry without spots.
-    delta: wgpu::Buffer,
+    pub(super) delta: wgpu::Buffer,
     /// `spot_rays` layers as the fragments read them (1×1 dummy without `spot_rays`).
-    spot_rays_view: wgpu::TextureView,
-    spot_rays: Option<SpotRays>,
-    pipes: Pipelines,
+    pub(super) spot_rays_view: wgpu::TextureView,
+    pub(super) spot_rays: Option<SpotRays>,
+    pub(super) pipes: Pipelines,
     /// `resolve = per-pixel`: the crossing lists and their passes.
-    pixel: Option<PixelPass>,
-    vertices: Option<wgpu::Buffer>,
-    draws: Vec<LightDraws>,
+    pub(super) pixel: Option<PixelPass>,
+    pub(super) vertices: Option<wgpu::Buffer>,
+    pub(super) draws: Vec<LightDraws>,
 }
 
 /// A copy of `scene` with every mesh subdivided `levels` times.

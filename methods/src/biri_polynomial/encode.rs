@@ -1,13 +1,14 @@
-//! The frame's passes in order (§4.3–4.5): depth, the surface-shadow counts, the unorm8 first pass,
-//! then per light the spot rays, the count, the lit surfaces (stage 1) and the planes (stage 2).
+//! The frame's passes in order (§4.3–4.5), for the [`Passes`] whose resources `passes.rs` holds:
+//! depth, the surface-shadow counts, the unorm8 first pass, then per light the spot rays, the
+//! count, the lit surfaces (stage 1) and the planes (stage 2).
 
 use std::ops::Range;
 
 use harness::gpu::{Counted, color_attachment, depth_stencil_attachment};
 use harness::{FrameReport, Gpu};
 
-use super::{LightDraws, Passes, PixelPass};
-use crate::biri_polynomial::pixel::WalkPass;
+use super::passes::{LightDraws, Passes};
+use super::pixel::{PixelPass, WalkPass};
 use crate::biri_polynomial::types::{Accumulate, PolyUniform, SLOT};
 use crate::common::shadow_volumes::crossing_lists::GROUP;
 use crate::common::gpu_scene::GpuScene;
