@@ -192,7 +192,7 @@ fn timed_frames(
         let t = render_frame(gpu, method, scene, f, aovs, timer.as_ref())?;
         warm_ms += t.wall_ms;
         f += 1;
-        if f == 1 && settings.frames > 0 && first_frame_is_timed(budget, floor.is_some(), warm_ms) {
+        if f == 1 && settings.frames > 0 && first_frame_is_timed(budget, floor.is_some(), t.wall_ms) {
             timed_ms = t.wall_ms;
             keep_timed(gpu, &mut out, &mut work, t, 0, aovs, scorer.as_deref_mut())?;
             warmed = Some(0);

@@ -354,7 +354,7 @@ impl Prepared for State {
             );
         }
         phases::mark(&mut self.timer, enc, "first_pass");
-        self.renderer.encode_lit_surfaces(enc, targets, &mut report);
+        self.renderer.encode_shadows_and_surface(enc, targets, &mut report);
         match &self.indirect {
             Some(pass) => {
                 pass.encode(enc, &self.renderer, targets);

@@ -219,12 +219,12 @@ impl SceneRenderer {
         targets: &Targets,
     ) -> FrameReport {
         let mut report = self.start_frame(gpu, frame);
-        self.encode_lit_surfaces(enc, targets, &mut report);
+        self.encode_shadows_and_surface(enc, targets, &mut report);
         report
     }
 
     /// The shadow-map passes, then the surface pass that reads them.
-    pub fn encode_lit_surfaces(
+    pub fn encode_shadows_and_surface(
         &self,
         enc: &mut wgpu::CommandEncoder,
         targets: &Targets,

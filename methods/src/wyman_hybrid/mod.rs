@@ -456,7 +456,7 @@ impl Prepared for State {
             report.count("pixels_marched", c[0] as f64);
             report.count("steps", c[1] as f64);
         }
-        self.renderer.encode_lit_surfaces(enc, targets, &mut report);
+        self.renderer.encode_shadows_and_surface(enc, targets, &mut report);
         self.volumes.update(gpu, frame, &mut report);
         self.volumes.encode(gpu, enc, &self.renderer, &mut report);
         self.encode_scattering(gpu, enc, targets, &mut report);

@@ -25,7 +25,7 @@ use crate::common::wgsl;
 pub type Constants = [(&'static str, f64)];
 
 /// Group 1's layout with `storage` method buffers at bindings 1..=storage.
-pub fn group_layout(gpu: &Gpu, label: &str, storage: u32) -> wgpu::BindGroupLayout {
+fn group_layout(gpu: &Gpu, label: &str, storage: u32) -> wgpu::BindGroupLayout {
     let cs = wgpu::ShaderStages::COMPUTE;
     let mut entries = vec![uniform_buffer(0, cs)];
     entries.extend((1..=storage).map(|b| storage_buffer(b, cs, false)));
@@ -69,7 +69,7 @@ pub fn light_uniform(gpu: &Gpu, label: &str, bytes: usize) -> wgpu::Buffer {
 pub struct Compiler<'a> {
     pub gpu: &'a Gpu,
     pub renderer: &'a SceneRenderer,
-    pub group: wgpu::BindGroupLayout,
+    group: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     constants: Vec<(&'static str, f64)>,
@@ -172,7 +172,7 @@ impl Frame {
     ) -> FrameReport {
         let mut report = renderer.start_frame(gpu, frame);
         phases::mark(&mut self.timer, enc, "surfaces");
-        renderer.encode_lit_surfaces(enc, targets, &mut report);
+        renderer.encode_shadows_and_surface(enc, targets, &mut report);
         report
     }
 
